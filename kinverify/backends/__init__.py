@@ -1,0 +1,89 @@
+"""Backend registry: one entry per backend, filled by trying to import its library.
+
+Each entry names the model source it reads (the spec, the URDF or the MJCF) and a builder
+``build(sources) -> Backend``. Adding a backend is one module plus one line in ``_ENTRIES``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Callable
+
+from ..errors import BackendUnavailable, UnknownNameError
+from .base import Backend, BackendBase, Evaluation, finite_difference_jacobians
+from .function import FunctionBackend
+from .sources import ModelSources
+
+__all__ = ["Backend", "BackendBase", "BackendInfo", "Evaluation", "FunctionBackend", "ModelSources",
+           "available_backends", "build_backend", "build_backends", "finite_difference_jacobians"]
+
+
+@dataclass(frozen=True)
+class BackendInfo:
+    name: str
+    module: str  # kinverify module holding the adapter
+    cls: str
+    source: str  # "spec", "urdf" or "mjcf"
+    library: str  # distribution whose version the report records
+    available: bool
+    reason: str = ""  # why it is unavailable
+
+    def build(self, sources: ModelSources) -> Backend:
+        if not self.available:
+            raise BackendUnavailable(self.name, self.reason)
+        cls = getattr(importlib.import_module(self.module, __name__), self.cls)
+        return _BUILDERS[self.source](cls, sources, self.name)
+
+
+_BUILDERS: dict[str, Callable] = {
+    "spec": lambda cls, s, name: cls(s.spec),
+    "urdf": lambda cls, s, name: cls.from_urdf(s.urdf, s.joint_names, s.frames, name=name),
+    "mjcf": lambda cls, s, name: cls.from_mjcf(s.mjcf, s.joint_names, s.frames, name=name),
+}
+
+# name, module, class, source, library
+_ENTRIES = (
+    ("analytic", ".analytic", "AnalyticBackend", "spec", "numpy"),
+    ("analytic-dh", ".analytic", "AnalyticDHBackend", "spec", "numpy"),
+    ("pinocchio-urdf", ".pinocchio_", "PinocchioBackend", "urdf", "pin"),
+    ("pinocchio-mjcf", ".pinocchio_", "PinocchioBackend", "mjcf", "pin"),
+    ("mujoco", ".mujoco_", "MujocoBackend", "mjcf", "mujoco"),
+    ("yourdfpy", ".yourdfpy_", "YourdfpyBackend", "urdf", "yourdfpy"),
+)
+
+
+@lru_cache(maxsize=1)
+def available_backends() -> dict[str, BackendInfo]:
+    """Every registered backend, with ``available`` False where its library fails to import."""
+    out = {}
+    for name, module, cls, source, library in _ENTRIES:
+        try:
+            importlib.import_module(module, __name__)
+            out[name] = BackendInfo(name, module, cls, source, library, True)
+        except ImportError as err:
+            out[name] = BackendInfo(name, module, cls, source, library, False, f"cannot import: {err}")
+    return out
+
+
+def build_backend(name: str, sources: ModelSources) -> Backend:
+    registry = available_backends()
+    if name not in registry:
+        raise UnknownNameError("backend", name, list(registry))
+    return registry[name].build(sources)
+
+
+def default_backend_names(sources: ModelSources) -> list[str]:
+    """Backends that apply to ``sources``: spec backends need a spec, ``analytic-dh`` a DH table."""
+    names = []
+    for info in available_backends().values():
+        if info.source == "spec" and (sources.spec is None or (info.name == "analytic-dh" and sources.spec.dh is None)):
+            continue
+        if info.available and getattr(sources, info.source if info.source != "spec" else "spec") is not None:
+            names.append(info.name)
+    return names
+
+
+def build_backends(sources: ModelSources, names=None) -> list[Backend]:
+    return [build_backend(n, sources) for n in (names or default_backend_names(sources))]

@@ -1,0 +1,92 @@
+"""Pinocchio (PyPI ``pin``) on the generated URDF or, through its MJCF parser, on the MJCF."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+import numpy as np
+import pinocchio as pin
+
+from ..errors import BackendError, UnknownNameError
+from .base import BackendBase, Evaluation
+
+
+class PinocchioBackend(BackendBase):
+    """Frame FK and Jacobians from a ``pin.Model``.
+
+    Native convention: ``data.oMf[i]`` is ``T_world_from_frame``; ``getFrameJacobian`` with
+    ``LOCAL_WORLD_ALIGNED`` is ``[linear; angular]``, world axes, at the frame origin — already ours.
+    Joints of the model not in ``joint_names`` are held at their neutral value.
+    """
+
+    def __init__(self, model: "pin.Model", name: str, joint_names, frames) -> None:
+        self.model, self.data, self.name = model, model.createData(), name
+        self.joint_names, self.frames = tuple(joint_names), tuple(frames)
+        available = [model.names[i] for i in range(1, model.njoints)]
+        self._idx_q, self._idx_v = [], []
+        for joint in self.joint_names:
+            if not model.existJointName(joint):
+                raise UnknownNameError("joint", joint, available)
+            jmodel = model.joints[model.getJointId(joint)]
+            if jmodel.nq != 1:
+                raise BackendError(name, f"joint {joint!r} has {jmodel.nq} coordinates; only 1-DOF joints are compared")
+            self._idx_q.append(jmodel.idx_q)
+            self._idx_v.append(jmodel.idx_v)
+        frame_names = [f.name for f in model.frames]
+        for frame in self.frames:
+            if not model.existFrame(frame):
+                raise UnknownNameError("frame", frame, frame_names)
+        self._frame_ids = [model.getFrameId(f) for f in self.frames]
+        self._neutral = pin.neutral(model)
+
+    @classmethod
+    def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "pinocchio-urdf") -> "PinocchioBackend":
+        try:
+            model = pin.buildModelFromXML(urdf_text)
+        except (ValueError, RuntimeError) as err:
+            raise BackendError(name, f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
+        return cls(model, name, joint_names, frames)
+
+    @classmethod
+    def from_mjcf(cls, mjcf_text: str, joint_names, frames, name: str = "pinocchio-mjcf") -> "PinocchioBackend":
+        # buildModelFromMJCF reads only from a file path.
+        fd, path = tempfile.mkstemp(suffix=".xml", prefix="kinverify-")
+        try:
+            with os.fdopen(fd, "w") as handle:
+                handle.write(mjcf_text)
+            model = pin.buildModelFromMJCF(path)
+        except (ValueError, RuntimeError) as err:
+            raise BackendError(name, f"cannot load MJCF: {str(err).strip().splitlines()[-1]}") from None
+        finally:
+            os.unlink(path)
+        return cls(model, name, joint_names, frames)
+
+    def _full_q(self, q: np.ndarray) -> np.ndarray:
+        full = np.tile(self._neutral, (q.shape[0], 1))
+        full[:, self._idx_q] = q
+        return full
+
+    def poses(self, q: np.ndarray) -> np.ndarray:
+        return self.evaluate(q, with_jacobians=False).poses
+
+    def jacobians(self, q: np.ndarray) -> np.ndarray:
+        return self.evaluate(q).jacobians
+
+    def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
+        q = self._check(q)
+        model, data, fids = self.model, self.data, self._frame_ids
+        n_cfg, n_frames = q.shape[0], len(fids)
+        poses = np.empty((n_cfg, n_frames, 4, 4))
+        jac = np.empty((n_cfg, n_frames, 6, len(self._idx_v))) if with_jacobians else None
+        for k, qk in enumerate(self._full_q(q)):
+            if with_jacobians:
+                pin.computeJointJacobians(model, data, qk)  # also runs forward kinematics
+                pin.updateFramePlacements(model, data)
+            else:
+                pin.framesForwardKinematics(model, data, qk)
+            for f, fid in enumerate(fids):
+                poses[k, f] = data.oMf[fid].homogeneous
+                if with_jacobians:
+                    jac[k, f] = pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)[:, self._idx_v]
+        return Evaluation(self.name, self.frames, poses, jac)

@@ -1,0 +1,55 @@
+"""yourdfpy on the generated URDF: FK only (its Jacobian here is by finite differences)."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import yourdfpy
+
+from ..errors import BackendError, UnknownNameError
+from .base import BackendBase
+
+
+class YourdfpyBackend(BackendBase):
+    """Native convention: ``get_transform(frame_to, frame_from)`` returns the 4×4 pose of
+    ``frame_to`` in ``frame_from``; with ``frame_from`` the root link (``world``) that is
+    ``T_world_from_frame``, ours. Joints not in ``joint_names`` stay at 0."""
+
+    jacobian_method = "finite-difference"
+
+    def __init__(self, robot: "yourdfpy.URDF", name: str, joint_names, frames) -> None:
+        self.robot, self.name = robot, name
+        self.joint_names, self.frames = tuple(joint_names), tuple(frames)
+        actuated = list(robot.actuated_joint_names)
+        for joint in self.joint_names:
+            if joint not in actuated:
+                raise UnknownNameError("joint", joint, actuated)
+        self._order = [actuated.index(j) for j in self.joint_names]
+        links = list(robot.link_map)
+        for frame in self.frames:
+            if frame not in robot.link_map:
+                raise UnknownNameError("frame", frame, links)
+        self._root = robot.base_link
+        self._cfg = np.zeros(len(actuated))
+
+    @classmethod
+    def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "yourdfpy", **load_kwargs) -> "YourdfpyBackend":
+        kwargs = dict(build_scene_graph=True, load_meshes=False, build_collision_scene_graph=False, load_collision_meshes=False)
+        kwargs.update(load_kwargs)
+        try:
+            robot = yourdfpy.URDF.load(io.BytesIO(urdf_text.encode()), **kwargs)
+        except Exception as err:  # yourdfpy raises bare lxml/ValueError/KeyError alike
+            raise BackendError(name, f"cannot load URDF: {err}") from None
+        return cls(robot, name, joint_names, frames)
+
+    def poses(self, q: np.ndarray) -> np.ndarray:
+        q = self._check(q)
+        out = np.empty((q.shape[0], len(self.frames), 4, 4))
+        cfg = self._cfg.copy()
+        for k, qk in enumerate(q):
+            cfg[self._order] = qk
+            self.robot.update_cfg(cfg)
+            for f, frame in enumerate(self.frames):
+                out[k, f] = self.robot.get_transform(frame, self._root)
+        return out

@@ -1,0 +1,28 @@
+"""``kinverify generate MODEL --out DIR``: write DIR/<name>.urdf and DIR/<name>.xml."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    p = sub.add_parser("generate", help="write the URDF and MJCF generated from a spec",
+                       description="Write DIR/<name>.urdf and DIR/<name>.xml generated from a spec file.")
+    p.add_argument("model", help="spec file (models/*.toml)")
+    p.add_argument("--out", default=".", help="output directory (default: current directory)")
+    return p
+
+
+def run(args) -> int:
+    from pathlib import Path
+
+    from ..generate import generate_mjcf, generate_urdf
+    from ..report.writer import write_atomic
+    from ..specfile import load_spec
+
+    spec = load_spec(args.model)
+    out = Path(args.out)
+    for path, text in ((out / f"{spec.name}.urdf", generate_urdf(spec)), (out / f"{spec.name}.xml", generate_mjcf(spec))):
+        write_atomic(path, text)
+        print(path)
+    return 0

@@ -1,0 +1,74 @@
+"""One exception hierarchy for kinverify.
+
+Every error a user can cause derives from :class:`KinverifyError`; the CLI turns it into a
+one-line message and exit code 2. Backend library exceptions are re-raised as
+:class:`BackendError` so callers never need to know which library failed.
+"""
+
+from __future__ import annotations
+
+
+class KinverifyError(Exception):
+    """Root of every kinverify error (bad input, unloadable model, ...)."""
+
+
+class SpecError(KinverifyError, ValueError):
+    """An arm specification is invalid.
+
+    Attributes:
+        file: path of the spec file, or None for specs built in Python.
+        field: field path inside the spec, e.g. ``joints[2].axis``.
+        reason: what is wrong, in a few words.
+    """
+
+    def __init__(self, field: str, reason: str, file: str | None = None) -> None:
+        self.field = field
+        self.reason = reason
+        self.file = file
+        super().__init__(self._message())
+
+    def _message(self) -> str:
+        where = f"{self.file}: " if self.file else ""
+        field = f"{self.field}: " if self.field else ""
+        return f"{where}{field}{self.reason}"
+
+    def within(self, prefix: str) -> "SpecError":
+        """Return the same error with ``prefix`` prepended to the field path."""
+        if not prefix:
+            return self
+        field = f"{prefix}.{self.field}" if self.field and not self.field.startswith("[") else f"{prefix}{self.field}"
+        return SpecError(field, self.reason, self.file)
+
+    def in_file(self, file: str) -> "SpecError":
+        return SpecError(self.field, self.reason, file)
+
+
+class InputError(KinverifyError, ValueError):
+    """A command-line argument or input file (not a spec) is invalid."""
+
+
+class BackendError(KinverifyError, RuntimeError):
+    """A backend library refused a model or failed during evaluation.
+
+    Attributes:
+        backend: registry name of the backend (e.g. ``pinocchio-urdf``).
+    """
+
+    def __init__(self, backend: str, message: str) -> None:
+        self.backend = backend
+        super().__init__(f"{backend}: {message}")
+
+
+class BackendUnavailable(BackendError):
+    """The library behind a backend is not installed or cannot be imported."""
+
+
+class UnknownNameError(KinverifyError, KeyError):
+    """A frame, joint or backend name does not exist; the message lists valid names."""
+
+    def __init__(self, kind: str, name: str, available: list[str] | tuple[str, ...]) -> None:
+        self.kind, self.name, self.available = kind, name, tuple(available)
+        super().__init__(f"unknown {kind} {name!r}; available {kind}s: {', '.join(available)}")
+
+    def __str__(self) -> str:  # KeyError would otherwise quote the whole message
+        return self.args[0]
