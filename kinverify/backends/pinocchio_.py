@@ -88,5 +88,5 @@ class PinocchioBackend(BackendBase):
             for f, fid in enumerate(fids):
                 poses[k, f] = data.oMf[fid].homogeneous
                 if with_jacobians:
-                    jac[k, f] = pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)[:, self._idx_v]
+                    jac[k, f] = np.reshape(pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED), (6, -1))[:, self._idx_v]
         return Evaluation(self.name, self.frames, poses, jac)

@@ -1,0 +1,117 @@
+"""Public hypothesis strategies: random valid arm specs and configurations inside their limits.
+
+    from hypothesis import given
+    from kinverify import strategies as kst
+
+    @given(kst.arm_specs(max_joints=6), kst.data())
+    def test_something(spec, data):
+        q = data.draw(kst.configurations(spec))
+
+Specs are built through :func:`kinverify.spec_from_dict`, so every drawn spec is one a user could
+write as TOML (see :func:`spec_dicts`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import strategies as st
+
+from .specfile import spec_from_dict
+from .spec import ArmSpec
+
+data = st.data
+
+_AXES = [(1, 0, 0), (0, 1, 0), (0, 0, 1), (-1, 0, 0), (0, -1, 0), (0, 0, -1)]
+
+
+def _floats(lo: float, hi: float) -> st.SearchStrategy[float]:
+    return st.floats(lo, hi, allow_nan=False, allow_infinity=False, allow_subnormal=False)
+
+
+def vectors(lo: float, hi: float) -> st.SearchStrategy[list[float]]:
+    return st.lists(_floats(lo, hi), min_size=3, max_size=3)
+
+
+@st.composite
+def axes(draw) -> list[float]:
+    """Axis-aligned (either sign) or arbitrary non-zero directions."""
+    if draw(st.booleans()):
+        return list(draw(st.sampled_from(_AXES)))
+    v = draw(vectors(-1.0, 1.0).filter(lambda v: math.hypot(*v) > 0.1))
+    return v
+
+
+@st.composite
+def angles_rpy(draw) -> list[float]:
+    special = st.sampled_from([0.0, math.pi / 2, -math.pi / 2, math.pi])
+    return [draw(st.one_of(special, _floats(-math.pi, math.pi))) for _ in range(3)]
+
+
+@st.composite
+def _limits(draw, joint_type: str) -> dict:
+    if joint_type == "prismatic":
+        lower, upper = -draw(_floats(0.0, 0.3)), draw(_floats(0.01, 0.3))
+        return {"lower": lower, "upper": upper, "unit": "m"}
+    lower = -draw(_floats(0.0, 3.5))
+    upper = draw(_floats(0.05, 3.5))
+    return {"lower": lower, "upper": upper, "unit": "rad"}
+
+
+@st.composite
+def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool = True) -> dict:
+    """The TOML structure of a random valid serial arm (1-8 joints by default)."""
+    n = draw(st.integers(min_joints, max_joints))
+    joints = []
+    for i in range(n):
+        jtype = draw(st.sampled_from(["revolute", "revolute", "revolute", "prismatic"] if prismatic else ["revolute"]))
+        joint = {
+            "name": f"j{i + 1}",
+            "type": jtype,
+            "xyz": draw(st.one_of(st.just([0.0, 0.0, 0.0]), vectors(-0.3, 0.3))),
+            "rpy": draw(angles_rpy()),
+            "axis": draw(axes()),
+            "limits": draw(_limits(jtype)),
+            "link": {"name": f"l{i + 1}", "mass": draw(_floats(0.1, 5.0))},
+        }
+        joints.append(joint)
+    tools = [{"name": "tool", "parent": f"l{n}", "xyz": draw(vectors(-0.2, 0.2)), "rpy": draw(angles_rpy())}]
+    if draw(st.booleans()):
+        parent = draw(st.integers(1, n))
+        tools.append({"name": "aux", "parent": f"l{parent}", "xyz": draw(vectors(-0.2, 0.2))})
+    return {
+        "name": "random_arm",
+        "base": {"xyz": draw(vectors(-0.5, 0.5)), "rpy": draw(angles_rpy())},
+        "joints": joints,
+        "tools": tools,
+    }
+
+
+def arm_specs(min_joints: int = 1, max_joints: int = 8, prismatic: bool = True) -> st.SearchStrategy[ArmSpec]:
+    """Random valid :class:`ArmSpec` (random joint types, axes, origins, limits, tools)."""
+    return spec_dicts(min_joints, max_joints, prismatic).map(spec_from_dict)
+
+
+def _edges(lo: float, hi: float, revolute: bool) -> list[float]:
+    values = [lo, hi, 0.0] + ([math.pi / 2, -math.pi / 2] if revolute else [])
+    return [v for v in values if lo <= v <= hi]
+
+
+@st.composite
+def configurations(draw, spec: ArmSpec, edge_probability: float = 0.3) -> np.ndarray:
+    """One configuration ``(n,)`` inside the limits; each coordinate is an edge value (limit,
+    zero, ±π/2 where inside) with probability ``edge_probability``, else uniform."""
+    q = []
+    for joint in spec.joints:
+        lo, hi = joint.limits.lower, joint.limits.upper
+        if draw(st.floats(0, 1)) < edge_probability:
+            q.append(draw(st.sampled_from(_edges(lo, hi, joint.type == "revolute"))))
+        else:
+            q.append(draw(_floats(lo, hi)))
+    return np.array(q)
+
+
+def configuration_batches(spec: ArmSpec, min_size: int = 1, max_size: int = 20) -> st.SearchStrategy[np.ndarray]:
+    """A batch ``(N, n)`` of configurations inside the limits."""
+    return st.lists(configurations(spec), min_size=min_size, max_size=max_size).map(np.array)
