@@ -67,7 +67,12 @@ class VerifyResult:
     lower: list[float] = field(default_factory=list)
     upper: list[float] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
-    sections: dict[str, Any] = field(default_factory=dict)  # extra report sections (ik, tracking...)
+    # Extra report sections keyed by suite name (ik, tracking, ...). Each is plain JSON data:
+    # {"title": str, "summary": str,
+    #  "tables": [{"title": str, "columns": [str], "rows": [[...]]}],
+    #  "figures": [{"title": str, "mime": "image/svg+xml"|"image/png"|"image/gif", "data": base64, "caption": str}],
+    #  "notes": [str], ...any further keys a suite keeps for re-rendering}
+    sections: dict[str, Any] = field(default_factory=dict)
     model_info: dict[str, Any] = field(default_factory=dict)  # joint table, masses, URDF/MJCF text
 
     @property

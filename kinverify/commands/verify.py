@@ -1,11 +1,14 @@
-"""``kinverify verify MODEL``: cross-validate every backend, print a table, write HTML + JSON."""
+"""``kinverify verify``: cross-validate every backend, print a table, write HTML + JSON.
+
+Spec mode: ``kinverify verify MODEL.toml``. File mode: ``kinverify verify --urdf R.urdf --mjcf R.xml``.
+"""
 
 from __future__ import annotations
 
 import argparse
 
 
-def _positive_int(text: str) -> int:
+def _count(text: str) -> int:
     try:
         value = int(text)
     except ValueError:
@@ -16,18 +19,38 @@ def _positive_int(text: str) -> int:
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("verify", help="cross-validate FK and Jacobians of all backends",
-                       description="Generate URDF and MJCF from MODEL, load them in every available backend, "
-                       "compare FK and Jacobians of every frame against the analytic reference. "
+    p = sub.add_parser("verify", help="cross-validate all backends on a spec, or a URDF against an MJCF",
+                       description="Generate URDF and MJCF from MODEL (or read --urdf and --mjcf), load them in every "
+                       "available backend and compare every property against the analytic reference. "
                        "Exit 0 when all agree, 1 when a check fails, 2 on bad input.")
-    p.add_argument("model", help="spec file (models/*.toml)")
-    p.add_argument("--samples", type=_positive_int, default=1000, help="uniform random configurations (default 1000), plus edge configurations")
+    p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf/--mjcf")
+    p.add_argument("--urdf", help="file mode: an existing URDF")
+    p.add_argument("--mjcf", help="file mode: an existing MJCF")
+    p.add_argument("--frames", nargs="*", default=[], metavar="URDF_FRAME=MJCF_FRAME", help="file mode: frame pairs to compare")
+    p.add_argument("--joints", nargs="*", default=[], metavar="URDF_JOINT=MJCF_JOINT", help="file mode: joint pairs")
+    p.add_argument("--samples", type=_count, default=1000, help="uniform random configurations (default 1000), plus edge configurations")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--backends", help="comma-separated backend names (default: all available)")
+    p.add_argument("--ik-targets", type=_count, default=None, help="random reachable IK targets per solver (default: the IK suite's)")
+    p.add_argument("--skip", action="append", default=[], metavar="SUITE", help="skip a property suite (repeatable), e.g. --skip ik")
     p.add_argument("--report", help="HTML report path (default reports/<model>.html)")
     p.add_argument("--json", help="JSON results path (default reports/<model>.json)")
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
     return p
+
+
+def options_from_args(args):
+    from ..errors import InputError
+    from ..verify import SUITES, VerifyOptions
+
+    names = [n for n, _ in SUITES]
+    for skip in args.skip:
+        if skip not in names:
+            raise InputError(f"--skip: unknown suite {skip!r}; suites: {', '.join(names)}")
+    extra = {} if args.ik_targets is None else {"ik_targets": args.ik_targets}
+    return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra,
+                         backends=args.backends.split(",") if args.backends else None,
+                         suites=[n for n in names if n not in args.skip])
 
 
 def run(args) -> int:
@@ -36,25 +59,37 @@ def run(args) -> int:
 
     from rich.console import Console
 
+    from ..errors import InputError
     from ..report import print_result, write_json
     from ..report.html import write_html
-    from ..specfile import load_spec
-    from ..verify import VerifyOptions, verify_spec
 
-    spec = load_spec(args.model)
-    options = VerifyOptions(samples=args.samples, seed=args.seed,
-                            backends=args.backends.split(",") if args.backends else None)
-
+    options = options_from_args(args)
+    command = "kinverify " + shlex.join(args.argv)
     console = Console() if sys.stdout.isatty() else Console(width=140)
-    with console.status(f"verifying {spec.name}...") as status:
-        result = verify_spec(spec, options, source=str(args.model),
-                             command="kinverify " + shlex.join(args.argv),
-                             progress=lambda suite: status.update(f"verifying {spec.name}: {suite}"))
+    if args.urdf or args.mjcf:
+        if args.model:
+            raise InputError("give either a spec MODEL or --urdf/--mjcf, not both")
+        if not (args.urdf and args.mjcf):
+            raise InputError("file mode needs both --urdf and --mjcf")
+        from ..filemode import verify_files  # file mode (issue 7)
+
+        with console.status("verifying files..."):
+            result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command)
+    else:
+        if not args.model:
+            raise InputError("give a spec MODEL (models/*.toml) or --urdf and --mjcf")
+        from ..specfile import load_spec
+        from ..verify import verify_spec
+
+        spec = load_spec(args.model)
+        with console.status(f"verifying {spec.name}...") as status:
+            result = verify_spec(spec, options, source=str(args.model), command=command,
+                                 progress=lambda suite: status.update(f"verifying {spec.name}: {suite}"))
     if args.quiet:
-        console.print(f"{spec.name}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed)")
+        console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed)")
     else:
         print_result(result, console)
-    json_path = write_json(result, args.json or f"reports/{spec.name}.json")
-    html_path = write_html(result, args.report or f"reports/{spec.name}.html")
+    json_path = write_json(result, args.json or f"reports/{result.model}.json")
+    html_path = write_html(result, args.report or f"reports/{result.model}.html")
     console.print(f"report: {html_path}  json: {json_path}")
     return 0 if result.passed else 1
