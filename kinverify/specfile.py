@@ -16,7 +16,7 @@ import numpy as np
 from . import dh as dhmod
 from .errors import SpecError
 from .inertia import DEFAULT_DENSITY, inertial_from_geometry
-from .spec import check_scalar, ArmSpec, DHRow, DHTable, Geometry, Inertial, Joint, Limits, Link, Origin, Tool
+from .spec import JOINT_TYPES, check_scalar, ArmSpec, DHRow, DHTable, Geometry, Inertial, Joint, Limits, Link, Origin, Tool
 
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 DEFAULT_LINK_RADIUS = 0.03  # m, the seed arm's link radius
@@ -121,7 +121,7 @@ def _link(t: _Table, default_name: str, default_geometry: Geometry | None, densi
         if geometry is None:
             raise SpecError(t.at("inertial"), "missing: a link without geometry needs inertial data")
         if mass is not None:
-            mass = _build(t.at("mass"), Inertial, mass=mass).mass
+            mass = check_scalar(mass, t.at("mass"), positive=True)
         inertial = _build(t.path, inertial_from_geometry, geom=geometry, mass=mass, density=density)
     t.done()
     return _build(t.path, Link, name=name, inertial=inertial, geometry=geometry)
@@ -184,6 +184,8 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     types, axes, origins, rows = [], [], [], []
     for jt in joint_tables:
         jtype = jt.string("type", "revolute")
+        if jtype not in JOINT_TYPES:
+            raise SpecError(jt.at("type"), f"unknown joint type {jtype!r}; expected one of {', '.join(JOINT_TYPES)}")
         types.append(jtype)
         if convention is None:
             if jt.get("dh") is not None:

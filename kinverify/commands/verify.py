@@ -33,6 +33,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--backends", help="comma-separated backend names (default: all available)")
     p.add_argument("--ik-targets", type=_count, default=None, help="random reachable IK targets per solver (default: the IK suite's)")
     p.add_argument("--skip", action="append", default=[], metavar="SUITE", help="skip a property suite (repeatable), e.g. --skip ik")
+    p.add_argument("--tolerance", action="append", default=[], metavar="PROPERTY=VALUE",
+                   help="override a tolerance (repeatable), e.g. --tolerance fk.position=1e-12")
     p.add_argument("--report", help="HTML report path (default reports/<model>.html)")
     p.add_argument("--json", help="JSON results path (default reports/<model>.json)")
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
@@ -40,6 +42,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def options_from_args(args):
+    from ..checks.tolerances import DEFAULT_TOLERANCES, Tolerance
     from ..errors import InputError
     from ..verify import SUITES, VerifyOptions
 
@@ -48,7 +51,18 @@ def options_from_args(args):
         if skip not in names:
             raise InputError(f"--skip: unknown suite {skip!r}; suites: {', '.join(names)}")
     extra = {} if args.ik_targets is None else {"ik_targets": args.ik_targets}
-    return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra,
+    tolerances = dict(DEFAULT_TOLERANCES)
+    for item in args.tolerance:
+        prop, _, value = item.partition("=")
+        if prop not in tolerances:
+            raise InputError(f"--tolerance: unknown property {prop!r}; properties: {', '.join(tolerances)}")
+        try:
+            tolerances[prop] = Tolerance(float(value), tolerances[prop].unit)
+        except ValueError:
+            raise InputError(f"--tolerance: {item!r} is not PROPERTY=NUMBER") from None
+        if not tolerances[prop].value >= 0:
+            raise InputError(f"--tolerance: {item!r} must be a non-negative number")
+    return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra, tolerances=tolerances,
                          backends=args.backends.split(",") if args.backends else None,
                          suites=[n for n in names if n not in args.skip])
 

@@ -1,0 +1,116 @@
+"""The command line: exit codes, JSON schema, generated files, and mangled input that must end
+in exit 2 with one line, never a traceback."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from kinverify.cli import main
+
+ARM3 = Path("models/arm3.toml").read_text()
+
+
+def test_verify_writes_json_and_html(tmp_path, capsys):
+    code = main(["verify", "models/arm3.toml", "--samples", "50", "--json", str(tmp_path / "r.json"),
+                 "--report", str(tmp_path / "r.html")])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "verdict: PASS" in out
+    data = json.loads((tmp_path / "r.json").read_text())
+    assert data["verdict"] == "pass"
+    assert {"pin", "mujoco", "yourdfpy", "numpy", "python", "kinverify"} <= set(data["versions"])
+    check = data["checks"][0]
+    assert {"property", "frame", "backends", "max_error", "p99_error", "tolerance", "passed", "worst_q"} <= set(check)
+    assert (tmp_path / "r.html").read_text().count("<html") == 1
+
+
+def test_verify_exits_1_when_a_check_fails(tmp_path, capsys):
+    # Jacobians agree with central differences to ~1e-10; demanding 1e-13 must fail.
+    code = main(["verify", "models/arm3.toml", "--samples", "20", "--backends", "analytic,mujoco",
+                 "--tolerance", "jacobian.fd=1e-13", "--json", str(tmp_path / "r.json"), "--report", str(tmp_path / "r.html")])
+    out = capsys.readouterr().out
+    assert code == 1
+    assert "verdict: FAIL" in out and "first disagreeing frame" in out
+    data = json.loads((tmp_path / "r.json").read_text())
+    assert data["verdict"] == "fail"
+    failed = [c for c in data["checks"] if not c["passed"]]
+    assert failed and {c["property"] for c in failed} == {"jacobian.fd"}
+    assert all(c["max_error"] > 1e-13 for c in failed)
+
+
+def test_generate_writes_both_files(tmp_path, capsys):
+    assert main(["generate", "models/scara.toml", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "scara.urdf").read_text().startswith("<?xml")
+    assert "<mujoco" in (tmp_path / "scara.xml").read_text()
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["verify", "models/nope.toml"], "models/nope.toml: cannot read spec file"),
+    (["verify", "models/arm3.toml", "--backends", "pybullet"], "unknown backend 'pybullet'; available backends:"),
+    (["verify", "models/arm3.toml", "--skip", "everything"], "unknown suite"),
+    (["verify"], "give a spec MODEL"),
+    (["verify", "models/arm3.toml", "--tolerance", "fk.position=abc"], "is not PROPERTY=NUMBER"),
+    (["verify", "models/arm3.toml", "--tolerance", "fk.speed=1"], "unknown property 'fk.speed'"),
+])
+def test_bad_input_is_one_line_and_exit_2(argv, words, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_module_entry_point_runs_without_traceback(tmp_path):
+    bad = tmp_path / "zero_axis.toml"
+    bad.write_text(ARM3.replace("axis = [0.0, 1.0, 0.0]", "axis = [0.0, 0.0, 0.0]", 1))
+    proc = subprocess.run([sys.executable, "-m", "kinverify", "verify", str(bad)], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr == f"kinverify: error: {bad}: joints[1].axis: axis must be non-zero\n"
+
+
+NUMBER = re.compile(r"(?<![\w.])-?\d+(\.\d+)?")
+
+
+@st.composite
+def mangled_specs(draw) -> bytes:
+    text = ARM3
+    kind = draw(st.sampled_from(["truncate", "number", "line", "bytes", "key"]))
+    if kind == "truncate":
+        return text.encode()[: draw(st.integers(0, len(text) - 1))]
+    if kind == "number":
+        matches = list(NUMBER.finditer(text))
+        m = draw(st.sampled_from(matches))
+        new = draw(st.sampled_from(["nan", "inf", "1e308", "-1e308", '"text"', "true", "[]", "{}", "-0.5"]))
+        return (text[: m.start()] + new + text[m.end():]).encode()
+    if kind == "line":
+        lines = text.splitlines()
+        del lines[draw(st.integers(0, len(lines) - 1))]
+        return "\n".join(lines).encode()
+    if kind == "key":
+        return text.replace(draw(st.sampled_from(["name", "axis", "limits", "lower", "xyz", "type", "geometry"])), "bogus", 1).encode()
+    return draw(st.binary(min_size=0, max_size=200))
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(mangled_specs())
+def test_mangled_spec_files_give_one_line_and_exit_2(capsys, raw):
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "mangled.toml"
+        path.write_bytes(raw)
+        capsys.readouterr()
+        code = main(["generate", str(path), "--out", tmp])
+        out, err = capsys.readouterr()
+    if code == 0:  # the mangling happened to keep a valid spec (e.g. removed a comment line)
+        from kinverify import load_spec
+        assert load_spec is not None and err == ""
+        return
+    assert code == 2
+    assert err.startswith(f"kinverify: error: {path}: ") and err.count("\n") == 1, err
+    assert "Traceback" not in err
