@@ -137,12 +137,28 @@ def rotation_angle(m) -> np.ndarray:
 
 
 def rotation_log(m) -> np.ndarray:
-    """Rotation vector (axis * angle) ``(..., 3)`` of rotation matrices (angle < pi)."""
+    """Rotation vector (axis * angle, angle in [0, pi]) ``(..., 3)`` of rotation matrices.
+
+    Near pi the skew part vanishes, so the axis is taken there from the symmetric part
+    ``(R + Rᵀ)/2 − cos θ·I = (1 − cos θ)·a aᵀ``, its sign from the skew part.
+    """
+    m = np.asarray(m, dtype=float)
     v = rotation_vee(m)
     s = np.linalg.norm(v, axis=-1)
     angle = rotation_angle(m)
     scale = np.where(s > 1e-12, angle / np.where(s > 1e-12, s, 1.0), 1.0)
-    return v * scale[..., None]
+    out = v * scale[..., None]
+    near_pi = angle > np.pi - 1e-3
+    if np.any(near_pi):
+        mp = m[near_pi]
+        cos = np.cos(angle[near_pi])[..., None, None]
+        b = 0.5 * (mp + np.swapaxes(mp, -1, -2)) - cos * np.eye(3)
+        col = np.argmax(np.diagonal(b, axis1=-2, axis2=-1), axis=-1)
+        axis = np.take_along_axis(b, col[..., None, None].repeat(3, -1), axis=-1)[..., 0]
+        axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
+        sign = np.where(np.sum(axis * v[near_pi], axis=-1) < 0, -1.0, 1.0)
+        out[near_pi] = axis * (sign * angle[near_pi])[..., None]
+    return out
 
 
 def geodesic_distance(r_a, r_b) -> np.ndarray:
