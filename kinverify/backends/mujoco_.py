@@ -48,6 +48,22 @@ class MujocoBackend(BackendBase):
             raise BackendError(name, f"cannot load MJCF: {str(err).strip().splitlines()[0]}") from None
         return cls(model, name, joint_names, frames)
 
+    @classmethod
+    def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "mujoco-urdf") -> "MujocoBackend":
+        """MuJoCo's own URDF import, told to keep fixed links as bodies (``fusestatic="false"``)
+        so every URDF link stays a frame."""
+        import xml.etree.ElementTree as ET
+
+        try:
+            root = ET.fromstring(urdf_text)
+            for ext in root.findall("mujoco"):
+                root.remove(ext)
+            ET.SubElement(ET.SubElement(root, "mujoco"), "compiler", fusestatic="false", discardvisual="true")
+            model = mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
+        except (ValueError, ET.ParseError) as err:
+            raise BackendError(name, f"cannot load URDF: {str(err).strip().splitlines()[0]}") from None
+        return cls(model, name, joint_names, frames)
+
     def poses(self, q: np.ndarray) -> np.ndarray:
         return self.evaluate(q, with_jacobians=False).poses
 

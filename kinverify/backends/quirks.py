@@ -16,6 +16,10 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
         ("Pinocchio's MJCF parser ignores the pos/quat of a top-level body under <worldbody>",
          "generated MJCF hangs the arm from a zero-pose 'world_mount' body"),
     ],
+    "mujoco-urdf": [
+        ("MuJoCo's URDF import fuses fixed links into their parent (fusestatic) unless told otherwise",
+         "the adapter adds <mujoco><compiler fusestatic='false'/></mujoco> so every URDF link stays a frame"),
+    ],
     "mujoco": [
         ("compiler angle='degree' converts joint range but not actuator ctrlrange",
          "generated MJCF always uses angle='radian'"),
