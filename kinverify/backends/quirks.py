@@ -23,5 +23,8 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
     "mujoco": [
         ("compiler angle='degree' converts joint range but not actuator ctrlrange",
          "generated MJCF always uses angle='radian'"),
+        ("MjSpec.to_xml() writes numbers with 6 significant digits (masses, positions, and fullinertia "
+         "re-expressed as rounded quat + diaginertia), so a round trip rounds the model",
+         "file mode removes meshes by editing the XML tree and uses MjSpec only to check that it compiles"),
     ],
 }

@@ -206,7 +206,7 @@ def diagnose_links(u: ModelDesc, m: ModelDesc, matching: Matching) -> tuple[list
         if di > INERTIA_REL * max(np.linalg.norm(iu), np.linalg.norm(im), 1e-12):
             eu, em = np.linalg.eigvalsh(iu), np.linalg.eigvalsh(im)
             values = {"urdf": iu.tolist(), "mjcf": im.tolist(), "urdf_principal": eu.tolist(), "mjcf_principal": em.tolist()}
-            if np.linalg.norm(eu - em) <= 1e-4 * max(np.linalg.norm(em), 1e-12):
+            if np.linalg.norm(eu - em) <= 1e-6 * max(np.linalg.norm(em), 1e-12):
                 out.append(finding("inertia_rotated", f"link {ju.child}/{jm.child}: same principal moments "
                                    f"{_vec(em)} but different principal axes (swapped or rotated inertia tensor)", values, **names))
             else:
@@ -247,11 +247,12 @@ def diagnose_rounding(findings: list[dict], urdf_text: str, mjcf_text: str, u: M
     blamed = {f.get("joint") or f.get("frame") for f in findings if f["kind"] in kinds}
     blamed |= {f.get("mjcf_frame") for f in findings if f["kind"] in kinds}
     body_to_joint = {m.joint(b).child: a for a, b, _ in matching.joints}
-    out = []
+    out, seen = [], set()
     for side, where, value, exact, decimals in rounded_constants(urdf_text, mjcf_text):
         joint = where if side == "URDF" else body_to_joint.get(where, where)
-        if joint not in blamed:
+        if joint not in blamed or (joint, value) in seen:
             continue
+        seen.add((joint, value))
         out.append(finding("rounding", f"{joint}: the {side} writes {value} for {exact[1]} = {exact[0]!r} "
                            f"(rounded to {decimals} decimals)", {"file": side, "written": value, "constant": exact[1],
                            "exact": exact[0]}, joint=joint))

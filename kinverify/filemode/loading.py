@@ -73,36 +73,61 @@ def load_urdf(path: str) -> LoadedFile:
 
 
 def load_mjcf(path: str) -> LoadedFile:
-    """MJCF with mesh geoms, mesh assets and file textures removed through ``mujoco.MjSpec``.
+    """MJCF with mesh geoms, mesh assets and file textures removed from the XML tree, then checked
+    by compiling it with MuJoCo (``MjSpec``).
 
-    A file MuJoCo cannot parse is still returned (``text`` = the original) with a warning, so the
-    other parser can be tried and the refusal reported as a finding."""
+    The tree is edited directly rather than written back with ``MjSpec.to_xml()``, which prints
+    numbers to 6 significant digits and would round the model. A file MuJoCo refuses is still
+    returned, with a warning, so the refusal is reported as a finding."""
     import mujoco
 
     text, root = read_xml(path, "mjcf")
     name = root.get("model") or Path(path).stem
-    try:
-        spec = mujoco.MjSpec.from_file(str(path))
-    except ValueError as err:
-        return LoadedFile(str(path), "mjcf", text, text, name, (f"mujoco refused the MJCF: {_first_line(err)}",))
-    dropped = 0
-    for geom in list(spec.geoms):
-        if geom.type == mujoco.mjtGeom.mjGEOM_MESH:
-            spec.delete(geom)
-            dropped += 1
-    for mesh in list(spec.meshes):
-        spec.delete(mesh)
-    for tex in list(spec.textures):
-        if tex.file:
-            spec.delete(tex)
+    dropped, massless = _drop_meshes(root)
     warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped"] if dropped else []
+    if massless:
+        warnings.append(f"MJCF bodies without <inertial> whose mass came from their (absent) meshes: {', '.join(massless)}")
+    cleaned = ET.tostring(root, encoding="unicode")
     try:
+        spec = mujoco.MjSpec.from_string(cleaned)
         spec.compile()
-        cleaned = spec.to_xml()
     except ValueError as err:
         warnings.append(f"mujoco cannot compile the MJCF without its meshes: {_first_line(err)}")
-        cleaned = text
     return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
+
+
+def _drop_meshes(root: ET.Element) -> tuple[int, list[str]]:
+    """Remove geoms with a mesh, mesh/skin/hfield assets and file textures (and references to them)."""
+    parents = {child: parent for parent in root.iter() for child in parent}
+    dropped, massless, gone_geoms, gone_tex = 0, [], set(), set()
+    for geom in list(root.iter("geom")):
+        if geom.get("mesh") is not None and parents[geom].tag != "default":
+            body = parents[geom]
+            body.remove(geom)
+            dropped += 1
+            gone_geoms.add(geom.get("name"))
+            if body.tag == "body" and body.find("inertial") is None and body.get("name") not in massless:
+                massless.append(body.get("name") or "?")
+    for asset in root.iter("asset"):
+        for el in list(asset):
+            if el.tag in ("mesh", "skin", "hfield") or (el.tag == "texture" and el.get("file") is not None):
+                if el.tag == "texture":
+                    gone_tex.add(el.get("name"))
+                asset.remove(el)
+    for material in root.iter("material"):
+        if material.get("texture") in gone_tex:
+            del material.attrib["texture"]
+    for contact in root.iter("contact"):
+        for pair in list(contact):
+            if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
+                contact.remove(pair)
+    massless = [b for b in massless if not _has_geom(root, b)]
+    return dropped, massless
+
+
+def _has_geom(root: ET.Element, body_name: str) -> bool:
+    body = next((b for b in root.iter("body") if b.get("name") == body_name), None)
+    return body is not None and body.find("geom") is not None
 
 
 def _first_line(err: Exception) -> str:
