@@ -184,7 +184,12 @@ def diagnose_links(u: ModelDesc, m: ModelDesc, matching: Matching) -> tuple[list
         folded = [f"{n} (URDF only)" for n in matching.unmatched_urdf if _nearest_matched(u, n, {p[0] for p in matching.joints}) == a]
         folded += [f"{n} (MJCF only)" for n in matching.unmatched_mjcf if _nearest_matched(m, n, {p[1] for p in matching.joints}) == b]
         incl = f" (including the bodies of unmatched joint {', '.join(folded)}, held at zero)" if folded else ""
+        if a not in cu and a not in cm:
+            continue
         if a not in cu or a not in cm:
+            side, (mass, _, _) = ("URDF", cm[a]) if a not in cu else ("MJCF", cu[a])
+            out.append(finding("mass_difference", f"link {ju.child}/{jm.child}: no mass in the {side}, {mass:.6g} kg in the other file",
+                               {"urdf": cu.get(a, (0.0,))[0], "mjcf": cm.get(a, (0.0,))[0]}, **names))
             continue
         mu, comu, iu = cu[a]
         mm, comm, im = cm[a]
