@@ -78,6 +78,9 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
         mjcf_joint_names=tuple(b for _, b, _ in matching.joints), mjcf_frames=tuple(f[1] for f in matching.frames))
     wanted = [n for n in (options.backends if options and options.backends else URDF_SIDE + MJCF_SIDE)
               if n in URDF_SIDE + MJCF_SIDE]
+    if not any(n in URDF_SIDE for n in wanted) or not any(n in MJCF_SIDE for n in wanted):
+        raise InputError(f"--backends: file mode needs a URDF backend ({', '.join(URDF_SIDE)}) and an MJCF backend "
+                         f"({', '.join(MJCF_SIDE)}); got {', '.join(options.backends or [])}")
     backends = {}
     for name in wanted:
         info = available_backends().get(name)
