@@ -83,6 +83,11 @@ def zero_offset(urdf, mjcf):
     return urdf, _sub_once(r'(<joint name="panda_joint4" )', lambda m: m[1] + 'ref="0.1" ', mjcf)
 
 
+def type_change(urdf, mjcf):
+    """The MJCF makes the last joint prismatic."""
+    return urdf, _joint_attr(mjcf, "panda_joint7", "type", lambda t: "slide")
+
+
 # mutation, expected finding kind, joint/link/frame it must name (URDF names)
 MUTATIONS = [
     (base_rotation, "base_transform", None),
@@ -93,4 +98,5 @@ MUTATIONS = [
     (extra_joint, "unmatched_joint", "gripper_joint"),
     (rounded_rpy, "rounding", "panda_joint3"),
     (zero_offset, "zero_offset", "panda_joint4"),
+    (type_change, "type_difference", "panda_joint7"),
 ]

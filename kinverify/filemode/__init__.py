@@ -121,7 +121,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
     dyn, dyn_notes = diagnose_dynamics(u, m, matching)
     findings += dyn
     notes = list(U.warnings + M.warnings) + [f"URDF: {s}" for s in u.skipped] + [f"MJCF: {s}" for s in m.skipped]
-    notes += [f"cannot be expressed by the other format: {n}" for n in dyn_notes]
+    notes += [f"joint dynamics in one file only: {n}" for n in dyn_notes]
     section = build_section(U, M, matching, findings, notes, residual_rows, parser_rows, link_rows, ref, other)
     return dict(sources=sources, backends=backends, reference=ref, findings=findings, notes=notes, section=section,
                 urdf=U, mjcf=M, matching=matching, base=t_base)
