@@ -14,7 +14,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from filemode_pairs import MUTATIONS, axis_flip, generated_pair
+from filemode_pairs import MUTATIONS, generated_pair
 from kinverify.cli import main
 from kinverify.errors import InputError
 from kinverify.filemode import diagnose_files, verify_files

@@ -11,7 +11,6 @@ from __future__ import annotations
 import dataclasses
 import math
 
-import numpy as np
 
 from ..backends import ModelSources, available_backends, build_backend
 from ..errors import InputError, KinverifyError
