@@ -74,6 +74,8 @@ class VerifyResult:
     #  "notes": [str], ...any further keys a suite keeps for re-rendering}
     sections: dict[str, Any] = field(default_factory=dict)
     model_info: dict[str, Any] = field(default_factory=dict)  # joint table, masses, URDF/MJCF text
+    # File mode: what differs between a URDF and an MJCF, [{"kind", "message", "joint"/"link"/"frame", "values"}]
+    findings: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def passed(self) -> bool:

@@ -40,7 +40,7 @@ class BackendInfo:
 _BUILDERS: dict[str, Callable] = {
     "spec": lambda cls, s, name: cls(s.spec),
     "urdf": lambda cls, s, name: cls.from_urdf(s.urdf, s.joint_names, s.frames, name=name),
-    "mjcf": lambda cls, s, name: cls.from_mjcf(s.mjcf, s.joint_names, s.frames, name=name),
+    "mjcf": lambda cls, s, name: cls.from_mjcf(s.mjcf, s.mjcf_joint_names or s.joint_names, s.mjcf_frames or s.frames, name=name),
 }
 
 # name, module, class, source, library
@@ -51,6 +51,7 @@ _ENTRIES = (
     ("pinocchio-mjcf", ".pinocchio_", "PinocchioBackend", "mjcf", "pin"),
     ("mujoco", ".mujoco_", "MujocoBackend", "mjcf", "mujoco"),
     ("yourdfpy", ".yourdfpy_", "YourdfpyBackend", "urdf", "yourdfpy"),
+    ("mujoco-urdf", ".mujoco_", "MujocoBackend", "urdf", "mujoco"),
 )
 
 

@@ -48,6 +48,15 @@ class MujocoBackend(BackendBase):
             raise BackendError(name, f"cannot load MJCF: {str(err).strip().splitlines()[0]}") from None
         return cls(model, name, joint_names, frames)
 
+    @classmethod
+    def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "mujoco-urdf") -> "MujocoBackend":
+        """MuJoCo's own URDF import (see :func:`urdf_for_mujoco`)."""
+        try:
+            model = mujoco.MjModel.from_xml_string(urdf_for_mujoco(urdf_text))
+        except ValueError as err:
+            raise BackendError(name, f"cannot load URDF: {str(err).strip().splitlines()[0]}") from None
+        return cls(model, name, joint_names, frames)
+
     def poses(self, q: np.ndarray) -> np.ndarray:
         return self.evaluate(q, with_jacobians=False).poses
 
@@ -80,3 +89,18 @@ class MujocoBackend(BackendBase):
                     jac[k, f, :3] = jacp[:, self._vadr]
                     jac[k, f, 3:] = jacr[:, self._vadr]
         return Evaluation(self.name, self.frames, poses, jac)
+
+
+def urdf_for_mujoco(urdf_text: str) -> str:
+    """The URDF with the ``<mujoco><compiler>`` extension MuJoCo's URDF import reads: keep fixed
+    links as bodies (``fusestatic="false"``) so every URDF link stays a frame."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.fromstring(urdf_text)
+    except ET.ParseError as err:
+        raise ValueError(f"not XML: {err}") from None
+    for ext in root.findall("mujoco"):
+        root.remove(ext)
+    ET.SubElement(ET.SubElement(root, "mujoco"), "compiler", fusestatic="false", discardvisual="true")
+    return ET.tostring(root, encoding="unicode")

@@ -16,8 +16,15 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
         ("Pinocchio's MJCF parser ignores the pos/quat of a top-level body under <worldbody>",
          "generated MJCF hangs the arm from a zero-pose 'world_mount' body"),
     ],
+    "mujoco-urdf": [
+        ("MuJoCo's URDF import fuses fixed links into their parent (fusestatic) unless told otherwise",
+         "the adapter adds <mujoco><compiler fusestatic='false'/></mujoco> so every URDF link stays a frame"),
+    ],
     "mujoco": [
         ("compiler angle='degree' converts joint range but not actuator ctrlrange",
          "generated MJCF always uses angle='radian'"),
+        ("MjSpec.to_xml() writes numbers with 6 significant digits (masses, positions, and fullinertia "
+         "re-expressed as rounded quat + diaginertia), so a round trip rounds the model",
+         "file mode removes meshes by editing the XML tree and uses MjSpec only to check that it compiles"),
     ],
 }

@@ -22,6 +22,9 @@ class ModelSources:
     spec: ArmSpec | None = None
     urdf: str | None = None
     mjcf: str | None = None
+    # File mode: the MJCF's own names for the same joints and frames (None: same as the URDF's).
+    mjcf_joint_names: tuple[str, ...] | None = None
+    mjcf_frames: tuple[str, ...] | None = None
 
     @classmethod
     def from_spec(cls, spec: ArmSpec) -> "ModelSources":

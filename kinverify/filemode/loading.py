@@ -1,0 +1,137 @@
+"""Reading a user's URDF and MJCF safely, and cleaning them so every library loads them without meshes.
+
+Untrusted XML goes through defusedxml first: a DTD with entities (external or an expansion bomb)
+is refused before any library sees the file. Meshes are dropped (real files are usually copied
+without them): URDF ``<visual>``/``<collision>`` elements with a ``<mesh>``; MJCF mesh geoms,
+mesh assets and file textures through MuJoCo's ``MjSpec`` editing API.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import defusedxml
+import defusedxml.ElementTree as DET
+
+from ..errors import InputError
+
+
+@dataclass(frozen=True)
+class LoadedFile:
+    """A model file after safe parsing and cleaning: ``text`` is what the backends load."""
+
+    path: str
+    kind: str  # "urdf" or "mjcf"
+    original: str
+    text: str
+    name: str
+    warnings: tuple[str, ...] = field(default_factory=tuple)
+
+
+def read_xml(path: str, kind: str) -> tuple[str, ET.Element]:
+    """The file's text and its root element; :class:`InputError` on anything unsafe or wrong."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"--{kind}: {path} is not a file")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as err:
+        raise InputError(f"--{kind}: cannot read {path}: {err}") from None
+    try:
+        root = DET.fromstring(text.encode(), forbid_dtd=False, forbid_entities=True, forbid_external=True)
+    except defusedxml.EntitiesForbidden:
+        raise InputError(f"--{kind}: {path} declares XML entities (external entities and entity expansion "
+                         "are refused for safety; remove the DTD)") from None
+    except (defusedxml.DTDForbidden, defusedxml.ExternalReferenceForbidden, defusedxml.NotSupportedError) as err:
+        raise InputError(f"--{kind}: {path}: unsafe XML refused ({type(err).__name__})") from None
+    except ET.ParseError as err:
+        raise InputError(f"--{kind}: {path} is not XML: {err}") from None
+    expected = {"urdf": "robot", "mjcf": "mujoco"}[kind]
+    if root.tag != expected:
+        hint = {"robot": "a URDF", "mujoco": "an MJCF"}.get(root.tag, f"a <{root.tag}> document")
+        raise InputError(f"--{kind}: {path} is {hint}, not {'a URDF' if kind == 'urdf' else 'an MJCF'} "
+                         f"(root element <{root.tag}>, expected <{expected}>)")
+    return text, root
+
+
+def load_urdf(path: str) -> LoadedFile:
+    """URDF without mesh visuals/collisions (kinematics and inertials are untouched)."""
+    text, root = read_xml(path, "urdf")
+    dropped = 0
+    for link in root.iter("link"):
+        for tag in ("visual", "collision"):
+            for el in list(link.findall(tag)):
+                if el.find("geometry/mesh") is not None:
+                    link.remove(el)
+                    dropped += 1
+    warnings = (f"URDF: {dropped} mesh visual/collision elements skipped (meshes are not needed for kinematics "
+                "and dynamics)",) if dropped else ()
+    cleaned = ET.tostring(root, encoding="unicode")
+    return LoadedFile(str(path), "urdf", text, cleaned, root.get("name") or Path(path).stem, warnings)
+
+
+def load_mjcf(path: str) -> LoadedFile:
+    """MJCF with mesh geoms, mesh assets and file textures removed from the XML tree, then checked
+    by compiling it with MuJoCo (``MjSpec``).
+
+    The tree is edited directly rather than written back with ``MjSpec.to_xml()``, which prints
+    numbers to 6 significant digits and would round the model. A file MuJoCo refuses is still
+    returned, with a warning, so the refusal is reported as a finding."""
+    import mujoco
+
+    text, root = read_xml(path, "mjcf")
+    name = root.get("model") or Path(path).stem
+    dropped, massless = _drop_meshes(root)
+    warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped"] if dropped else []
+    if massless:
+        warnings.append(f"MJCF bodies without <inertial> whose mass came from their (absent) meshes: {', '.join(massless)}")
+    cleaned = ET.tostring(root, encoding="unicode")
+    try:
+        spec = mujoco.MjSpec.from_string(cleaned)
+        spec.compile()
+    except ValueError as err:
+        warnings.append(f"mujoco cannot compile the MJCF without its meshes: {_first_line(err)}")
+    return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
+
+
+def _drop_meshes(root: ET.Element) -> tuple[int, list[str]]:
+    """Remove geoms with a mesh, mesh/skin/hfield assets and file textures (and references to them)."""
+    parents = {child: parent for parent in root.iter() for child in parent}
+    dropped, massless, gone_geoms, gone_tex = 0, [], set(), set()
+    for geom in list(root.iter("geom")):
+        if geom.get("mesh") is not None and parents[geom].tag != "default":
+            body = parents[geom]
+            body.remove(geom)
+            dropped += 1
+            gone_geoms.add(geom.get("name"))
+            if body.tag == "body" and body.find("inertial") is None and body.get("name") not in massless:
+                massless.append(body.get("name") or "?")
+    for asset in root.iter("asset"):
+        for el in list(asset):
+            if el.tag in ("mesh", "skin", "hfield") or (el.tag == "texture" and el.get("file") is not None):
+                if el.tag == "texture":
+                    gone_tex.add(el.get("name"))
+                asset.remove(el)
+    for material in root.iter("material"):
+        if material.get("texture") in gone_tex:
+            del material.attrib["texture"]
+    for contact in root.iter("contact"):
+        for pair in list(contact):
+            if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
+                contact.remove(pair)
+    massless = [b for b in massless if not _has_geom(root, b)]
+    return dropped, massless
+
+
+def _has_geom(root: ET.Element, body_name: str) -> bool:
+    body = next((b for b in root.iter("body") if b.get("name") == body_name), None)
+    return body is not None and body.find("geom") is not None
+
+
+def _first_line(err: Exception) -> str:
+    lines = str(err).strip().splitlines()
+    return lines[0] if lines else type(err).__name__
+
+
