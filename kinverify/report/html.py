@@ -22,6 +22,14 @@ from .writer import write_atomic
 
 IMAGE_MIMES = {"image/svg+xml", "image/png", "image/gif", "image/jpeg", "image/webp"}
 SPECIAL_SECTIONS = {"diagnosis"}  # rendered inside the failing-check blocks, not as a section
+# Page order of sections and versions; anything else follows alphabetically. Fixed here (not
+# taken from dict order) so a result re-read from its JSON (sorted keys) renders identically.
+SECTION_ORDER = ("pictures", "workspace", "ik", "tracking", "dynamics")
+VERSION_ORDER = ("kinverify", "python", "numpy", "pin", "mujoco", "yourdfpy")
+
+
+def _ordered(keys, first) -> list:
+    return sorted(keys, key=lambda k: (first.index(k) if k in first else len(first), k))
 
 
 def _environment() -> Environment:
@@ -115,7 +123,8 @@ def _figures(section: dict) -> list[dict[str, Any]]:
 def sections(result: VerifyResult) -> list[dict[str, Any]]:
     """Generic sections (schema in results.py); the workspace cloud is drawn from its points."""
     out = []
-    for name, sec in result.sections.items():
+    for name in _ordered(result.sections, SECTION_ORDER):
+        sec = result.sections[name]
         if name in SPECIAL_SECTIONS or not isinstance(sec, dict):
             continue
         svg = workspace_svg(sec) if name == "workspace" else None
@@ -130,7 +139,8 @@ def render_html(result: VerifyResult) -> str:
     dist = error_distributions_svg(result)
     return _environment().get_template("report.html.j2").render(
         r=result, failing=failing_pairs(result), rows=summary_rows(result), overview=overview_rows(result), sections=sections(result),
-        distributions=Markup(dist) if dist else None, revolute=_revolute(result), math=math,
+        distributions=Markup(dist) if dist else None,
+        versions=[(k, result.versions[k]) for k in _ordered(result.versions, VERSION_ORDER)], revolute=_revolute(result), math=math,
         failed_groups=sorted({(c.property, " vs ".join(c.backends)) for c in result.failed}),
     )
 
