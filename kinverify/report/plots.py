@@ -40,6 +40,7 @@ def error_distributions_svg(result: VerifyResult) -> str | None:
     """One log-scale panel per property: the error histogram of each backend pair (all frames
     pooled), with the tolerance as a dashed line. None when no check has a histogram."""
     import matplotlib
+    import matplotlib.ticker
 
     props: dict[str, dict[tuple, np.ndarray]] = {}
     tolerance: dict[str, float] = {}
@@ -70,6 +71,9 @@ def error_distributions_svg(result: VerifyResult) -> str | None:
             left = min(HIST_EDGES[max(lo - 2, 0)], tolerance[prop] / 10)
             right = max(HIST_EDGES[min(hi + 3, len(HIST_EDGES) - 1)], tolerance[prop] * 10)
             ax.set_xlim(left, right)
+            ax.xaxis.set_major_locator(matplotlib.ticker.LogLocator(numticks=7))
+            ax.yaxis.set_major_locator(matplotlib.ticker.LogLocator(numticks=5))
+            ax.minorticks_off()  # log axes over many decades: minor ticks cost seconds and add nothing
             ax.set_title(prop)
             ax.set_xlabel(f"error [{units[prop]}] (errors below 1e-18, incl. 0, in the first bin)" if i == 0 else f"error [{units[prop]}]")
             ax.set_ylabel("samples × frames")
