@@ -31,11 +31,12 @@ def render_pngs(mjcf: str, joint_names, configurations, width: int = WIDTH, heig
     data = mujoco.MjData(model)
     adr = [model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j)] for j in joint_names]
     mujoco.mj_forward(model, data)
-    chain = float(np.linalg.norm(model.body_pos[1:], axis=1).sum())  # an upper bound of the arm's size
+    body = data.xpos[1:]
+    size = float(np.ptp(body, axis=0).max())  # the arm's extent at the home pose
     cam = mujoco.MjvCamera()
     mujoco.mjv_defaultFreeCamera(model, cam)
-    cam.lookat[:] = data.xpos[1:].mean(axis=0)  # the same view for every picture: centred on the home pose
-    cam.azimuth, cam.elevation, cam.distance = 135.0, -20.0, 1.5 * chain + 0.2
+    cam.lookat[:] = (body.min(axis=0) + body.max(axis=0)) / 2  # the same view for every picture
+    cam.azimuth, cam.elevation, cam.distance = 135.0, -20.0, 1.6 * size + 0.6
     out = []
     with mujoco.Renderer(model, height, width) as renderer:
         for q in configurations:
