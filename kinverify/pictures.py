@@ -35,14 +35,16 @@ def render_pngs(mjcf: str, joint_names, configurations, width: int = WIDTH, heig
     size = float(np.ptp(body, axis=0).max())  # the arm's extent at the home pose
     cam = mujoco.MjvCamera()
     mujoco.mjv_defaultFreeCamera(model, cam)
-    cam.lookat[:] = (body.min(axis=0) + body.max(axis=0)) / 2  # the same view for every picture
-    cam.azimuth, cam.elevation, cam.distance = 135.0, -20.0, 1.6 * size + 0.6
+    cam.lookat[:] = (body.min(axis=0) + body.max(axis=0)) / 2  # centred on the home pose
+    cam.elevation, cam.distance = -20.0, 1.6 * size + 0.6
     out = []
     with mujoco.Renderer(model, height, width) as renderer:
         for q in configurations:
             data.qpos[:] = model.qpos0
             data.qpos[adr] = q
             mujoco.mj_forward(model, data)
+            reach = data.xpos[-1, :2] - data.xpos[1, :2]  # look across the arm, not along it
+            cam.azimuth = np.degrees(np.arctan2(reach[1], reach[0])) + 90.0 if np.linalg.norm(reach) > 0.05 * size else 135.0
             renderer.update_scene(data, camera=cam)
             out.append(png_bytes(renderer.render()))
     return out
@@ -57,7 +59,7 @@ def png_bytes(rgb: np.ndarray) -> bytes:
         return struct.pack(">I", len(payload)) + tag + payload + struct.pack(">I", zlib.crc32(tag + payload) & 0xFFFFFFFF)
 
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+            + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
 
 
 def render_in_child(mjcf: str, joint_names, configurations) -> tuple[list[bytes], str]:

@@ -215,3 +215,15 @@ def test_report_in_headless_chromium(failing, failing_page, tmp_path):
     assert pixels.shape[:2] == (900, 1280)
     r, g, b = pixels[10, 640, :3]
     assert r > 0.5 and g < 0.3 and b < 0.3
+
+
+def test_verify_cli_writes_a_report_that_report_cli_reproduces_from_the_json(tmp_path):
+    html, js = tmp_path / "arm3.html", tmp_path / "arm3.json"
+    args = ["verify", str(ROOT / "models" / "arm3.toml"), "--samples", "5", "--skip", "pictures", "--quiet",
+            "--report", str(html), "--json", str(js)]
+    assert main(args) == 0
+    page = html.read_text(encoding="utf-8")
+    assert 'class="banner pass"' in page and "kinverify verify " in page and "--samples 5" in page
+    assert main(["report", str(js), "--out", str(tmp_path / "again.html")]) == 0
+    assert (tmp_path / "again.html").read_text(encoding="utf-8") == page
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]  # atomic writes leave nothing behind
