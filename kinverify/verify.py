@@ -24,6 +24,9 @@ from .sampling import sample_configurations
 from .spec import ArmSpec
 from .stats import ErrorStats
 from .versions import library_versions
+from .diagnose import diagnosis_suite
+from .pictures import pictures_suite
+from .workspace import workspace_suite
 
 REFERENCE = "analytic"
 
@@ -119,6 +122,9 @@ def kinematics_suite(ctx: VerifyContext) -> SuiteResult:
 SUITES: list[tuple[str, Callable[[VerifyContext], SuiteResult]]] = [
     ("kinematics", kinematics_suite),
 ]
+SUITES.append(("diagnosis", diagnosis_suite))  # report (issue 3): hints and worst configurations
+SUITES.append(("workspace", workspace_suite))  # report (issue 3): Monte-Carlo workspace
+SUITES.append(("pictures", pictures_suite))  # report (issue 3): MuJoCo renderings
 
 
 def model_info(sources: ModelSources) -> dict[str, Any]:

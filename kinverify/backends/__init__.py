@@ -63,7 +63,7 @@ def available_backends() -> dict[str, BackendInfo]:
         try:
             importlib.import_module(module, __name__)
             out[name] = BackendInfo(name, module, cls, source, library, True)
-        except ImportError as err:
+        except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
             out[name] = BackendInfo(name, module, cls, source, library, False, f"cannot import: {err}")
     return out
 
