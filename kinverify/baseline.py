@@ -155,7 +155,7 @@ def read_baseline(path, model: str | None = None) -> dict[str, Any]:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as err:
-        raise InputError(f"{path}: corrupt or truncated baseline JSON ({err.msg} at line {err.lineno})") from None
+        raise InputError(f"{path}: corrupt or truncated baseline JSON ({err.msg}: line {err.lineno} column {err.colno})") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise InputError(f"{path}: not a kinverify baseline (no \"format\": \"{FORMAT}\")")
     version = data.get("format_version")
