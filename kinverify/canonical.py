@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 from dataclasses import asdict
 from typing import Any
 
@@ -48,15 +49,21 @@ def _link(d) -> Link:
     return Link(d["name"], Inertial(inertial["mass"], tuple(inertial["com"]), tuple(inertial["inertia"])), geometry)
 
 
+def _joint(d) -> Joint:
+    joint = Joint(d["name"], d["type"], _origin(d["origin"]), tuple(d["axis"]), Limits(**d["limits"]), _link(d["link"]),
+                  d.get("damping", 0.0), d.get("friction", 0.0), d.get("armature", 0.0))
+    stored = tuple(float(x) for x in d["axis"])
+    if abs(math.fsum(x * x for x in stored) - 1.0) < 1e-12:
+        # The stored axis was normalised already; normalising again could change its last bit.
+        object.__setattr__(joint, "axis", stored)
+    return joint
+
+
 def spec_from_canonical(data: dict[str, Any], where: str = "spec") -> ArmSpec:
     """Rebuild the spec from :func:`spec_to_canonical` data; ``InputError`` naming ``where`` if
     the data is not a valid spec."""
     try:
-        joints = tuple(
-            Joint(j["name"], j["type"], _origin(j["origin"]), tuple(j["axis"]), Limits(**j["limits"]), _link(j["link"]),
-                  j.get("damping", 0.0), j.get("friction", 0.0), j.get("armature", 0.0))
-            for j in data["joints"]
-        )
+        joints = tuple(_joint(j) for j in data["joints"])
         tools = tuple(Tool(t["name"], t["parent"], _origin(t["origin"])) for t in data.get("tools", ()))
         dh = data.get("dh")
         if dh is not None:
