@@ -145,8 +145,8 @@ def assert_ik_valid(model, q, target, frame: str | None = None, *, backends: Seq
         outside = (q[0] < lower - 1e-12) | (q[0] > upper + 1e-12)
         if outside.any():
             j = int(np.argmax(outside))
-            raise AssertionError(f"kinverify: ik.limits: joint {ref.joint_names[j]!r} at {q[0, j]!r} is outside "
-                                 f"[{lower[j]!r}, {upper[j]!r}]\n" + format_q(q[0], ref.joint_names))
+            raise AssertionError(f"kinverify: ik.limits: joint {ref.joint_names[j]!r} at {float(q[0, j])!r} is outside "
+                                 f"[{float(lower[j])!r}, {float(upper[j])!r}]\n" + format_q(q[0], ref.joint_names))
     target_text = np.array2string(target, precision=17, separator=", ").replace("\n", "")
     for b in built:
         if frame not in b.frames:
