@@ -71,6 +71,7 @@ def _failure(prop: str, frame: str, pair: str, error: float, tol: float, unit: s
 
 def _raise_first(errors: list[tuple], frames: Sequence[str], q: np.ndarray, joint_names) -> None:
     """``errors``: (prop, frame, pair, err array, tol, unit, detail). Raise for the earliest frame."""
+    __tracebackhide__ = True
     bad = [e for e in errors if not np.all(e[3] <= e[4])]
     if not bad:
         return
@@ -92,6 +93,7 @@ def _q2d(q, n: int) -> np.ndarray:
 def assert_fk_agree(model, q, *, backends: Sequence[str] | None = None, position_tol: float = 1e-9,
                     rotation_tol: float = 1e-9) -> None:
     """Every backend's FK of every frame matches the reference's at ``q`` ((n,) or (N, n))."""
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
     built = resolve_backends(model, backends)
     ref = built[0]
     q = _q2d(q, len(ref.joint_names))
@@ -109,6 +111,7 @@ def assert_jacobians_agree(model, q, *, backends: Sequence[str] | None = None, t
     """Every backend's Jacobian of every frame (world-aligned, at the frame origin, [linear;
     angular]) matches the reference's. Finite-difference Jacobians (yourdfpy) are held to the
     finite-difference tolerance 1e-6; backends without Jacobians are skipped."""
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
     built = resolve_backends(model, backends)
     ref = built[0]
     q = _q2d(q, len(ref.joint_names))
@@ -130,6 +133,7 @@ def assert_ik_valid(model, q, target, frame: str | None = None, *, backends: Seq
     """An IK solution ``q`` (n,) reaches ``target`` (a 4×4 pose ``T_world_from_frame`` or a
     position (3,)) for ``frame`` (default: the last frame) in *every* backend, inside the
     joint limits."""
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
     built = resolve_backends(model, backends)
     ref = built[0]
     q = _q2d(q, len(ref.joint_names))
@@ -173,6 +177,7 @@ def assert_matches_baseline(spec: ArmSpec, path, *, update: bool = False, tolera
     """``spec`` computes what the baseline at ``path`` recorded (FK and Jacobians at its sample
     set). ``update=True`` rewrites the baseline instead (pytest ``--kinverify-update-baselines``).
     Returns the :class:`~kinverify.baseline_check.BaselineCheck`, or None after an update."""
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
     from .baseline import BASELINE_TOLERANCES, check, save_baseline
     from .checks.tolerances import Tolerance
     from .report.regression import show_values
@@ -192,7 +197,7 @@ def assert_matches_baseline(spec: ArmSpec, path, *, update: bool = False, tolera
     for m in result.moved[:10]:
         old, new = show_values(m.old, m.new)
         lines.append(f"  {m.property} at frame {m.frame!r}: old {old} new {new}, delta {m.delta:.3e} {m.unit} "
-                     f"> tolerance {m.tolerance:.0e} ({m.count}/{m.of} samples)")
+                     f"> tolerance {m.tolerance:.0e} {m.unit} ({m.count}/{m.of} samples)")
     if len(result.moved) > 10:
         lines.append(f"  ... and {len(result.moved) - 10} more")
     for frames, what in ((result.frames_removed, "removed"), (result.frames_added, "added")):

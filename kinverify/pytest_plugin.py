@@ -98,6 +98,7 @@ def kinverify_baseline(request, kinverify_update_baselines):
     from .assertions import assert_matches_baseline
 
     def check(spec, path, tolerance=None):
+        __tracebackhide__ = True
         return assert_matches_baseline(spec, _resolve(request, path), update=kinverify_update_baselines, tolerance=tolerance)
 
     return check
