@@ -18,6 +18,7 @@ from kinverify.assertions import (assert_fk_agree, assert_ik_valid, assert_jacob
 from kinverify.backends import ModelSources, build_backend
 from kinverify.kinematics import frame_poses
 from kinverify.spec import Origin
+from kinverify.transforms import geodesic_distance
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 ARM3 = load_spec(MODELS / "arm3.toml")
@@ -38,10 +39,17 @@ def pasted_q(message: str) -> np.ndarray:
     return np.array(namespace["q"])
 
 
+def no_tiny_site_offsets(spec) -> bool:
+    """MuJoCo quirk (found by the test below; not yet in kinverify.backends.quirks): a site whose
+    offset from its body is below about 1e-6 m is placed at the body origin. Tools are sites in
+    the generated MJCF, so such specs disagree by the offset itself."""
+    return not any(0 < abs(x) < 1e-6 for t in spec.tools for x in t.origin.xyz)
+
+
 @settings(max_examples=15, deadline=None)
 @given(kst.data())
 def test_real_backends_agree_on_random_arms(data):
-    spec = data.draw(kst.arm_specs(max_joints=4))
+    spec = data.draw(kst.arm_specs(max_joints=4).filter(no_tiny_site_offsets))
     q = data.draw(kst.configuration_batches(spec, max_size=5))
     assert_fk_agree(spec, q)
     assert_jacobians_agree(spec, q)
@@ -113,3 +121,17 @@ def test_matches_baseline_missing_update_and_moved(tmp_path):
     assert "why: the spec changed: joint joint3: origin.xyz [0, 0, 0.25] -> [0, 0, 0.251]" in message
     assert pasted_q(message).shape == (3,)
     assert assert_matches_baseline(longer_link2(ARM3), path, tolerance=0.01).passed
+
+
+def test_yourdfpy_is_evaluated_fresh_at_each_configuration():
+    q = np.array([[0.5, -1.5707963267948966, -2.356194490192345],
+                  [0.0, -1.5707963267948966, -2.356194490192345],
+                  [1e-9, -1.5707963267948966, -2.356194490192345]])  # rows 2, 3 found by hypothesis
+    reference, yourdfpy = resolve_backends(ARM3, ["analytic", "yourdfpy"])
+    stale = geodesic_distance(reference.poses(q)[2, 2, :3, :3], yourdfpy.poses(q)[2, 2, :3, :3])
+    assert stale > 5e-10  # the quirk is real: after q[1], yourdfpy still reports q[1]'s pose at q[2]
+    assert_fk_agree(ARM3, q, rotation_tol=1e-15, position_tol=1e-15)  # the helper evaluates each q exactly
+    assert_jacobians_agree(ARM3, q)
+    wrong = build_backend("yourdfpy", ModelSources.from_spec(longer_link2(ARM3)))
+    with pytest.raises(AssertionError, match="fk.position disagrees at frame 'link3'.*analytic vs yourdfpy"):
+        assert_fk_agree([reference, wrong], q)
