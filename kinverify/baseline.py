@@ -186,6 +186,12 @@ def _validate_body(path, data: dict[str, Any]) -> None:
         if (not isinstance(rec, dict) or not {"property", "frame", "sample", "value"} <= rec.keys()
                 or not isinstance(rec["sample"], int) or not 0 <= rec["sample"] < len(q)):
             raise InputError(f"{path}: malformed baseline: records[{i}] is not a record of a stored sample")
+        try:
+            value = np.asarray(rec["value"], dtype=float)
+        except (TypeError, ValueError):
+            value = None
+        if value is None or value.dtype != float:
+            raise InputError(f"{path}: malformed baseline: records[{i}].value is not a number or table of numbers")
 
 
 def save_baseline(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
