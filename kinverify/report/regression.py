@@ -26,6 +26,10 @@ def _num(x: float) -> str:
     return f"{x:.9g}"
 
 
+def _short(x: float) -> str:
+    return f"{x:.6g}"
+
+
 def show_values(old, new) -> tuple[str, str]:
     """Short text for two record values: vectors of up to 3 numbers in full, larger values as
     the entry that changed most, e.g. ``[1,2]=0.25``."""
@@ -33,14 +37,19 @@ def show_values(old, new) -> tuple[str, str]:
     if a.shape != b.shape:
         return f"shape {a.shape}", f"shape {b.shape}"
     if a.size <= 3:
-        return ("[" + ", ".join(_num(x) for x in a.ravel()) + "]", "[" + ", ".join(_num(x) for x in b.ravel()) + "]")
+        return ("[" + ", ".join(_short(x) for x in a.ravel()) + "]", "[" + ", ".join(_short(x) for x in b.ravel()) + "]")
     idx = np.unravel_index(int(np.argmax(np.abs(a - b))), a.shape)
     label = "[" + ",".join(str(int(i)) for i in idx) + "]="
     return label + _num(a[idx]), label + _num(b[idx])
 
 
 def _q(q) -> str:
+    """Full precision, ready to paste."""
     return "[" + ", ".join(repr(float(v)) for v in q) + "]"
+
+
+def _q_short(q) -> str:
+    return "[" + ", ".join(_short(float(v)) for v in q) + "]"
 
 
 def param_table(changes: list[ParamChange]) -> dict[str, Any]:
@@ -60,9 +69,13 @@ def check_document(result: BaselineCheck) -> dict[str, Any]:
     for m in result.moved:
         old, new = show_values(m.old, m.new)
         moved_rows.append([m.frame, m.property, old, new, f"{m.delta:.3e} {m.unit}", f"{m.tolerance:.0e}",
-                           f"{m.count}/{m.of}", _q(m.q)])
+                           f"{m.count}/{m.of}", _q_short(m.q)])
     summary = [f"{result.compared} records compared at {result.samples} configurations: "
                + (f"{len(result.moved)} quantities moved beyond tolerance" if result.moved else "nothing moved beyond tolerance")]
+    if result.moved:
+        first = result.moved[0]
+        summary.append(f"first moved: {first.property} at frame {first.frame}, delta {first.delta:.3e} {first.unit}, "
+                       f"at q = {_q(first.q)}")
     if result.frames_removed:
         summary.append("frames removed since the baseline: " + ", ".join(result.frames_removed))
     if result.frames_added:
@@ -78,7 +91,7 @@ def check_document(result: BaselineCheck) -> dict[str, Any]:
 
 def diff_document(d: ModelDiff, old_path: str = "", new_path: str = "") -> dict[str, Any]:
     frames = [[f.frame, f"{f.position:.3e}", f"{f.rotation:.3e}", f"{f.jacobian_linear:.3e}", f"{f.jacobian_angular:.3e}",
-               _q(f.q)] for f in d.frames]
+               _q_short(f.q)] for f in d.frames]
     reach = [[r.frame, "-" if r.old is None else f"{r.old:.6f}", "-" if r.new is None else f"{r.new:.6f}",
               "-" if r.change is None else f"{r.change:+.6f}"] for r in d.reach]
     moved = [f for f in d.frames if max(f.position, f.rotation, f.jacobian_linear, f.jacobian_angular) > 0]
