@@ -115,3 +115,66 @@ def configurations(draw, spec: ArmSpec, edge_probability: float = 0.3) -> np.nda
 def configuration_batches(spec: ArmSpec, min_size: int = 1, max_size: int = 20) -> st.SearchStrategy[np.ndarray]:
     """A batch ``(N, n)`` of configurations inside the limits."""
     return st.lists(configurations(spec), min_size=min_size, max_size=max_size).map(np.array)
+
+
+# --- reachable targets and perturbed specs (issue 6) -------------------------------------------
+
+
+class ReachableTarget:
+    """A pose that ``spec`` reaches: ``pose`` (4×4 ``T_world_from_frame``) of ``frame`` at ``q``."""
+
+    def __init__(self, frame: str, q: np.ndarray, pose: np.ndarray) -> None:
+        self.frame, self.q, self.pose = frame, q, pose
+
+    @property
+    def position(self) -> np.ndarray:
+        return self.pose[:3, 3]
+
+    def __repr__(self) -> str:
+        return f"ReachableTarget(frame={self.frame!r}, q={self.q.tolist()!r}, position={self.position.tolist()!r})"
+
+
+@st.composite
+def reachable_targets(draw, spec: ArmSpec, frame: str | None = None, edge_probability: float = 0.3) -> ReachableTarget:
+    """A target pose of ``frame`` (default: the last frame) that the arm reaches: the analytic
+    FK of a configuration drawn by :func:`configurations` (kept as ``.q``, a known solution)."""
+    from .kinematics import frame_poses
+
+    frame = frame or spec.frame_names[-1]
+    index = list(spec.frame_names).index(frame)
+    q = draw(configurations(spec, edge_probability))
+    return ReachableTarget(frame, q, frame_poses(spec, q)[0, index])
+
+
+@st.composite
+def perturbed_specs(draw, spec: ArmSpec, scale: float = 1e-3) -> ArmSpec:
+    """``spec`` with one frame origin moved: one joint's (or tool's, or the base's) ``xyz`` by
+    a vector of length in [scale/2, scale] [m], or its ``rpy`` by such an angle [rad]. Names,
+    limits and inertias are kept, so baselines and diffs can be checked against the known change."""
+    from dataclasses import replace
+
+    from .spec import Origin
+
+    owners = ["base"] + [f"joint:{i}" for i in range(spec.dof)] + [f"tool:{i}" for i in range(len(spec.tools))]
+    owner = draw(st.sampled_from(owners))
+    field_name = draw(st.sampled_from(["xyz", "rpy"]))
+    direction = np.array(draw(vectors(-1.0, 1.0).filter(lambda v: math.hypot(*v) > 0.1)))
+    size = draw(_floats(scale / 2, scale))
+    step = direction / np.linalg.norm(direction) * size
+
+    def moved(origin: Origin) -> Origin:
+        if field_name == "xyz":
+            return Origin(tuple(np.add(origin.xyz, step)), origin.rpy)
+        return Origin(origin.xyz, tuple(np.add(origin.rpy, step)))
+
+    kind, _, index = owner.partition(":")
+    if kind == "base":
+        return replace(spec, base_origin=moved(spec.base_origin))
+    i = int(index)
+    if kind == "joint":
+        joints = list(spec.joints)
+        joints[i] = replace(joints[i], origin=moved(joints[i].origin))
+        return replace(spec, joints=tuple(joints))
+    tools = list(spec.tools)
+    tools[i] = replace(tools[i], origin=moved(tools[i].origin))
+    return replace(spec, tools=tuple(tools))

@@ -1,0 +1,218 @@
+"""Baselines: what a model computed once, saved so a later version can be checked against it.
+
+A baseline file holds a fixed seeded sample set (edge configurations first, then uniform draws
+inside the limits), the *records* computed at those configurations, the spec it was saved from
+(canonical form, so changes can be explained parameter by parameter), sha256 fingerprints of
+the spec and of the generated URDF and MJCF, and the library versions.
+
+Records are ``{"property", "frame", "sample", "value"}``: ``value`` is a number or nested list
+(metres, radians, world-aligned Jacobians ``[linear; angular]``) for configuration
+``q[sample]``. Families of records come from ``QUANTITIES``; kinematics (FK of every frame and
+its Jacobian, analytic backend) is built in. Another property (IK results, tracking metrics,
+dynamics) is one function ``(spec, q) -> records`` appended to ``QUANTITIES`` plus its
+tolerances in ``BASELINE_TOLERANCES`` (and a metric in ``METRICS`` if the Euclidean norm of
+the difference is not the right one).
+
+The file is JSON with sorted keys, one configuration or record per line and floats at full
+precision (``repr``), so ``git diff`` of two baselines is readable and re-reading is exact.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from .canonical import sha256_text, spec_fingerprint, spec_to_canonical
+from .checks.tolerances import DEFAULT_TOLERANCES, Tolerance
+from .errors import InputError
+from .generate import generate_mjcf, generate_urdf
+from .kinematics import frame_poses, geometric_jacobians
+from .report.writer import write_atomic
+from .sampling import spec_samples
+from .spec import ArmSpec
+from .transforms import geodesic_distance
+from .versions import library_versions
+
+FORMAT = "kinverify-baseline"
+FORMAT_VERSION = 1
+DEFAULT_SAMPLES = 30  # uniform configurations, after the edge configurations
+DEFAULT_SEED = 0
+REQUIRED_KEYS = ("model", "spec", "fingerprints", "versions", "joint_names", "frames", "q", "records")
+
+Record = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A family of baseline records: ``compute(spec, q) -> [record, ...]``."""
+
+    name: str
+    compute: Callable[[ArmSpec, np.ndarray], list[Record]]
+
+
+def kinematics_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
+    """FK (position, rotation matrix) and Jacobian (linear, angular rows) of every frame."""
+    poses = frame_poses(spec, q)
+    jac = geometric_jacobians(spec, poses)
+    out: list[Record] = []
+    for prop, values in (("fk.position", poses[..., :3, 3]), ("fk.rotation", poses[..., :3, :3]),
+                         ("jacobian.linear", jac[..., :3, :]), ("jacobian.angular", jac[..., 3:, :])):
+        for f, frame in enumerate(spec.frame_names):
+            for s in range(len(q)):
+                out.append({"property": prop, "frame": frame, "sample": s, "value": values[s, f].tolist()})
+    return out
+
+
+QUANTITIES: list[Quantity] = [
+    Quantity("kinematics", kinematics_records),
+]
+
+BASELINE_TOLERANCES: dict[str, Tolerance] = {
+    name: tol for name, tol in DEFAULT_TOLERANCES.items() if name != "jacobian.fd"
+}
+
+
+def _geodesic(old, new) -> float:
+    return float(geodesic_distance(np.asarray(old, float)[None], np.asarray(new, float)[None])[0])
+
+
+METRICS: dict[str, Callable[[Any, Any], float]] = {"fk.rotation": _geodesic}
+
+
+def record_delta(prop: str, old, new) -> float:
+    """Size of the change of one record's value: the property's metric, else the Euclidean
+    (Frobenius) norm of the difference; ``inf`` when the shapes differ."""
+    a, b = np.asarray(old, float), np.asarray(new, float)
+    if a.shape != b.shape:
+        return float("inf")
+    if prop in METRICS:
+        return METRICS[prop](a, b)
+    return float(np.linalg.norm(a - b))
+
+
+def compute_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
+    out: list[Record] = []
+    for quantity in QUANTITIES:
+        out += quantity.compute(spec, q)
+    return out
+
+
+def build_baseline(spec: ArmSpec, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> dict[str, Any]:
+    """The baseline data of ``spec``: samples, records, spec, fingerprints, versions."""
+    if samples < 0:
+        raise InputError(f"--samples must be >= 0, got {samples}")
+    q = spec_samples(spec, samples, seed)
+    return {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "model": spec.name,
+        "seed": seed,
+        "samples": samples,
+        "joint_names": list(spec.joint_names),
+        "frames": list(spec.frame_names),
+        "spec": spec_to_canonical(spec),
+        "fingerprints": fingerprints(spec),
+        "versions": library_versions(),
+        "quantities": [qt.name for qt in QUANTITIES],
+        "q": q.tolist(),
+        "records": compute_records(spec, q),
+    }
+
+
+def fingerprints(spec: ArmSpec) -> dict[str, str]:
+    return {"spec": spec_fingerprint(spec), "urdf": sha256_text(generate_urdf(spec)),
+            "mjcf": sha256_text(generate_mjcf(spec))}
+
+
+def dumps_baseline(data: dict[str, Any]) -> str:
+    """Valid JSON, keys sorted, one configuration / record per line, other values indented."""
+    parts = []
+    for key in sorted(data):
+        value = data[key]
+        if key in ("q", "records"):
+            lines = ",\n".join("  " + json.dumps(v, sort_keys=True, allow_nan=False) for v in value)
+            text = "[\n" + lines + "\n ]" if value else "[]"
+        else:
+            text = json.dumps(value, sort_keys=True, indent=1, allow_nan=False).replace("\n", "\n ")
+        parts.append(f" {json.dumps(key)}: {text}")
+    return "{\n" + ",\n".join(parts) + "\n}\n"
+
+
+def read_baseline(path, model: str | None = None) -> dict[str, Any]:
+    """Load and validate a baseline file; one-line :class:`InputError` when it is unreadable,
+    corrupt or truncated, not a baseline, from a newer format, or (given ``model``) from
+    another model."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as err:
+        raise InputError(f"{path}: cannot read baseline: {err.strerror or err}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a kinverify baseline (not UTF-8 text)") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise InputError(f"{path}: corrupt or truncated baseline JSON ({err.msg}: line {err.lineno} column {err.colno})") from None
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise InputError(f"{path}: not a kinverify baseline (no \"format\": \"{FORMAT}\")")
+    version = data.get("format_version")
+    if not isinstance(version, int) or isinstance(version, bool):
+        raise InputError(f"{path}: malformed baseline: format_version must be an integer, got {version!r}")
+    if version > FORMAT_VERSION:
+        raise InputError(f"{path}: baseline format version {version} is newer than this kinverify reads "
+                         f"({FORMAT_VERSION}); upgrade kinverify")
+    missing = [k for k in REQUIRED_KEYS if k not in data]
+    if missing:
+        raise InputError(f"{path}: malformed baseline: missing {', '.join(missing)}")
+    if model is not None and data["model"] != model:
+        raise InputError(f"{path}: baseline is for model {data['model']!r}, not {model!r}")
+    _validate_body(path, data)
+    return data
+
+
+def _validate_body(path, data: dict[str, Any]) -> None:
+    try:
+        q = np.asarray(data["q"], dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: malformed baseline: q is not a table of numbers") from None
+    if q.ndim != 2 or q.shape[1] != len(data["joint_names"]):
+        raise InputError(f"{path}: malformed baseline: q must have one column per joint")
+    if not isinstance(data["records"], list):
+        raise InputError(f"{path}: malformed baseline: records must be a list")
+    for i, rec in enumerate(data["records"]):
+        if (not isinstance(rec, dict) or not {"property", "frame", "sample", "value"} <= rec.keys()
+                or not isinstance(rec["sample"], int) or not 0 <= rec["sample"] < len(q)):
+            raise InputError(f"{path}: malformed baseline: records[{i}] is not a record of a stored sample")
+        try:
+            value = np.asarray(rec["value"], dtype=float)
+        except (TypeError, ValueError):
+            value = None
+        if value is None or value.dtype != float:
+            raise InputError(f"{path}: malformed baseline: records[{i}].value is not a number or table of numbers")
+
+
+def save_baseline(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
+    """Write the baseline of ``spec`` to ``path`` atomically. An existing file is replaced only
+    if it is a readable baseline of the same model (anything else: InputError, file untouched)."""
+    if Path(path).exists():
+        try:
+            read_baseline(path, model=spec.name)
+        except InputError as err:
+            raise InputError(f"refusing to overwrite: {err}") from None
+    return write_atomic(path, dumps_baseline(build_baseline(spec, samples, seed)))
+
+
+def save(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
+    """Alias of :func:`save_baseline`."""
+    return save_baseline(spec, path, samples, seed)
+
+
+def check(spec: ArmSpec, path, tolerances: dict[str, Tolerance] | None = None):
+    """Re-evaluate ``spec`` at the baseline's configurations and compare: a
+    :class:`~kinverify.baseline_check.BaselineCheck` (``.passed``, ``.moved``, ``.explanations``)."""
+    from .baseline_check import check_baseline
+
+    return check_baseline(spec, read_baseline(path, model=spec.name), tolerances, source=str(path))

@@ -1,0 +1,10 @@
+"""Shared test configuration: pytest's ``pytester`` (tests of the pytest plugin) and kinverify's
+own plugin, the same one users get. The plugin normally arrives through its ``pytest11`` entry
+point; it is loaded here only when the installed metadata does not have that entry point yet
+(an install made before the plugin existed: re-run ``pip install -e .``)."""
+
+from importlib.metadata import entry_points
+
+pytest_plugins = ["pytester"]
+if not any(ep.value == "kinverify.pytest_plugin" for ep in entry_points(group="pytest11")):
+    pytest_plugins.append("kinverify.pytest_plugin")
