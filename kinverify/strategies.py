@@ -49,6 +49,19 @@ def angles_rpy(draw) -> list[float]:
     return [draw(st.one_of(special, _floats(-math.pi, math.pi))) for _ in range(3)]
 
 
+# MuJoCo places a site within ~1e-6 m / 1e-6 rad of its body exactly at the body frame
+# (backends/quirks.py); tool frames are sites, so tool offsets are zero or clear of that band.
+SITE_SNAP = 1e-5
+
+
+def tool_offsets() -> st.SearchStrategy[list[float]]:
+    return vectors(-0.2, 0.2).map(lambda v: [0.0, 0.0, 0.0] if math.hypot(*v) < SITE_SNAP else v)
+
+
+def tool_rotations() -> st.SearchStrategy[list[float]]:
+    return angles_rpy().map(lambda v: [0.0, 0.0, 0.0] if max(abs(x) for x in v) < SITE_SNAP else v)
+
+
 @st.composite
 def _limits(draw, joint_type: str) -> dict:
     if joint_type == "prismatic":
@@ -76,10 +89,10 @@ def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool =
             "link": {"name": f"l{i + 1}", "mass": draw(_floats(0.1, 5.0))},
         }
         joints.append(joint)
-    tools = [{"name": "tool", "parent": f"l{n}", "xyz": draw(vectors(-0.2, 0.2)), "rpy": draw(angles_rpy())}]
+    tools = [{"name": "tool", "parent": f"l{n}", "xyz": draw(tool_offsets()), "rpy": draw(tool_rotations())}]
     if draw(st.booleans()):
         parent = draw(st.integers(1, n))
-        tools.append({"name": "aux", "parent": f"l{parent}", "xyz": draw(vectors(-0.2, 0.2))})
+        tools.append({"name": "aux", "parent": f"l{parent}", "xyz": draw(tool_offsets())})
     return {
         "name": "random_arm",
         "base": {"xyz": draw(vectors(-0.5, 0.5)), "rpy": draw(angles_rpy())},

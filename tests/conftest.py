@@ -8,3 +8,12 @@ from importlib.metadata import entry_points
 pytest_plugins = ["pytester"]
 if not any(ep.value == "kinverify.pytest_plugin" for ep in entry_points(group="pytest11")):
     pytest_plugins.append("kinverify.pytest_plugin")
+
+import os
+
+from hypothesis import settings
+
+# CI runs the same examples every time (a red CI must be reproducible); locally hypothesis explores.
+settings.register_profile("ci", derandomize=True, print_blob=True)
+if os.environ.get("CI"):
+    settings.load_profile("ci")

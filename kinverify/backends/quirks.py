@@ -7,9 +7,10 @@ from __future__ import annotations
 
 QUIRKS: dict[str, list[tuple[str, str]]] = {
     "yourdfpy": [
-        ("joint rotations below about 2e-8 rad come back as the identity (FK through trimesh's "
-         "scene graph), so FK differs by up to |q|·lever ≤ 2e-8·lever there",
-         "reported as is; property tests draw no |q| in (0, 1e-7) for this backend (tests/test_backends.py)"),
+        ("FK goes through trimesh's scene graph, whose TransformForest.add_edge ignores an update "
+         "that changes a 4×4 transform by less than 1e-8 (peak-to-peak) from the stored one, so "
+         "FK is stale after a tiny joint change",
+         "the adapter first moves such joints 1 rad away, then to the requested value"),
         ("no Jacobian", "finite differences of its FK, compared at the finite-difference tolerance"),
     ],
     "pinocchio-mjcf": [
@@ -21,6 +22,9 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
          "the adapter adds <mujoco><compiler fusestatic='false'/></mujoco> so every URDF link stays a frame"),
     ],
     "mujoco": [
+        ("a site less than about 1e-6 m from its body (or rotated less than about 1e-6 rad) is "
+         "placed exactly at the body frame by the compiler's same-frame detection",
+         "reported as is; kinverify.strategies never draws tool offsets in that band"),
         ("compiler angle='degree' converts joint range but not actuator ctrlrange",
          "generated MJCF always uses angle='radian'"),
         ("MjSpec.to_xml() writes numbers with 6 significant digits (masses, positions, and fullinertia "

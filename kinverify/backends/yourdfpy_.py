@@ -11,6 +11,9 @@ from ..errors import BackendError, UnknownNameError
 from .base import BackendBase
 
 
+STALE_BELOW = 1e-6  # rad or m: smaller joint changes may leave trimesh's transforms stale
+
+
 class YourdfpyBackend(BackendBase):
     """Native convention: ``get_transform(frame_to, frame_from)`` returns the 4×4 pose of
     ``frame_to`` in ``frame_from``; with ``frame_from`` the root link (``world``) that is
@@ -31,7 +34,7 @@ class YourdfpyBackend(BackendBase):
             if frame not in robot.link_map:
                 raise UnknownNameError("frame", frame, links)
         self._root = robot.base_link
-        self._cfg = np.zeros(len(actuated))
+        self._cfg = np.asarray(robot.cfg, dtype=float).copy()
 
     @classmethod
     def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "yourdfpy", **load_kwargs) -> "YourdfpyBackend":
@@ -46,10 +49,14 @@ class YourdfpyBackend(BackendBase):
     def poses(self, q: np.ndarray) -> np.ndarray:
         q = self._check(q)
         out = np.empty((q.shape[0], len(self.frames), 4, 4))
-        cfg = self._cfg.copy()
+        cfg = self._cfg  # the configuration the scene graph holds now (kept across calls)
         for k, qk in enumerate(q):
+            previous, cfg = cfg, cfg.copy()
             cfg[self._order] = qk
+            if np.any((cfg != previous) & (np.abs(cfg - previous) < STALE_BELOW)):
+                self.robot.update_cfg(cfg + 1.0)  # trimesh would skip so small a change (quirks.py)
             self.robot.update_cfg(cfg)
             for f, frame in enumerate(self.frames):
                 out[k, f] = self.robot.get_transform(frame, self._root)
+        self._cfg = cfg
         return out
