@@ -1,0 +1,108 @@
+"""Metrics of one run and the pass/fail judgement of a controller.
+
+Joint error ``e = q_d − q`` is taken as a vector per sample; its size is the 2-norm [rad, or m
+for prismatic joints]. ``rms_error`` is ``sqrt(mean ||e||²)`` over the motion (the seed's "RMS
+joint error"); the hold is the time after the motion, with the goal held.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ..kinematics import frame_poses
+from ..spec import ArmSpec
+from .execute import Run
+
+SETTLE_BAND = 1e-3  # rad: settled once ||e|| stays below this
+RESIDUAL_DELAY = 0.2  # s after the end of the motion from which the residual speed is measured
+
+
+@dataclass(frozen=True)
+class Criteria:
+    """What a controller must achieve: RMS and max joint error over the motion [rad], and max
+    joint speed [rad/s] in the hold from ``RESIDUAL_DELAY`` after the end of the motion."""
+
+    rms: float
+    max: float
+    residual_speed: float
+
+
+# computed-torque: the issue's bar. pd+gravity: a PD law has lag proportional to q̈d/ω², so
+# ~1e-2 rad on the seed trajectory. position: no feedforward, no gravity compensation, so it
+# droops by g/kp; it must still be stable and within 0.1 rad. seed-pid is held to the same bar
+# as the position servos it drives.
+CRITERIA = {
+    "computed-torque": Criteria(1e-4, 1e-3, 1e-3),
+    "pd+gravity": Criteria(2e-2, 5e-2, 1e-2),
+    "position": Criteria(1e-1, 2e-1, 1e-2),
+    "seed-pid": Criteria(1e-1, 2e-1, 1e-2),
+}
+
+
+@dataclass(frozen=True)
+class Metrics:
+    controller: str
+    rms_error: float  # rad, over the motion
+    max_error: float  # rad, over the whole run
+    final_error: float  # rad, at the end of the motion
+    hold_final_error: float  # rad, at the end of the run
+    ee_path_deviation: float  # m, max distance between the planned and the executed tool path
+    overshoot: float  # rad, largest excursion past the goal along the direction of motion
+    settling_time: float | None  # s after the end of the motion until ||e|| stays < SETTLE_BAND
+    residual_speed: float  # rad/s, max ||q̇|| from RESIDUAL_DELAY after the end
+    final_speed: float  # rad/s, ||q̇|| at the end of the run
+    error_energy: float  # rad²·s, ∫||e||² dt over the hold
+    max_effort: float  # N·m, largest applied joint force
+    diverged: str
+    passed: bool
+    reason: str
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -> Metrics:
+    criteria = criteria or CRITERIA[run.controller]
+    t, q = run.t, run.q
+    qd_plan = run.plan.q[: len(q)]
+    if len(q) < 2:
+        return Metrics(run.controller, *([float("inf")] * 6), None, *([float("inf")] * 4), run.diverged or "no samples", False,
+                       run.diverged or "no samples")
+    err = np.linalg.norm(qd_plan - q, axis=1)
+    motion, after = t <= run.motion_end + 1e-12, t > run.motion_end + 1e-12
+    dt = run.plan.dt
+    tool = spec.tool_names[0] if spec.tools else spec.link_names[-1]
+    f = spec.frame_names.index(tool)
+    path = np.linalg.norm(frame_poses(spec, qd_plan)[:, f, :3, 3] - frame_poses(spec, q)[:, f, :3, 3], axis=1)
+    goal, start = run.plan.q[-1], run.plan.q[0]
+    direction = np.sign(goal - start)
+    overshoot = float(np.max(np.clip((q - goal) * direction, 0.0, None) * (direction != 0)))
+    speed = np.linalg.norm(run.qd, axis=1)
+    late = t >= run.motion_end + RESIDUAL_DELAY - 1e-12
+    outside = np.nonzero(err >= SETTLE_BAND)[0]
+    if run.diverged or (len(outside) and outside[-1] == len(err) - 1):
+        settling = None
+    else:
+        settling = max(0.0, float(t[outside[-1] + 1] - run.motion_end)) if len(outside) else 0.0
+    m = dict(
+        rms_error=float(np.sqrt(np.mean(err[motion] ** 2))), max_error=float(err.max()),
+        final_error=float(err[motion][-1]), hold_final_error=float(err[-1]), ee_path_deviation=float(path.max()),
+        overshoot=overshoot, settling_time=settling,
+        residual_speed=float(speed[late].max()) if late.any() else float("nan"), final_speed=float(speed[-1]),
+        error_energy=float(np.sum(err[after] ** 2) * dt), max_effort=float(np.abs(run.tau).max()),
+    )
+    reasons = []
+    if run.diverged:
+        reasons.append(run.diverged)
+    if not m["rms_error"] <= criteria.rms:
+        reasons.append(f"RMS joint error {m['rms_error']:.3g} rad > {criteria.rms:g}")
+    if not m["max_error"] <= criteria.max:
+        reasons.append(f"max joint error {m['max_error']:.3g} rad > {criteria.max:g}")
+    if not late.any():
+        reasons.append(f"no hold samples {RESIDUAL_DELAY} s after the motion")
+    elif not m["residual_speed"] < criteria.residual_speed:
+        reasons.append(f"oscillating: joints still move at {m['residual_speed']:.3g} rad/s "
+                       f"{RESIDUAL_DELAY} s after the end (limit {criteria.residual_speed:g})")
+    return Metrics(run.controller, **m, diverged=run.diverged, passed=not reasons, reason="; ".join(reasons))
