@@ -116,8 +116,15 @@ def kinematics_suite(ctx: VerifyContext) -> SuiteResult:
     return SuiteResult(acc.checks(list(ctx.sources.frames), notes))
 
 
+def _dynamics_suite(ctx: VerifyContext) -> SuiteResult:
+    from .checks.dynamics import dynamics_suite
+
+    return dynamics_suite(ctx)
+
+
 SUITES: list[tuple[str, Callable[[VerifyContext], SuiteResult]]] = [
     ("kinematics", kinematics_suite),
+    ("dynamics", _dynamics_suite),
 ]
 
 
