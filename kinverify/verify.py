@@ -122,9 +122,16 @@ def _dynamics_suite(ctx: VerifyContext) -> SuiteResult:
     return dynamics_suite(ctx)
 
 
+def _tracking_suite(ctx: VerifyContext) -> SuiteResult:
+    from .tracking.suite import tracking_suite
+
+    return tracking_suite(ctx)
+
+
 SUITES: list[tuple[str, Callable[[VerifyContext], SuiteResult]]] = [
     ("kinematics", kinematics_suite),
     ("dynamics", _dynamics_suite),
+    ("tracking", _tracking_suite),
 ]
 
 
