@@ -3,7 +3,8 @@
 One segment from ``q0`` to ``q1`` in ``T`` seconds is ``q(t) = q0 + Δ·s(τ)``, ``τ = t/T``,
 ``s = 10τ³ − 15τ⁴ + 6τ⁵`` (the seed's a3, a4, a5). Through waypoints, each segment stops at
 its waypoint (zero velocity and acceleration there), so no waypoint is overshot. Samples are
-taken at the model timestep, ``t = 0, dt, ..., T_total`` inclusive.
+taken at the model timestep, ``t = 0, dt, ..., T_total`` inclusive; each segment's duration is
+rounded to a whole number of steps so that every waypoint falls exactly on a sample.
 """
 
 from __future__ import annotations
@@ -61,6 +62,7 @@ def through_waypoints(waypoints, durations, dt: float) -> Plan:
         raise InputError(f"need N >= 2 waypoints and N - 1 durations, got {len(points)} and {len(durations)}")
     if dt <= 0:
         raise InputError(f"timestep must be positive, got {dt:g}")
+    durations = [max(1, round(d / dt)) * dt for d in durations]  # whole steps: every segment ends on a sample
     starts = np.concatenate([[0.0], np.cumsum(durations)])
     n_steps = int(round(starts[-1] / dt))
     t = np.arange(n_steps + 1) * dt

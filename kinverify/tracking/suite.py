@@ -96,9 +96,10 @@ def _fmt(x) -> str:
     return "-" if x is None else f"{x:.3g}"
 
 
-def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked=None, render: bool = True) -> TrackResult:
+def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked=None, render: bool = True,
+          plots: bool = True) -> TrackResult:
     """Plan, execute under each controller, measure; ``checked``: controllers that become checks
-    (default: all)."""
+    (default: all). ``plots``/``render``: matplotlib figures / offscreen GIF in the section."""
     checked = list(controllers) if checked is None else list(checked)
     plan = hold(quintic(trajectory.q0, trajectory.q1, trajectory.duration, 0.001), trajectory.hold)
     checks = [_plan_check(spec, plan)]
@@ -117,7 +118,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
     for row in rows:
         if row[0] not in checked:
             row[-1] = f"negative example, not a check: {row[-1]}"
-    figures = [error_plot(runs)] + [joint_plot(r, spec.joint_names) for r in runs[:1]]
+    figures = [error_plot(runs)] + [joint_plot(r, spec.joint_names) for r in runs[:1]] if plots and runs else []
     notes = []
     if render and runs:
         from ..generate import generate_mjcf
