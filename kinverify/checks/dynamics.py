@@ -91,7 +91,7 @@ def parameter_checks(pin: PinocchioDynamics, mj: MujocoDynamics, spec, armature_
     arm_pin = np.array(pin.model.armature)[pin.idx_v]
     for i in range(len(mj.vadr)):
         rows.append([i, f"{pin.damping[i]:.6g}", f"{mj.damping[i]:.6g}", f"{pin.friction[i]:.6g}", f"{mj.friction[i]:.6g}",
-                     f"cannot express (Pinocchio uses {arm_pin[i]:.6g} from the {armature_origin})", f"{mj.armature[i]:.6g}"])
+                     f"URDF cannot express; taken from the {armature_origin} ({arm_pin[i]:.6g})", f"{mj.armature[i]:.6g}"])
     return checks, rows
 
 
@@ -152,7 +152,7 @@ def dynamics_suite(ctx):
              "rows": [[c.property, f"{c.max_error:.3e} {c.unit}", f"{c.tolerance:.0e}", ", ".join(f"{x:.4g}" for x in c.worst_q),
                        "ok" if c.passed else "FAIL"] for c in checks]},
             {"title": "Joint parameters", "columns": ["joint", "damping URDF", "damping MJCF", "friction URDF",
-                                                       "frictionloss MJCF", "armature URDF", "armature MJCF"],
+                                                       "frictionloss MJCF", "armature (Pinocchio)", "armature MJCF"],
              "rows": [[sources.joint_names[r[0]]] + r[1:] for r in rows]},
         ],
         "figures": [],
