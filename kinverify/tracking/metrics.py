@@ -62,6 +62,7 @@ class Metrics:
     final_speed: float  # rad/s, ||q̇|| at the end of the run
     error_energy: float  # rad²·s, ∫||e||² dt over the hold
     max_effort: float  # N·m, largest applied joint force
+    saturation: float  # fraction of steps with some joint force at its effort limit
     diverged: str
     passed: bool
     reason: str
@@ -75,8 +76,8 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
     t, q = run.t, run.q
     qd_plan = run.plan.q[: len(q)]
     if len(q) < 2:
-        return Metrics(run.controller, *([float("inf")] * 6), None, *([float("inf")] * 4), run.diverged or "no samples", False,
-                       run.diverged or "no samples")
+        return Metrics(run.controller, *([float("inf")] * 6), None, *([float("inf")] * 4), 0.0, run.diverged or "no samples",
+                       False, run.diverged or "no samples")
     err = np.linalg.norm(qd_plan - q, axis=1)
     motion, after = t <= run.motion_end + 1e-12, t > run.motion_end + 1e-12
     dt = run.plan.dt
@@ -87,6 +88,7 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
     direction = np.sign(goal - start)
     overshoot = float(np.max(np.clip((q - goal) * direction, 0.0, None) * (direction != 0)))
     speed = np.linalg.norm(run.qd, axis=1)
+    effort = np.array([j.limits.effort for j in spec.joints])
     late = t >= run.motion_end + RESIDUAL_DELAY - 1e-12
     outside = np.nonzero(err >= SETTLE_BAND)[0]
     if run.diverged or (len(outside) and outside[-1] == len(err) - 1):
@@ -99,6 +101,7 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
         overshoot=overshoot, settling_time=settling,
         residual_speed=float(speed[late].max()) if late.any() else float("nan"), final_speed=float(speed[-1]),
         error_energy=float(np.sum(err[after] ** 2) * dt), max_effort=float(np.abs(run.tau).max()),
+        saturation=float(np.mean(np.any(np.abs(run.tau) >= effort * (1 - 1e-9), axis=1))),
     )
     reasons = []
     if run.diverged:
@@ -113,4 +116,6 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
     elif not m["residual_speed"] < criteria.residual_speed:
         reasons.append(f"oscillating: joints still move at {m['residual_speed']:.3g} rad/s "
                        f"{RESIDUAL_DELAY} s after the end (limit {criteria.residual_speed:g})")
+    if reasons and m["saturation"] > 0:  # why it failed: the actuators could not deliver the law's torque
+        reasons.append(f"joint forces at their effort limit for {100 * m['saturation']:.3g} % of the run")
     return Metrics(run.controller, **m, diverged=run.diverged, passed=not reasons, reason="; ".join(reasons))

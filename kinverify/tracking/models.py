@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from ..errors import BackendError
+from ..errors import BackendError, UnknownNameError
 
 
 class PinocchioDynamics:
@@ -27,6 +27,9 @@ class PinocchioDynamics:
         except (ValueError, RuntimeError) as err:
             raise BackendError("pinocchio-urdf", f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
         m = self.model
+        missing = [j for j in joint_names if not m.existJointName(j)]
+        if missing:
+            raise UnknownNameError("joint", missing[0], [m.names[i] for i in range(1, m.njoints)])
         if m.nv != len(joint_names):
             raise BackendError("pinocchio-urdf", f"dynamics needs exactly the compared joints ({len(joint_names)}), model has {m.nv} dofs")
         self.idx_v = np.array([m.joints[m.getJointId(j)].idx_v for j in joint_names])

@@ -48,10 +48,12 @@ class TrackResult:
 
 def default_trajectory(spec: ArmSpec) -> Trajectory:
     """The seed trajectory on arm3; elsewhere a 1 s move of up to 0.3 rad (0.05 m) per joint from
-    zero (clipped into the limits) towards the roomier side."""
+    zero towards the roomier side. Zero is first moved 5 % of the range away from a limit: MuJoCo
+    applies its (soft) limit constraint at the limit, which no controller here models."""
     if spec.name == "arm3" and spec.dof == 3:
         return Trajectory(np.zeros(3), np.array(SEED_TARGET), 2.0, 2.0)
-    q0 = np.clip(np.zeros(spec.dof), spec.lower, spec.upper)
+    margin = 0.05 * (spec.upper - spec.lower)
+    q0 = np.clip(np.zeros(spec.dof), spec.lower + margin, spec.upper - margin)
     step = np.array([0.3 if j.type == "revolute" else 0.05 for j in spec.joints])
     room_up, room_down = spec.upper - q0, q0 - spec.lower
     q1 = np.where(room_up >= room_down, q0 + np.minimum(step, 0.5 * room_up), q0 - np.minimum(step, 0.5 * room_down))
@@ -113,7 +115,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
             checks.append(_check(spec, run, m))
     rows = [[m.controller, "ok" if m.passed else "FAIL", _fmt(m.rms_error), _fmt(m.max_error), _fmt(m.final_error),
              _fmt(m.ee_path_deviation), _fmt(m.overshoot), _fmt(m.settling_time), _fmt(m.residual_speed), _fmt(m.final_speed),
-             _fmt(m.error_energy), _fmt(m.max_effort), m.reason or ("checked" if m.controller in checked else "")]
+             _fmt(m.error_energy), _fmt(m.max_effort), f"{100 * m.saturation:.3g}", m.reason or ("checked" if m.controller in checked else "")]
             for m in metrics]
     for row in rows:
         if row[0] not in checked:
@@ -144,7 +146,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
         "tables": [{"title": "Metrics per controller",
                     "columns": ["controller", "verdict", "RMS error [rad]", "max error [rad]", "final error [rad]",
                                 "ee path deviation [m]", "overshoot [rad]", "settling time [s]", "residual speed [rad/s]",
-                                "speed at end of hold [rad/s]", "hold error energy [rad²·s]", "max effort [N·m]", "reason"],
+                                "speed at end of hold [rad/s]", "hold error energy [rad²·s]", "max effort [N·m]", "at effort limit [%]", "reason"],
                     "rows": rows}],
         "figures": figures,
         "notes": notes + ["RMS error is sqrt(mean ||q_d − q||²) over the motion; residual speed is the max ||q̇|| from 0.2 s "
