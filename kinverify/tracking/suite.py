@@ -83,7 +83,7 @@ def _plan_check(spec: ArmSpec, plan) -> Check:
 
 def _check(spec: ArmSpec, run: Run, m: Metrics) -> Check:
     err = np.linalg.norm(run.plan.q[: len(run.q)] - run.q, axis=1)
-    worst = tuple(run.q[int(np.argmax(err))].tolist()) if len(err) else ()
+    worst = tuple((run.q[int(np.argmax(err))] if len(err) else run.plan.q[0]).tolist())
     c = CRITERIA[run.controller]
     rms_limit, max_limit = c.limits(float(np.linalg.norm(run.plan.q[-1] - run.plan.q[0])))
     note = m.reason or (f"max {m.max_error:.2e} rad, final {m.final_error:.2e} rad, residual speed {m.residual_speed:.2e} rad/s; "
