@@ -195,3 +195,26 @@ def test_track_seed_pid_exits_1_and_writes_json(tmp_path, capsys):
 
 def test_track_to_a_target_passes():
     assert main(["track", "models/arm3.toml", "--to", "0.5", "-0.3", "0.4", "--duration", "1", "--hold", "0.3"]) == 0
+
+
+@settings(max_examples=15, deadline=None)
+@given(kst.arm_specs(max_joints=5), kst.data())
+def test_seed_mjcf_is_the_same_arm(spec, data):
+    """The negative example runs on the same kinematic chain as kinverify's MJCF: only the seed's
+    actuators, integrator, collisions and geometry-derived inertia differ."""
+    import mujoco
+
+    from kinverify.tracking.seed import seed_mjcf
+
+    ours, seed = (mujoco.MjModel.from_xml_string(x) for x in (generate_mjcf(spec), seed_mjcf(spec)))
+    d_ours, d_seed = mujoco.MjData(ours), mujoco.MjData(seed)
+    q = data.draw(kst.configurations(spec))
+    for j, name in enumerate(spec.joint_names):
+        d_ours.qpos[ours.joint(name).qposadr[0]] = q[j]
+        d_seed.qpos[seed.joint(name).qposadr[0]] = q[j]
+    mujoco.mj_kinematics(ours, d_ours)
+    mujoco.mj_kinematics(seed, d_seed)
+    for link in spec.link_names:
+        assert np.abs(d_ours.body(link).xpos - d_seed.body(link).xpos).max() < 1e-9
+        assert np.abs(d_ours.body(link).xmat - d_seed.body(link).xmat).max() < 1e-9
+    assert seed.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4 and seed.nu == 2 * spec.dof

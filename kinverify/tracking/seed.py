@@ -17,6 +17,7 @@ import numpy as np
 
 from ..spec import ArmSpec
 from ..generate._fmt import attr, nums
+from ..transforms import matrix_to_quat, rpy_to_matrix
 
 SEED_PID = {"kp": 2.0, "ki": 0.1, "kd": 0.5}
 
@@ -45,6 +46,12 @@ def _deg(x: float) -> float:
     return math.degrees(x)
 
 
+def _quat(rpy) -> str:
+    """URDF fixed-axis roll-pitch-yaw as an MJCF ``quat`` (MuJoCo's default ``euler`` sequence is
+    intrinsic x-y-z, not URDF's)."""
+    return nums(matrix_to_quat(rpy_to_matrix(rpy)))
+
+
 def seed_mjcf(spec: ArmSpec) -> str:
     """The seed's MJCF pattern for ``spec`` (same bodies, masses and joints as kinverify's MJCF)."""
     base = spec.base_origin
@@ -61,7 +68,7 @@ def seed_mjcf(spec: ArmSpec) -> str:
         f'    <body name="table" pos="{nums([base.xyz[0], base.xyz[1], base.xyz[2] - 0.02])}">',
         '      <geom name="tabletop" type="box" size="0.6 0.4 0.02"/>',
         "    </body>",
-        f'    <body name={attr(spec.base_link.name)} pos="{nums(base.xyz)}" euler="{nums([_deg(a) for a in base.rpy])}">',
+        f'    <body name={attr(spec.base_link.name)} pos="{nums(base.xyz)}" quat="{_quat(base.rpy)}">',
     ]
     if spec.base_link.geometry is not None:
         out.append("      " + _geom(spec.base_link, spec.base_link.name + "_geom"))
@@ -71,7 +78,7 @@ def seed_mjcf(spec: ArmSpec) -> str:
         kind = "hinge" if joint.type == "revolute" else "slide"
         rng = [_deg(lim.lower), _deg(lim.upper)] if joint.type == "revolute" else [lim.lower, lim.upper]
         out += [
-            f'{indent}<body name={attr(joint.link.name)} pos="{nums(joint.origin.xyz)}" euler="{nums([_deg(a) for a in joint.origin.rpy])}">',
+            f'{indent}<body name={attr(joint.link.name)} pos="{nums(joint.origin.xyz)}" quat="{_quat(joint.origin.rpy)}">',
             f'{indent}  <joint name={attr(joint.name)} type="{kind}" axis="{nums(joint.axis)}" range="{nums(rng)}" '
             f'damping="{nums([joint.damping])}" armature="{nums([joint.armature])}"/>',
             f"{indent}  {_joint_geom(joint)}",
