@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from kinverify import strategies as kst
@@ -28,7 +28,7 @@ ARM3 = load_spec("models/arm3.toml")
 finite = st.floats(-4.0, 4.0, allow_nan=False, allow_infinity=False)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(1, 7).flatmap(lambda n: st.tuples(st.lists(finite, min_size=n, max_size=n),
                                                      st.lists(finite, min_size=n, max_size=n))),
        st.floats(0.01, 5.0), st.sampled_from([0.001, 0.002, 0.0005]))
@@ -51,7 +51,7 @@ def test_quintic_boundary_conditions(ends, duration, dt):
         assert np.abs(fdd - plan.qdd[1:-1]).max() <= dt**2 / 6 * 360 * delta / T**4 + 1e-9
 
 
-@settings(max_examples=20, deadline=None)
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.lists(finite, min_size=2, max_size=2), min_size=3, max_size=5), st.floats(0.1, 2.0))
 def test_waypoints_are_reached_at_rest(points, seg):
     points = np.array(points)
@@ -113,7 +113,7 @@ def _within_effort(spec, trajectory) -> bool:
     return all(np.all(np.abs(pin.inverse(q, v, a)) < 0.8 * effort) for q, v, a in zip(plan.q, plan.qd, plan.qdd))
 
 
-@settings(max_examples=8, deadline=None)
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(kst.arm_specs(max_joints=4))
 def test_computed_torque_tracks_random_specs(spec):
     trajectory = default_trajectory(spec)
@@ -197,7 +197,7 @@ def test_track_to_a_target_passes():
     assert main(["track", "models/arm3.toml", "--to", "0.5", "-0.3", "0.4", "--duration", "1", "--hold", "0.3"]) == 0
 
 
-@settings(max_examples=15, deadline=None)
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(kst.arm_specs(max_joints=5), kst.data())
 def test_seed_mjcf_is_the_same_arm(spec, data):
     """The negative example runs on the same kinematic chain as kinverify's MJCF: only the seed's

@@ -19,5 +19,8 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
     "mujoco": [
         ("compiler angle='degree' converts joint range but not actuator ctrlrange",
          "generated MJCF always uses angle='radian'"),
+        ("the compiler marks a body's inertial frame as aligned with the body (body_sameframe) when its "
+         "principal axes are rotated by less than about 1e-6 rad, and drops that rotation at run time",
+         "the dynamics suite names such bodies in its notes (MujocoDynamics.snapped_inertia_frames)"),
     ],
 }

@@ -13,6 +13,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..errors import KinverifyError
@@ -144,6 +146,11 @@ def dynamics_suite(ctx):
     effort = np.array([j.limits.effort for j in spec.joints]) if spec is not None else np.full(len(sources.joint_names), 100.0)
     n = int(opts.extra.get("dynamics_samples", DEFAULT_SAMPLES))
     checks = state_checks(pin, mj, ctx.q[:n], vmax, opts.seed, opts)
+    snapped = mj.snapped_inertia_frames()
+    quirk = ("MuJoCo treats the principal inertia axes of " + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
+             + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo") if snapped else ""
+    if quirk:
+        checks = [dataclasses.replace(c, note=quirk) for c in checks]
     params, rows = parameter_checks(pin, mj, spec, origin, opts)
     checks += params
     checks.append(forward_check(pin, mj, sources.lower, sources.upper, effort, opts))
@@ -160,7 +167,7 @@ def dynamics_suite(ctx):
              "rows": [[sources.joint_names[r[0]]] + r[1:] for r in rows]},
         ],
         "figures": [],
-        "notes": [f"URDF cannot express joint armature: Pinocchio's model.armature is taken from the {origin}; "
+        "notes": ([quirk] if quirk else []) + [f"URDF cannot express joint armature: Pinocchio's model.armature is taken from the {origin}; "
                   "Pinocchio's crba/rnea/aba include it.",
                   "Damping is applied as -D·q̇ on the Pinocchio side (its algorithms ignore model.damping); "
                   "mj_inverse includes it as a passive force."],

@@ -100,6 +100,18 @@ class MujocoDynamics:
         self.data = mujoco.MjData(m)
         self._full = np.zeros((m.nv, m.nv))
 
+    def snapped_inertia_frames(self) -> list[tuple[str, float]]:
+        """Bodies whose principal inertia axes MuJoCo's compiler treats as aligned with the body
+        frame (``body_sameframe``) although ``body_iquat`` is not the identity: MuJoCo then drops a
+        rotation of this angle [rad] at run time, changing M by up to angle·(I_max − I_min)."""
+        m, out = self.model, []
+        aligned = (int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY), int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT))
+        for b in range(1, m.nbody):
+            vec = float(np.linalg.norm(m.body_iquat[b][1:]))
+            if int(m.body_sameframe[b]) in aligned and vec > 0:
+                out.append((m.body(b).name, 2.0 * float(np.arcsin(min(1.0, vec)))))
+        return out
+
     def _set(self, q, v=None) -> None:
         d = self.data
         d.qpos[:] = self.model.qpos0
