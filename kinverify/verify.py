@@ -119,12 +119,26 @@ def kinematics_suite(ctx: VerifyContext) -> SuiteResult:
     return SuiteResult(acc.checks(list(ctx.sources.frames), notes))
 
 
+def _dynamics_suite(ctx: VerifyContext) -> SuiteResult:
+    from .checks.dynamics import dynamics_suite
+
+    return dynamics_suite(ctx)
+
+
+def _tracking_suite(ctx: VerifyContext) -> SuiteResult:
+    from .tracking.suite import tracking_suite
+
+    return tracking_suite(ctx)
+
+
 SUITES: list[tuple[str, Callable[[VerifyContext], SuiteResult]]] = [
     ("kinematics", kinematics_suite),
+    ("dynamics", _dynamics_suite),
+    ("tracking", _tracking_suite),
+    ("diagnosis", diagnosis_suite),  # report: hints and worst configurations of failing checks
+    ("workspace", workspace_suite),  # report: Monte-Carlo workspace
+    ("pictures", pictures_suite),  # report: MuJoCo renderings
 ]
-SUITES.append(("diagnosis", diagnosis_suite))  # report (issue 3): hints and worst configurations
-SUITES.append(("workspace", workspace_suite))  # report (issue 3): Monte-Carlo workspace
-SUITES.append(("pictures", pictures_suite))  # report (issue 3): MuJoCo renderings
 
 
 def model_info(sources: ModelSources) -> dict[str, Any]:

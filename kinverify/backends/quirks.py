@@ -30,5 +30,8 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
         ("MjSpec.to_xml() writes numbers with 6 significant digits (masses, positions, and fullinertia "
          "re-expressed as rounded quat + diaginertia), so a round trip rounds the model",
          "file mode removes meshes by editing the XML tree and uses MjSpec only to check that it compiles"),
+        ("the compiler marks a body's inertial frame as aligned with the body (body_sameframe) when its "
+         "principal axes are rotated by less than about 1e-6 rad, and drops that rotation at run time",
+         "the dynamics suite names such bodies in its notes (MujocoDynamics.snapped_inertia_frames)"),
     ],
 }

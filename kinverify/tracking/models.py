@@ -1,0 +1,142 @@
+"""The two dynamics models compared and used by the controllers, in kinverify's joint order.
+
+- :class:`PinocchioDynamics`: Pinocchio on the generated **URDF**. URDF cannot express joint
+  armature (rotor inertia), so it is set on ``model.armature`` from the spec (or, without a spec,
+  from the MJCF) and reported as such. Pinocchio 4's ``crba``/``rnea``/``aba`` include
+  ``model.armature``; none of them applies ``model.damping`` (read from the URDF's
+  ``<dynamics damping>``), which is added here as the passive force ``-D·q̇``.
+- :class:`MujocoDynamics`: MuJoCo on the generated **MJCF**.
+
+Native conventions: Pinocchio's ``q``/``v`` follow ``joint.idx_q``/``idx_v``; MuJoCo's follow
+``jnt_qposadr``/``jnt_dofadr``. Both are permuted to the spec's joint order here.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+from ..errors import BackendError, UnknownNameError
+
+
+class PinocchioDynamics:
+    def __init__(self, urdf: str, joint_names, armature) -> None:
+        try:
+            self.model = pin.buildModelFromXML(urdf)
+        except (ValueError, RuntimeError) as err:
+            raise BackendError("pinocchio-urdf", f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
+        m = self.model
+        missing = [j for j in joint_names if not m.existJointName(j)]
+        if missing:
+            raise UnknownNameError("joint", missing[0], [m.names[i] for i in range(1, m.njoints)])
+        if m.nv != len(joint_names):
+            raise BackendError("pinocchio-urdf", f"dynamics needs exactly the compared joints ({len(joint_names)}), model has {m.nv} dofs")
+        self.idx_v = np.array([m.joints[m.getJointId(j)].idx_v for j in joint_names])
+        self.urdf_armature = np.array(m.armature)[self.idx_v].copy()  # always 0: URDF has no field for it
+        m.armature[self.idx_v] = np.asarray(armature, dtype=float)
+        self.damping = np.array(m.damping)[self.idx_v].copy()
+        self.friction = np.array(m.friction)[self.idx_v].copy()
+        self.data = m.createData()
+        self._perm = np.argsort(self.idx_v)  # model order -> ours
+
+    def _in(self, x) -> np.ndarray:
+        out = np.empty(len(self.idx_v))
+        out[self.idx_v] = x
+        return out
+
+    def mass(self, q) -> np.ndarray:
+        M = pin.crba(self.model, self.data, self._in(q))
+        M = np.triu(M) + np.triu(M, 1).T  # crba fills the upper triangle
+        return M[np.ix_(self.idx_v, self.idx_v)]
+
+    def bias(self, q, v) -> np.ndarray:
+        """Coriolis, centrifugal and gravity forces ``h(q, q̇)`` (MuJoCo's ``qfrc_bias``)."""
+        return np.asarray(pin.nonLinearEffects(self.model, self.data, self._in(q), self._in(v)))[self.idx_v]
+
+    def gravity(self, q) -> np.ndarray:
+        return np.asarray(pin.computeGeneralizedGravity(self.model, self.data, self._in(q)))[self.idx_v]
+
+    def inverse(self, q, v, a) -> np.ndarray:
+        """Joint forces giving acceleration ``a``: RNEA plus the damping force ``D·q̇`` to overcome."""
+        tau = np.asarray(pin.rnea(self.model, self.data, self._in(q), self._in(v), self._in(a)))[self.idx_v]
+        return tau + self.damping * np.asarray(v)
+
+    def forward(self, q, v, tau) -> np.ndarray:
+        """ABA: acceleration under ``tau`` and the damping force ``-D·q̇``."""
+        tau = np.asarray(tau) - self.damping * np.asarray(v)
+        return np.asarray(pin.aba(self.model, self.data, self._in(q), self._in(v), self._in(tau)))[self.idx_v]
+
+    def step_euler(self, q, v, tau, dt: float) -> tuple[np.ndarray, np.ndarray]:
+        """One step of MuJoCo's ``Euler`` integrator, computed with ABA: damping is implicit,
+        ``(M + dt·D) a = τ − h − D·q̇``, i.e. ABA with armature raised by ``dt·D``; then
+        semi-implicit Euler ``q̇' = q̇ + dt·a``, ``q' = q + dt·q̇'``."""
+        m = self.model
+        saved = m.armature.copy()
+        m.armature[self.idx_v] += dt * self.damping
+        try:
+            a = self.forward(q, v, tau)
+        finally:
+            m.armature[:] = saved
+        v1 = np.asarray(v) + dt * a
+        return np.asarray(q) + dt * v1, v1
+
+
+class MujocoDynamics:
+    def __init__(self, mjcf: str, joint_names) -> None:
+        try:
+            self.model = mujoco.MjModel.from_xml_string(mjcf)
+        except ValueError as err:
+            raise BackendError("mujoco", f"cannot load MJCF: {str(err).strip().splitlines()[0]}") from None
+        m = self.model
+        ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joint_names]
+        if min(ids) < 0:
+            raise BackendError("mujoco", f"MJCF lacks joint {joint_names[ids.index(min(ids))]!r}")
+        self.qadr = np.array([m.jnt_qposadr[i] for i in ids])
+        self.vadr = np.array([m.jnt_dofadr[i] for i in ids])
+        self.armature = np.array(m.dof_armature)[self.vadr]
+        self.damping = np.array(m.dof_damping)[self.vadr]
+        self.friction = np.array(m.dof_frictionloss)[self.vadr]
+        self.data = mujoco.MjData(m)
+        self._full = np.zeros((m.nv, m.nv))
+
+    def snapped_inertia_frames(self) -> list[tuple[str, float]]:
+        """Bodies whose principal inertia axes MuJoCo's compiler treats as aligned with the body
+        frame (``body_sameframe``) although ``body_iquat`` is not the identity: MuJoCo then drops a
+        rotation of this angle [rad] at run time, changing M by up to angle·(I_max − I_min)."""
+        m, out = self.model, []
+        aligned = (int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY), int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT))
+        for b in range(1, m.nbody):
+            vec = float(np.linalg.norm(m.body_iquat[b][1:]))
+            if int(m.body_sameframe[b]) in aligned and vec > 0:
+                out.append((m.body(b).name, 2.0 * float(np.arcsin(min(1.0, vec)))))
+        return out
+
+    def _set(self, q, v=None) -> None:
+        d = self.data
+        d.qpos[:] = self.model.qpos0
+        d.qvel[:] = 0.0
+        d.qpos[self.qadr] = q
+        if v is not None:
+            d.qvel[self.vadr] = v
+        mujoco.mj_forward(self.model, d)
+
+    def mass(self, q) -> np.ndarray:
+        self._set(q)
+        mujoco.mj_fullM(self.model, self.data, self._full)
+        return self._full[np.ix_(self.vadr, self.vadr)].copy()
+
+    def bias(self, q, v) -> np.ndarray:
+        self._set(q, v)
+        return self.data.qfrc_bias[self.vadr].copy()
+
+    def gravity(self, q) -> np.ndarray:
+        return self.bias(q, np.zeros(len(self.vadr)))
+
+    def inverse(self, q, v, a) -> np.ndarray:
+        """``mj_inverse``: joint forces giving ``a``, including the passive (damping) forces."""
+        self._set(q, v)
+        self.data.qacc[:] = 0.0
+        self.data.qacc[self.vadr] = a
+        mujoco.mj_inverse(self.model, self.data)
+        return self.data.qfrc_inverse[self.vadr].copy()
