@@ -20,7 +20,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .backends import Backend, BackendBase, ModelSources, build_backends
+from .backends import Backend, ModelSources, build_backends
 from .checks.fk import fk_errors
 from .checks.jacobian import jacobian_errors
 from .checks.tolerances import DEFAULT_TOLERANCES
@@ -28,33 +28,6 @@ from .spec import ArmSpec
 from .transforms import geodesic_distance
 
 FD_TOLERANCE = DEFAULT_TOLERANCES["jacobian.fd"].value
-
-# Backends whose FK depends on the configuration evaluated before: yourdfpy keeps a trimesh scene
-# graph that ignores a joint transform within 1e-8 (per entry) of the stored one, so after q the
-# FK of q + 1e-9 is q's. The helpers evaluate such a backend with a "kick" configuration
-# (q + 1, far from q) before each q, which makes every row exact.
-STATEFUL_BACKENDS = ("yourdfpy",)
-
-
-class _Kicked(BackendBase):
-    """``backend`` evaluated at ``q + 1`` before each ``q`` (FK only; Jacobians by finite
-    differences of this FK, as the wrapped backend's own are)."""
-
-    def __init__(self, backend: Backend) -> None:
-        self.inner = backend
-        self.name, self.joint_names, self.frames = backend.name, backend.joint_names, backend.frames
-        self.has_rotation, self.jacobian_method = backend.has_rotation, backend.jacobian_method
-
-    def poses(self, q: np.ndarray) -> np.ndarray:
-        q = self._check(q)
-        rows = np.repeat(q, 2, axis=0)
-        rows[0::2] += 1.0
-        return self.inner.poses(rows)[1::2]
-
-
-def _fresh(backend: Backend) -> Backend:
-    return _Kicked(backend) if backend.name in STATEFUL_BACKENDS and backend.jacobian_method != "analytic" else backend
-
 
 @lru_cache(maxsize=32)
 def _cached_backends(sources: ModelSources, names: tuple[str, ...] | None) -> tuple[Backend, ...]:
@@ -126,7 +99,7 @@ def assert_fk_agree(model, q, *, backends: Sequence[str] | None = None, position
     ref_eval = ref.evaluate(q, with_jacobians=False)
     errors = []
     for b in built[1:]:
-        errs = fk_errors(ref_eval, _fresh(b).evaluate(q, with_jacobians=False), b.has_rotation)
+        errs = fk_errors(ref_eval, b.evaluate(q, with_jacobians=False), b.has_rotation)
         for (prop, frame), err in errs.items():
             tol = position_tol if prop == "fk.position" else rotation_tol
             errors.append((prop, frame, f"{ref.name} vs {b.name}", err, tol, "m" if prop == "fk.position" else "rad", ""))
@@ -148,7 +121,7 @@ def assert_jacobians_agree(model, q, *, backends: Sequence[str] | None = None, t
             continue
         fd = b.jacobian_method != "analytic"
         limit, detail = (FD_TOLERANCE, f" ({b.name} Jacobian is finite-difference)") if fd else (tol, "")
-        for (prop, frame), err in jacobian_errors(ref_eval, _fresh(b).evaluate(q)).items():
+        for (prop, frame), err in jacobian_errors(ref_eval, b.evaluate(q)).items():
             unit = "m/rad" if prop == "jacobian.linear" else "rad/rad"
             errors.append((prop, frame, f"{ref.name} vs {b.name}", err, limit, unit, detail))
     _raise_first(errors, ref.frames, q, ref.joint_names)
@@ -181,7 +154,7 @@ def assert_ik_valid(model, q, target, frame: str | None = None, *, backends: Seq
     for b in built:
         if frame not in b.frames:
             continue
-        pose = _fresh(b).poses(q)[0, list(b.frames).index(frame)]
+        pose = b.poses(q)[0, list(b.frames).index(frame)]
         checks = [("ik.position", float(np.linalg.norm(pose[:3, 3] - goal_p)), position_tol, "m")]
         if target.shape == (4, 4) and b.has_rotation:
             checks.append(("ik.rotation", float(geodesic_distance(pose[None, :3, :3], target[None, :3, :3])[0]),
