@@ -58,8 +58,11 @@ class ErrorStats:
             self.max_error = float(errors[k])
             self.worst_q = np.array(q[k], dtype=float)
         self.count += errors.size
-        clipped = np.clip(errors, HIST_EDGES[0], HIST_EDGES[-1] * 0.999)
-        self.histogram += np.histogram(clipped, bins=HIST_EDGES)[0]
+        # Coarse bin by index arithmetic (no sort): floor(4·(log10 x + 18)), clipped to the range.
+        with np.errstate(divide="ignore"):
+            coarse = np.floor((np.log10(errors) + 18.0) * 4.0)
+        coarse = np.clip(np.nan_to_num(coarse, nan=0.0, neginf=0.0), 0, len(self.histogram) - 1).astype(np.int64)
+        self.histogram += np.bincount(coarse, minlength=len(self.histogram))
         finite = np.isfinite(errors)
         positive = errors[finite & (errors > 0)]
         self._zeros += int(np.count_nonzero(errors[finite] <= 0))
