@@ -11,7 +11,8 @@
 
       |percentile(p) − numpy.percentile(errors, p)| ≤ PERCENTILE_RTOL · numpy.percentile(errors, p)
 
-  with ``PERCENTILE_RTOL = 2**(1/512) − 1 ≈ 1.36e-3`` (plus float rounding of ``log2``, ~1e-15).
+  with ``PERCENTILE_RTOL = 2**(1/512) − 1 ≈ 1.36e-3`` (plus float rounding of ``log2``, ~1e-15;
+  subnormal errors, below 2.2e-308, only to within that absolute amount).
   Memory: one counter per occupied bin; errors spanning 40 decades occupy at most ~34,000 bins
   (~1 MB), typically a few hundred.
 - ``histogram``: the coarse log histogram (decades 1e-18 ... 1e2, four bins per decade) that the

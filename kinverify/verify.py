@@ -38,7 +38,7 @@ class VerifyOptions:
     seed: int = 0
     backends: list[str] | None = None
     reference: str = REFERENCE
-    chunk: int = 10_000
+    chunk: int = 2_000  # configurations per chunk: bounds memory; the unit of --jobs work
     fd_samples: int = 200
     tolerances: dict = field(default_factory=lambda: dict(DEFAULT_TOLERANCES))
     suites: list[str] | None = None  # None: every registered suite

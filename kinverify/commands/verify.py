@@ -40,7 +40,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--jobs", type=_count, default=1, help="worker processes for the chunks (default 1); results are identical for any N")
     p.add_argument("--executor", choices=["local", "dask"], default="local", help="run chunks here (local) or on dask.distributed (needs kinverify[dask])")
     p.add_argument("--scheduler", metavar="ADDRESS", help="with --executor dask: an existing scheduler (default: a LocalCluster of --jobs workers)")
-    p.add_argument("--chunk", type=_count, default=10_000, help="configurations per chunk (default 10000); memory is bounded by the chunk, not --samples")
+    p.add_argument("--chunk", type=_count, default=2000, help="configurations per chunk (default 2000); memory is bounded by the chunk, not --samples")
     p.add_argument("--slow-samples", type=_count, default=100_000, help="slow backends (yourdfpy) compare only the first this many configurations (default 100000)")
     return p
 
