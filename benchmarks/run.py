@@ -11,12 +11,15 @@ Per shipped model (models/*.toml), every figure a ratio or rate taken in this on
   ``overhead.<backend>`` = adapter time / raw time;
 - ``analytic_fk_vs_numpy``: time of the analytic FK of all frames / numpy's own stacked 4×4
   products over the same data (per joint T ← T @ origin @ motion, motions made before timing);
-- ``peak_mb.1e5`` / ``peak_mb.1e7`` (``--quick``: 1e6): peak RSS of a fresh ``kinverify verify``
-  process (backends analytic + pinocchio-urdf only, to keep the 1e7 run to minutes);
+- ``peak_mb.1e5`` / ``peak_mb.1e7`` (``--quick``: 1e6): peak RSS of a fresh ``verify`` run
+  (``--jobs 2``; backends analytic + pinocchio-urdf only, to keep the 1e7 run to minutes): the
+  main process's peak plus the largest worker's (``peak_mb_main``, ``peak_mb_worker``);
 - ``jobs2_speedup``: time of ``--jobs 1`` / time of ``--jobs 2`` (default verify options, every
   backend), worker start-up included.
 
-Timings take the best of a few interleaved repeats. ``--compare OLD.json`` prints new/old for
+Sizes: 5,000 configurations for the rates (``--quick``: 1,000), 1e6 for the analytic FK figure,
+10,000 for ``--jobs`` (``--quick``: 4,000), ``--big N`` for the large memory run. Timings take
+the best of two interleaved repeats. ``--compare OLD.json`` prints new/old for
 every figure the two runs share.
 """
 
@@ -46,6 +49,7 @@ from kinverify.specfile import load_spec  # noqa: E402
 from kinverify.verify import VerifyContext, VerifyOptions, kinematics_suite  # noqa: E402
 
 MEMORY_BACKENDS = "analytic,pinocchio-urdf"
+MEMORY_JOBS = 2  # the 1e7 runs take minutes per model even so
 
 
 def best(fn, repeats: int) -> float:
@@ -133,22 +137,22 @@ def child_run(model: str, n: int, backends=None, jobs: int = 1) -> dict:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
-def bench_model(path: Path, quick: bool, log) -> dict:
+def bench_model(path: Path, quick: bool, log, big: int) -> dict:
     spec = load_spec(path)
     sources = ModelSources.from_spec(spec)
     backends = {b.name: b for b in build_backends(sources)}
-    n_x = 1000 if quick else 10_000
-    fig = cross_validation(sources, backends, n_x, 2 if quick else 3)
+    n_x = 1000 if quick else 5_000
+    fig = cross_validation(sources, backends, n_x, 2)
     fig["xval_samples"] = n_x
     log(f"  {path.stem}: cross-validation done")
     fig["analytic_fk_vs_numpy"] = analytic_vs_numpy(spec, 100_000 if quick else 1_000_000)
-    big = 1_000_000 if quick else 10_000_000
-    for n, key in ((100_000, "1e5"), (big, "1e6" if quick else "1e7")):
-        r = child_run(str(path), n, MEMORY_BACKENDS.split(","))
-        fig[f"peak_mb.{key}"] = r["self_mb"]
+    for n, key in ((100_000, "1e5"), (big, f"1e{round(np.log10(big))}")):
+        r = child_run(str(path), n, MEMORY_BACKENDS.split(","), jobs=MEMORY_JOBS)
+        fig[f"peak_mb.{key}"] = r["self_mb"] + r["children_mb"]
+        fig[f"peak_mb_main.{key}"], fig[f"peak_mb_worker.{key}"] = r["self_mb"], r["children_mb"]
         fig[f"seconds.{key}"] = r["seconds"]
-        log(f"  {path.stem}: {n} configurations: {r['self_mb']:.0f} MB, {r['seconds']:.0f} s")
-    n_j = 4000 if quick else 20_000
+        log(f"  {path.stem}: {n} configurations: {r['self_mb']:.0f} + {r['children_mb']:.0f} MB, {r['seconds']:.0f} s")
+    n_j = 4000 if quick else 10_000
     t1 = child_run(str(path), n_j, None, 1)["seconds"]
     t2 = child_run(str(path), n_j, None, 2)["seconds"]
     fig["jobs2_speedup"] = t1 / t2
@@ -167,7 +171,7 @@ def print_table(results: dict) -> None:
             "peak MB big", "jobs 2 speed-up"]
     print(" | ".join(cols))
     for model, f in results["models"].items():
-        big = f.get("peak_mb.1e7", f.get("peak_mb.1e6"))
+        big = next(v for k, v in f.items() if k.startswith("peak_mb.") and k != "peak_mb.1e5")
         print(" | ".join([model, f"{f['cps.xval']:.0f}", f"{f['overhead']:.2f}", f"{f['overhead_no_yourdfpy']:.2f}",
                           f"{f['analytic_fk_vs_numpy']:.2f}", f"{f['peak_mb.1e5']:.0f}", f"{big:.0f}",
                           f"{f['jobs2_speedup']:.2f}"]))
@@ -190,17 +194,19 @@ def compare(new: dict, old: dict) -> None:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="small sizes (1e6 instead of 1e7 for memory)")
+    ap.add_argument("--quick", action="store_true", help="small sizes (1e6 instead of 1e7 for memory, 1000 configurations for rates)")
     ap.add_argument("--json", help="write the figures here (e.g. benchmarks/results/<date>.json)")
     ap.add_argument("--compare", help="a previous --json output: print new/old per figure")
     ap.add_argument("--models", nargs="*", help="model files (default models/*.toml)")
+    ap.add_argument("--big", type=float, help="configurations of the large memory run (default 1e7, --quick 1e6)")
     args = ap.parse_args(argv)
     models = [Path(m) for m in args.models] if args.models else sorted((ROOT / "models").glob("*.toml"))
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
-    results = {"machine": machine(), "quick": args.quick, "memory_backends": MEMORY_BACKENDS, "models": {}}
+    big = int(args.big or (1e6 if args.quick else 1e7))
+    results = {"machine": machine(), "big": big, "quick": args.quick, "memory_backends": MEMORY_BACKENDS, "models": {}}
     for path in models:
         log(f"benchmarking {path.stem}...")
-        results["models"][path.stem] = bench_model(path, args.quick, log)
+        results["models"][path.stem] = bench_model(path, args.quick, log, big)
     print_table(results)
     if args.json:
         from kinverify.report.writer import write_atomic
