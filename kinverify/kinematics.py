@@ -58,6 +58,18 @@ def joint_local_coefficients(joint) -> np.ndarray:
     return k.reshape(len(k), 16)
 
 
+_COEFFICIENTS: dict[int, tuple[ArmSpec, list[np.ndarray]]] = {}  # id(spec) -> (spec, per joint)
+
+
+def _coefficients(spec: ArmSpec) -> list[np.ndarray]:
+    hit = _COEFFICIENTS.get(id(spec))
+    if hit is None or hit[0] is not spec:
+        if len(_COEFFICIENTS) >= 32:
+            _COEFFICIENTS.clear()
+        hit = _COEFFICIENTS[id(spec)] = (spec, [joint_local_coefficients(j) for j in spec.joints])
+    return hit[1]
+
+
 def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
     """World poses of the base link and every joint's link, ``(N, n + 1, 4, 4)`` (written into
     ``out[:, :n + 1]`` when given).
@@ -77,14 +89,14 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
     nxt = np.empty_like(cur)
     basis = np.empty((n_cfg, 3))
     basis[:, 0] = 1.0
-    for i, joint in enumerate(spec.joints):
+    for i, (joint, coef) in enumerate(zip(spec.joints, _coefficients(spec))):
         if joint.type == "revolute":
             np.sin(q[:, i], out=basis[:, 1])
             np.cos(q[:, i], out=basis[:, 2])
-            local = basis @ joint_local_coefficients(joint)
+            local = basis @ coef
         else:
             basis[:, 1] = q[:, i]
-            local = basis[:, :2] @ joint_local_coefficients(joint)
+            local = basis[:, :2] @ coef
         np.matmul(cur, local.reshape(n_cfg, 4, 4), out=nxt)
         out[:, i + 1] = nxt
         cur, nxt = nxt, cur

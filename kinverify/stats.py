@@ -13,8 +13,8 @@
 
   with ``PERCENTILE_RTOL = 2**(1/512) − 1 ≈ 1.36e-3`` (plus float rounding of ``log2``, ~1e-15;
   subnormal errors, below 2.2e-308, only to within that absolute amount).
-  Memory: one counter per occupied bin; errors spanning 40 decades occupy at most ~34,000 bins
-  (~1 MB), typically a few hundred.
+  Memory: one int64 counter per bin between the smallest and the largest positive error seen,
+  independent of the count: errors spanning 20 decades take ~17,000 bins (136 kB).
 - ``histogram``: the coarse log histogram (decades 1e-18 ... 1e2, four bins per decade) that the
   report's distribution plots use.
 
@@ -45,36 +45,51 @@ class ErrorStats:
         self.max_error = 0.0
         self.worst_q: np.ndarray | None = None
         self.histogram = np.zeros(len(HIST_EDGES) - 1, dtype=np.int64)
-        self._bins: dict[int, int] = {}  # fine log2 bin -> count (positive finite errors)
+        self._lo = 0  # fine log2 bin of self._bins[0]
+        self._bins = np.zeros(0, dtype=np.int64)  # counts of positive finite errors per fine bin
         self._zeros = 0
         self._infs = 0
 
     def update(self, errors: np.ndarray, q: np.ndarray) -> None:
         errors = np.asarray(errors, dtype=float).ravel()
-        if errors.size == 0:
+        n = errors.size
+        if n == 0:
             return
-        errors = np.where(np.isnan(errors), np.inf, errors)  # NaN counts as the worst possible error
-        k = int(np.argmax(errors))
-        if self.worst_q is None or errors[k] > self.max_error:
-            self.max_error = float(errors[k])
-            self.worst_q = np.array(q[k], dtype=float)
-        self.count += errors.size
-        # Coarse bin by index arithmetic (no sort): floor(4·(log10 x + 18)), clipped to the range.
-        with np.errstate(divide="ignore"):
-            coarse = np.floor((np.log10(errors) + 18.0) * 4.0)
-        coarse = np.clip(np.nan_to_num(coarse, nan=0.0, neginf=0.0), 0, len(self.histogram) - 1).astype(np.int64)
-        self.histogram += np.bincount(coarse, minlength=len(self.histogram))
-        finite = np.isfinite(errors)
-        positive = errors[finite & (errors > 0)]
-        self._zeros += int(np.count_nonzero(errors[finite] <= 0))
-        self._infs += int(errors.size - np.count_nonzero(finite))
+        top = errors.max()  # NaN if any is NaN
+        if not np.isfinite(top):
+            errors = np.where(np.isnan(errors), np.inf, errors)  # NaN counts as the worst possible error
+            top = np.inf
+        if self.worst_q is None or top > self.max_error:
+            self.max_error = float(top)
+            self.worst_q = np.array(q[int(np.argmax(errors))], dtype=float)
+        self.count += n
+        finite = errors if top < np.inf else errors[np.isfinite(errors)]
+        positive = finite[finite > 0]
+        infs, zeros = n - finite.size, finite.size - positive.size
+        self._infs += infs
+        self._zeros += zeros
+        self.histogram[0] += zeros
+        self.histogram[-1] += infs
         if positive.size:
+            # Coarse bin by index arithmetic (no sort): floor(4·(log10 x + 18)), clipped to the range.
+            coarse = np.floor((np.log10(positive) + 18.0) * 4.0)
+            np.clip(coarse, 0, len(self.histogram) - 1, out=coarse)
+            self.histogram += np.bincount(coarse.astype(np.int64), minlength=len(self.histogram))
             idx = np.floor(np.log2(positive) * BINS_PER_OCTAVE).astype(np.int64)
             lo = int(idx.min())
-            counts = np.bincount(idx - lo)
-            bins = self._bins
-            for i in np.flatnonzero(counts).tolist():
-                bins[lo + i] = bins.get(lo + i, 0) + int(counts[i])
+            self._add_bins(lo, np.bincount(idx - lo))
+
+    def _add_bins(self, lo: int, counts: np.ndarray) -> None:
+        if self._bins.size == 0:
+            self._lo, self._bins = lo, counts.astype(np.int64, copy=True)
+            return
+        new_lo = min(lo, self._lo)
+        new_hi = max(lo + counts.size, self._lo + self._bins.size)
+        if new_lo != self._lo or new_hi != self._lo + self._bins.size:
+            grown = np.zeros(new_hi - new_lo, dtype=np.int64)
+            grown[self._lo - new_lo : self._lo - new_lo + self._bins.size] = self._bins
+            self._lo, self._bins = new_lo, grown
+        self._bins[lo - self._lo : lo - self._lo + counts.size] += counts
 
     def merge(self, other: "ErrorStats") -> "ErrorStats":
         """Add ``other``'s errors to these (in place); returns ``self``."""
@@ -86,8 +101,8 @@ class ErrorStats:
         self.histogram = self.histogram + other.histogram
         self._zeros += other._zeros
         self._infs += other._infs
-        for b, c in other._bins.items():
-            self._bins[b] = self._bins.get(b, 0) + c
+        if other._bins.size:
+            self._add_bins(other._lo, other._bins)
         return self
 
     def percentile(self, p: float) -> float:
@@ -108,8 +123,8 @@ class ErrorStats:
         if rank < self._zeros:
             return 0.0
         rank -= self._zeros
-        for b in sorted(self._bins):
-            rank -= self._bins[b]
-            if rank < 0:
-                return 2.0 ** ((b + 0.5) / BINS_PER_OCTAVE)
-        return math.inf
+        cum = np.cumsum(self._bins)
+        if cum.size == 0 or rank >= cum[-1]:
+            return math.inf
+        b = self._lo + int(np.searchsorted(cum, rank, side="right"))
+        return 2.0 ** ((b + 0.5) / BINS_PER_OCTAVE)
