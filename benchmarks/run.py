@@ -1,5 +1,7 @@
 """kinverify benchmarks: ``python benchmarks/run.py [--quick] [--json OUT] [--compare OLD.json]``.
 
+``--compare OLD.json --against NEW.json`` compares two stored runs without running anything.
+
 Per shipped model (models/*.toml), every figure a ratio or rate taken in this one run:
 
 - ``cps.<backend>`` configurations/s of each backend's FK + Jacobian (yourdfpy: FK only) and
@@ -198,8 +200,15 @@ def main(argv=None) -> int:
     ap.add_argument("--json", help="write the figures here (e.g. benchmarks/results/<date>.json)")
     ap.add_argument("--compare", help="a previous --json output: print new/old per figure")
     ap.add_argument("--models", nargs="*", help="model files (default models/*.toml)")
+    ap.add_argument("--against", metavar="NEW.json", help="with --compare: compare two stored runs, running nothing")
     ap.add_argument("--big", type=float, help="configurations of the large memory run (default 1e7, --quick 1e6)")
     args = ap.parse_args(argv)
+    old = _load(args.compare) if args.compare else None
+    if args.against:
+        if old is None:
+            ap.error("--against needs --compare OLD.json")
+        compare(_load(args.against), old)
+        return 0
     models = [Path(m) for m in args.models] if args.models else sorted((ROOT / "models").glob("*.toml"))
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
     big = int(args.big or (1e6 if args.quick else 1e7))
@@ -212,9 +221,16 @@ def main(argv=None) -> int:
         from kinverify.report.writer import write_atomic
 
         write_atomic(args.json, json.dumps(results, indent=1))
-    if args.compare:
-        compare(results, json.loads(Path(args.compare).read_text()))
+    if old is not None:
+        compare(results, old)
     return 0
+
+
+def _load(path: str) -> dict:
+    try:
+        return json.loads(Path(path).read_text())
+    except (OSError, ValueError) as err:
+        sys.exit(f"benchmarks/run.py: error: {path}: cannot read benchmark JSON: {err}")
 
 
 if __name__ == "__main__":
