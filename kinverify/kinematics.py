@@ -35,13 +35,71 @@ def joint_motion(joint, values: np.ndarray) -> np.ndarray:
     return t
 
 
-def link_poses(spec: ArmSpec, q) -> np.ndarray:
-    """World poses of the base link and every joint's link, ``(N, n + 1, 4, 4)``."""
+def joint_local_coefficients(joint) -> np.ndarray:
+    """Constant matrix ``K`` with ``origin @ motion(v)`` = ``(basis(v) @ K).reshape(4, 4)``.
+
+    Revolute: Rodrigues ``R(v) = I + sin v·S + (1 − cos v)·S²`` with ``S = skew(axis)``, so the
+    local transform is linear in ``(1, sin v, cos v)``; prismatic: linear in ``(1, v)``.
+    """
+    o = joint.origin.transform
+    axis = np.asarray(joint.axis, dtype=float)
+    if joint.type == "revolute":
+        k = np.zeros((3, 4, 4))
+        sk = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        rot = o[:3, :3]
+        k[0] = o
+        k[0, :3, :3] = rot @ (np.eye(3) + sk @ sk)
+        k[1, :3, :3] = rot @ sk
+        k[2, :3, :3] = -(rot @ (sk @ sk))
+    else:
+        k = np.zeros((2, 4, 4))
+        k[0] = o
+        k[1, :3, 3] = o[:3, :3] @ axis
+    return k.reshape(len(k), 16)
+
+
+_COEFFICIENTS: dict[int, tuple[ArmSpec, list[np.ndarray]]] = {}  # id(spec) -> (spec, per joint)
+
+
+def _coefficients(spec: ArmSpec) -> list[np.ndarray]:
+    hit = _COEFFICIENTS.get(id(spec))
+    if hit is None or hit[0] is not spec:
+        if len(_COEFFICIENTS) >= 32:
+            _COEFFICIENTS.clear()
+        hit = _COEFFICIENTS[id(spec)] = (spec, [joint_local_coefficients(j) for j in spec.joints])
+    return hit[1]
+
+
+def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
+    """World poses of the base link and every joint's link, ``(N, n + 1, 4, 4)`` (written into
+    ``out[:, :n + 1]`` when given).
+
+    Batched (issue 8): each joint's local transform ``origin @ motion(q_i)`` for all N
+    configurations is one small matrix product ``(N, 3) @ (3, 16)`` of ``(1, sin, cos)`` with
+    constants (:func:`joint_local_coefficients`), then one stacked 4×4 product per joint, on
+    contiguous buffers.
+    """
     q = check_configurations(spec, q)
-    out = np.empty((q.shape[0], spec.dof + 1, 4, 4))
-    out[:, 0] = spec.base_origin.transform
-    for i, joint in enumerate(spec.joints):
-        out[:, i + 1] = (out[:, i] @ joint.origin.transform) @ joint_motion(joint, q[:, i])
+    n_cfg = q.shape[0]
+    if out is None:
+        out = np.empty((n_cfg, spec.dof + 1, 4, 4))
+    cur = np.empty((n_cfg, 4, 4))
+    cur[:] = spec.base_origin.transform
+    out[:, 0] = cur
+    nxt = np.empty_like(cur)
+    basis = np.empty((n_cfg, 3))
+    basis[:, 0] = 1.0
+    for i, (joint, coef) in enumerate(zip(spec.joints, _coefficients(spec))):
+        if joint.type == "revolute":
+            np.sin(q[:, i], out=basis[:, 1])
+            np.cos(q[:, i], out=basis[:, 2])
+            local = basis @ coef
+        else:
+            basis[:, 1] = q[:, i]
+            local = basis[:, :2] @ coef
+        np.matmul(cur, local.reshape(n_cfg, 4, 4), out=nxt)
+        out[:, i + 1] = nxt
+        cur, nxt = nxt, cur
     return out
 
 
@@ -56,8 +114,12 @@ def tool_poses(spec: ArmSpec, links: np.ndarray) -> np.ndarray:
 
 def frame_poses(spec: ArmSpec, q) -> np.ndarray:
     """World poses of every frame in ``spec.frame_names`` order, ``(N, F, 4, 4)``."""
-    links = link_poses(spec, q)
-    return np.concatenate([links, tool_poses(spec, links)], axis=1)
+    q = check_configurations(spec, q)
+    out = np.empty((q.shape[0], spec.dof + 1 + len(spec.tools), 4, 4))
+    link_poses(spec, q, out)
+    for k, tool in enumerate(spec.tools):
+        np.matmul(out[:, spec.link_index(tool.parent)], tool.origin.transform, out=out[:, spec.dof + 1 + k])
+    return out
 
 
 def frame_link_indices(spec: ArmSpec) -> np.ndarray:

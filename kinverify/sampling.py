@@ -59,3 +59,58 @@ def sample_configurations(lower, upper, revolute, n: int, seed: int = 0, edges: 
 def spec_samples(spec, n: int, seed: int = 0, edges: bool = True) -> np.ndarray:
     revolute = [j.type == "revolute" for j in spec.joints]
     return sample_configurations(spec.lower, spec.upper, revolute, n, seed, edges)
+
+
+class Samples:
+    """The configurations of :func:`sample_configurations` without holding them: edge rows, then
+    ``n`` uniform rows, any row range generated on demand (the uniform stream is skipped ahead with
+    ``PCG64.advance``, one 64-bit draw per value), identical to slicing the full array.
+
+    Array-like for suites that want an array: ``len``, ``shape``, ``samples[a:b]``, ``samples[i]``
+    and ``np.asarray(samples)`` (which materialises all rows). Picklable, so worker processes
+    generate their own chunks.
+    """
+
+    def __init__(self, lower, upper, revolute, n: int, seed: int = 0, edges: bool = True) -> None:
+        self.lower, self.upper = np.asarray(lower, float), np.asarray(upper, float)
+        self.n_uniform, self.seed = int(n), seed
+        self.edges = edge_configurations(lower, upper, revolute) if edges else np.empty((0, len(self.lower)))
+        self.shape = (len(self.edges) + self.n_uniform, len(self.lower))
+        self.ndim, self.dtype = 2, np.dtype(float)
+
+    def __len__(self) -> int:
+        return self.shape[0]
+
+    def rows(self, start: int, stop: int) -> np.ndarray:
+        """Rows ``start:stop`` ``(stop - start, n)``."""
+        start, stop = max(0, start), min(stop, len(self))
+        if stop <= start:
+            return np.empty((0, self.shape[1]))
+        n_edge = len(self.edges)
+        parts = [self.edges[start:stop]] if start < n_edge else []
+        u0, u1 = max(start - n_edge, 0), stop - n_edge
+        if u1 > u0:
+            rng = np.random.default_rng(self.seed)
+            rng.bit_generator.advance(u0 * self.shape[1])
+            parts.append(rng.uniform(self.lower, self.upper, size=(u1 - u0, self.shape[1])))
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    def chunks(self, size: int):
+        """``(start, stop)`` of consecutive chunks of at most ``size`` rows."""
+        size = max(1, int(size))
+        return [(a, min(a + size, len(self))) for a in range(0, len(self), size)]
+
+    def __getitem__(self, key):
+        if isinstance(key, slice):
+            start, stop, step = key.indices(len(self))
+            return self.rows(start, stop)[::step] if step > 0 else np.asarray(self)[key]
+        if isinstance(key, (int, np.integer)):
+            k = int(key) + (len(self) if key < 0 else 0)
+            if not 0 <= k < len(self):
+                raise IndexError(key)
+            return self.rows(k, k + 1)[0]
+        return np.asarray(self)[key]
+
+    def __array__(self, dtype=None, copy=None):
+        out = self.rows(0, len(self))
+        return out if dtype is None else out.astype(dtype)

@@ -20,7 +20,8 @@ from .checks.fk import fk_errors
 from .checks.jacobian import finite_difference_errors, jacobian_errors
 from .errors import InputError
 from .results import Check, VerifyResult
-from .sampling import sample_configurations
+from .parallel import run_chunks
+from .sampling import Samples
 from .spec import ArmSpec
 from .stats import ErrorStats
 from .versions import library_versions
@@ -40,18 +41,24 @@ class VerifyOptions:
     seed: int = 0
     backends: list[str] | None = None
     reference: str = REFERENCE
-    chunk: int = 10_000
+    chunk: int = 2_000  # configurations per chunk: bounds memory; the unit of --jobs work
     fd_samples: int = 200
     tolerances: dict = field(default_factory=lambda: dict(DEFAULT_TOLERANCES))
     suites: list[str] | None = None  # None: every registered suite
     extra: dict[str, Any] = field(default_factory=dict)  # suite-specific options (e.g. ik_targets)
+    # Performance and scale (issue 8): see kinverify.parallel.
+    jobs: int = 1  # worker processes (or Dask workers of a LocalCluster)
+    executor: str = "local"  # "local" or "dask"
+    scheduler: str | None = None  # Dask scheduler address; None: a LocalCluster
+    slow_samples: int | None = 100_000  # slow backends (yourdfpy) see only the first this many configurations
+    on_progress: Callable[[int, int], None] | None = None  # (configurations done, total), not pickled
 
 
 @dataclass
 class VerifyContext:
     sources: ModelSources
     backends: dict[str, Backend]
-    q: np.ndarray
+    q: np.ndarray | Samples  # array-like: len, q[a:b], np.asarray(q); Samples generates rows on demand
     options: VerifyOptions
 
 
@@ -72,9 +79,18 @@ class _Accumulator:
         for (prop, frame), err in errors.items():
             self.stats.setdefault((prop, frame, pair), ErrorStats()).update(err, q)
 
-    def checks(self, frame_order: list[str], notes: dict[tuple[str, str], str]) -> list[Check]:
+    def merge(self, other: "_Accumulator") -> None:
+        for key, st in other.stats.items():
+            if key in self.stats:
+                self.stats[key].merge(st)
+            else:
+                self.stats[key] = st
+
+    def checks(self, frame_order: list[str], notes: dict[tuple[str, str], str],
+               pair_notes: dict[tuple[str, str], str] | None = None) -> list[Check]:
         props = list(self.options.tolerances)
         rank = {f: i for i, f in enumerate(frame_order)}
+        pair_notes = pair_notes or {}
         out = []
         for (prop, frame, pair), st in sorted(self.stats.items(), key=lambda kv: (props.index(kv[0][0]), kv[0][2], rank.get(kv[0][1], 0))):
             tol = self.options.tolerances[prop]
@@ -82,41 +98,70 @@ class _Accumulator:
             note = notes.get(pair, "") if prop in ("jacobian.linear", "jacobian.angular") else ""
             if note:
                 limit = self.options.tolerances["jacobian.fd"].value
+            note = "; ".join(n for n in (note, pair_notes.get(pair, "")) if n)
             out.append(Check(prop, frame, pair, st.max_error, st.percentile(99), limit, st.max_error <= limit,
                              tuple(st.worst_q.tolist()), tol.unit, st.count, tuple(st.histogram.tolist()), note))
         return out
 
 
+def _kinematics_chunk(backends: dict[str, Backend], opts: VerifyOptions, q: np.ndarray, start: int) -> _Accumulator:
+    """Errors of one chunk (rows ``start:start+len(q)`` of the samples): a pure function of its
+    inputs, so chunks can run anywhere (see :mod:`kinverify.parallel`)."""
+    acc = _Accumulator(opts)
+    fd_rows = slice(0, max(0, min(opts.fd_samples - start, len(q))))
+    ref_eval = backends[opts.reference].evaluate(q)
+    for name, backend in backends.items():
+        if name == opts.reference:
+            continue
+        pair = (opts.reference, name)
+        rows = _capped_rows(backend, opts, start, len(q))
+        if rows.stop == 0:
+            continue
+        ref = ref_eval if rows.stop == len(q) else _head(ref_eval, rows.stop)
+        analytic_jac = backend.jacobian_method == "analytic"
+        ev = backend.evaluate(q[rows], with_jacobians=analytic_jac)
+        acc.add(fk_errors(ref, ev, backend.has_rotation), pair, q[rows])
+        if analytic_jac:
+            acc.add(jacobian_errors(ref, ev), pair, q[rows])
+        elif backend.jacobian_method and min(fd_rows.stop, rows.stop) > 0:
+            fd = slice(0, min(fd_rows.stop, rows.stop))
+            acc.add(jacobian_errors(ref_eval, backend.evaluate(q[fd]), fd), pair, q[fd])
+    for name, backend in backends.items():
+        if backend.jacobian_method == "analytic" and fd_rows.stop > 0:
+            jac = backend.jacobians(q[fd_rows])
+            acc.add(finite_difference_errors(backend, q[fd_rows], jac), (name, "finite-difference"), q[fd_rows])
+    return acc
+
+
+def _capped_rows(backend: Backend, opts: VerifyOptions, start: int, n: int) -> slice:
+    """Slow backends (``slow = True``, e.g. yourdfpy) see only the first ``opts.slow_samples`` rows."""
+    if not getattr(backend, "slow", False) or opts.slow_samples is None:
+        return slice(0, n)
+    return slice(0, max(0, min(opts.slow_samples - start, n)))
+
+
+def _head(ev, k: int):
+    return type(ev)(ev.backend, ev.frames, ev.poses[:k], None if ev.jacobians is None else ev.jacobians[:k])
+
+
 def kinematics_suite(ctx: VerifyContext) -> SuiteResult:
     """FK and Jacobians of every backend against the reference, and each Jacobian against
-    finite differences of its own backend's FK."""
+    finite differences of its own backend's FK. Chunks run through :func:`run_chunks` (this
+    process, ``--jobs`` processes or Dask) and merge in chunk order: identical numbers either way."""
     opts = ctx.options
-    ref = ctx.backends[opts.reference]
+    n, n_fd = len(ctx.q), min(opts.fd_samples, len(ctx.q))
     acc = _Accumulator(opts)
-    notes = {}
-    n_fd = min(opts.fd_samples, len(ctx.q))
-    for start in range(0, len(ctx.q), opts.chunk):
-        q = ctx.q[start : start + opts.chunk]
-        fd_rows = slice(0, max(0, min(n_fd - start, len(q))))
-        ref_eval = ref.evaluate(q)
-        for name, backend in ctx.backends.items():
-            if name == opts.reference:
-                continue
-            pair = (opts.reference, name)
-            analytic_jac = backend.jacobian_method == "analytic"
-            ev = backend.evaluate(q, with_jacobians=analytic_jac)
-            acc.add(fk_errors(ref_eval, ev, backend.has_rotation), pair, q)
-            if analytic_jac:
-                acc.add(jacobian_errors(ref_eval, ev), pair, q)
-            elif backend.jacobian_method and fd_rows.stop > 0:
-                notes[pair] = f"{name} Jacobian is finite-difference: compared at the FD tolerance on {n_fd} samples"
-                fd_eval = backend.evaluate(q[fd_rows])
-                acc.add(jacobian_errors(ref_eval, fd_eval, fd_rows), pair, q[fd_rows])
-        for name, backend in ctx.backends.items():
-            if backend.jacobian_method == "analytic" and fd_rows.stop > 0:
-                jac = backend.jacobians(q[fd_rows])
-                acc.add(finite_difference_errors(backend, q[fd_rows], jac), (name, "finite-difference"), q[fd_rows])
-    return SuiteResult(acc.checks(list(ctx.sources.frames), notes))
+    for part in run_chunks(ctx, _kinematics_chunk, [(a, min(a + opts.chunk, n)) for a in range(0, n, opts.chunk)]):
+        acc.merge(part)
+    notes, pair_notes = {}, {}
+    for name, backend in ctx.backends.items():
+        pair = (opts.reference, name)
+        if name != opts.reference and backend.jacobian_method == "finite-difference" and n_fd > 0:
+            notes[pair] = f"{name} Jacobian is finite-difference: compared at the FD tolerance on {n_fd} samples"
+        capped = _capped_rows(backend, opts, 0, n).stop
+        if name != opts.reference and capped < n:
+            pair_notes[pair] = f"{name} is slow: compared on the first {capped} of {n} configurations (--slow-samples)"
+    return SuiteResult(acc.checks(list(ctx.sources.frames), notes, pair_notes))
 
 
 def _dynamics_suite(ctx: VerifyContext) -> SuiteResult:
@@ -168,7 +213,7 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
         backends[b.name] = b
     if options.reference not in backends:
         raise InputError(f"reference backend {options.reference!r} is not among {', '.join(backends)}")
-    q = sample_configurations(sources.lower, sources.upper, sources.revolute, options.samples, options.seed)
+    q = Samples(sources.lower, sources.upper, sources.revolute, options.samples, options.seed)
     ctx = VerifyContext(sources, backends, q, options)
     checks, sections = [], {}
     for name, suite in SUITES:

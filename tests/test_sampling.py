@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
-import numpy as np
+import pickle
+
 from hypothesis import given, settings
 from hypothesis import strategies as st
+import numpy as np
 
 from kinverify import strategies as kst
+from kinverify.sampling import Samples, sample_configurations
 from kinverify.sampling import edge_configurations, spec_samples
 
 
@@ -32,3 +35,28 @@ def test_edges_cover_limits_zero_and_half_pi():
 def test_home_is_mid_range_when_zero_is_outside():
     q = edge_configurations([0.5], [1.5], [True])
     np.testing.assert_allclose(q[0], [1.0])
+
+
+@settings(max_examples=40, deadline=None)
+@given(kst.arm_specs(max_joints=5), st.integers(0, 300), st.integers(0, 2**32 - 1), st.integers(1, 97), st.booleans())
+def test_chunks_equal_the_full_array(spec, n, seed, size, edges):
+    revolute = [j.type == "revolute" for j in spec.joints]
+    full = sample_configurations(spec.lower, spec.upper, revolute, n, seed, edges)
+    s = Samples(spec.lower, spec.upper, revolute, n, seed, edges)
+    assert s.shape == full.shape and len(s) == len(full)
+    parts = [s.rows(a, b) for a, b in s.chunks(size)]
+    assert np.array_equal(np.concatenate(parts) if parts else np.empty((0, spec.dof)), full)
+    assert np.array_equal(np.asarray(s), full)
+    if len(full):
+        k = seed % len(full)
+        assert np.array_equal(s[k], full[k]) and np.array_equal(s[-1], full[-1])
+        assert np.array_equal(s[k:], full[k:]) and np.array_equal(s[::3], full[::3])
+    restored = pickle.loads(pickle.dumps(s))
+    assert np.array_equal(np.asarray(restored), full)
+
+
+def test_rows_inside_limits():
+    s = Samples([-1.0, 0.0], [1.0, 0.2], [True, False], 5000, seed=4)
+    q = s.rows(1000, 4000)
+    assert q.shape == (3000, 2)
+    assert np.all(q >= [-1.0, 0.0]) and np.all(q <= [1.0, 0.2])

@@ -64,30 +64,46 @@ class MujocoBackend(BackendBase):
         return self.evaluate(q).jacobians
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
+        # Lean loop (issue 8): body and site poses copied with one fancy index each per
+        # configuration (d.xpos[ids], d.xmat[ids]); Jacobians written by mj_jacBody/mj_jacSite
+        # straight into contiguous rows of the output; joint columns selected once per batch.
         q = self._check(q)
         m, d = self.model, self.data
-        n_cfg = q.shape[0]
-        poses = np.zeros((n_cfg, len(self.frames), 4, 4))
-        poses[..., 3, 3] = 1.0
-        jac = np.empty((n_cfg, len(self.frames), 6, len(self._vadr))) if with_jacobians else None
-        jacp, jacr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
-        d.qpos[:] = m.qpos0
+        n_cfg, n_frames = q.shape[0], len(self.frames)
+        bodies = [(f, oid) for f, (site, oid) in enumerate(self._targets) if not site]
+        sites = [(f, oid) for f, (site, oid) in enumerate(self._targets) if site]
+        bf, bid = [f for f, _ in bodies], [o for _, o in bodies]
+        sf, sid = [f for f, _ in sites], [o for _, o in sites]
+        rot = np.empty((n_cfg, n_frames, 9))
+        pos = np.empty((n_cfg, n_frames, 3))
+        full = np.empty((n_cfg, n_frames, 6, m.nv)) if with_jacobians else None
+        kin, com_pos, jac_body, jac_site = mujoco.mj_kinematics, mujoco.mj_comPos, mujoco.mj_jacBody, mujoco.mj_jacSite
+        qpos, xpos, xmat, site_xpos, site_xmat = d.qpos, d.xpos, d.xmat, d.site_xpos, d.site_xmat
+        qpos[:] = m.qpos0
+        qadr = np.asarray(self._qadr, dtype=int)
         for k in range(n_cfg):
-            d.qpos[self._qadr] = q[k]
-            mujoco.mj_kinematics(m, d)
+            qpos[qadr] = q[k]
+            kin(m, d)
+            if bid:
+                rot[k, bf] = xmat[bid]
+                pos[k, bf] = xpos[bid]
+            if sid:
+                rot[k, sf] = site_xmat[sid]
+                pos[k, sf] = site_xpos[sid]
             if with_jacobians:
-                mujoco.mj_comPos(m, d)  # cdof, needed by the Jacobian functions
-            for f, (is_site, oid) in enumerate(self._targets):
-                if is_site:
-                    poses[k, f, :3, :3] = d.site_xmat[oid].reshape(3, 3)
-                    poses[k, f, :3, 3] = d.site_xpos[oid]
-                else:
-                    poses[k, f, :3, :3] = d.xmat[oid].reshape(3, 3)
-                    poses[k, f, :3, 3] = d.xpos[oid]
-                if with_jacobians:
-                    (mujoco.mj_jacSite if is_site else mujoco.mj_jacBody)(m, d, jacp, jacr, oid)
-                    jac[k, f, :3] = jacp[:, self._vadr]
-                    jac[k, f, 3:] = jacr[:, self._vadr]
+                com_pos(m, d)  # cdof, needed by the Jacobian functions
+                jk = full[k]
+                for f, oid in bodies:
+                    jac_body(m, d, jk[f, :3], jk[f, 3:], oid)
+                for f, oid in sites:
+                    jac_site(m, d, jk[f, :3], jk[f, 3:], oid)
+        poses = np.zeros((n_cfg, n_frames, 4, 4))
+        poses[..., :3, :3] = rot.reshape(n_cfg, n_frames, 3, 3)
+        poses[..., :3, 3] = pos
+        poses[..., 3, 3] = 1.0
+        jac = None
+        if with_jacobians:
+            jac = full if self._vadr == list(range(m.nv)) else full[..., self._vadr]
         return Evaluation(self.name, self.frames, poses, jac)
 
 

@@ -74,19 +74,29 @@ class PinocchioBackend(BackendBase):
         return self.evaluate(q).jacobians
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
+        # Lean loop (issue 8): bound functions, results written straight into preallocated
+        # arrays, joint columns selected once per batch rather than per frame.
         q = self._check(q)
-        model, data, fids = self.model, self.data, self._frame_ids
-        n_cfg, n_frames = q.shape[0], len(fids)
-        poses = np.empty((n_cfg, n_frames, 4, 4))
-        jac = np.empty((n_cfg, n_frames, 6, len(self._idx_v))) if with_jacobians else None
-        for k, qk in enumerate(self._full_q(q)):
-            if with_jacobians:
-                pin.computeJointJacobians(model, data, qk)  # also runs forward kinematics
-                pin.updateFramePlacements(model, data)
-            else:
-                pin.framesForwardKinematics(model, data, qk)
-            for f, fid in enumerate(fids):
-                poses[k, f] = data.oMf[fid].homogeneous
-                if with_jacobians:
-                    jac[k, f] = np.reshape(pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED), (6, -1))[:, self._idx_v]
+        model, data, oMf = self.model, self.data, self.data.oMf
+        frames = list(enumerate(self._frame_ids))
+        n_cfg = q.shape[0]
+        poses = np.empty((n_cfg, len(frames), 4, 4))
+        if with_jacobians:
+            full = np.empty((n_cfg, len(frames), 6, model.nv))
+            cjj, ufp, gfj, lwa = pin.computeJointJacobians, pin.updateFramePlacements, pin.getFrameJacobian, pin.LOCAL_WORLD_ALIGNED
+            for k, qk in enumerate(self._full_q(q)):
+                cjj(model, data, qk)  # also runs forward kinematics
+                ufp(model, data)
+                pk, jk = poses[k], full[k]
+                for f, fid in frames:
+                    pk[f] = oMf[fid].homogeneous
+                    jk[f] = gfj(model, data, fid, lwa)
+            jac = full if self._idx_v == list(range(model.nv)) else full[..., self._idx_v]
+        else:
+            jac, ffk = None, pin.framesForwardKinematics
+            for k, qk in enumerate(self._full_q(q)):
+                ffk(model, data, qk)
+                pk = poses[k]
+                for f, fid in frames:
+                    pk[f] = oMf[fid].homogeneous
         return Evaluation(self.name, self.frames, poses, jac)

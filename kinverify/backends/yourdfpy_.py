@@ -20,6 +20,7 @@ class YourdfpyBackend(BackendBase):
     ``T_world_from_frame``, ours. Joints not in ``joint_names`` stay at 0."""
 
     jacobian_method = "finite-difference"
+    slow = True  # ~100x slower per configuration than the others: capped by VerifyOptions.slow_samples
 
     def __init__(self, robot: "yourdfpy.URDF", name: str, joint_names, frames) -> None:
         self.robot, self.name = robot, name

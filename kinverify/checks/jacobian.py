@@ -15,13 +15,22 @@ def jacobian_errors(reference: Evaluation, other: Evaluation, rows: slice | None
         return {}
     ref_jac = reference.jacobians if rows is None else reference.jacobians[rows]
     ref_index = {f: i for i, f in enumerate(reference.frames)}
+    pairs = [(j, ref_index[f]) for j, f in enumerate(other.frames) if f in ref_index]
+    if not pairs:
+        return {}
+    # All matched frames at once (issue 8).
+    mine, ref = [j for j, _ in pairs], [i for _, i in pairs]
+    a = ref_jac if ref == list(range(ref_jac.shape[1])) else ref_jac[:, ref]
+    b = other.jacobians if mine == list(range(other.jacobians.shape[1])) else other.jacobians[:, mine]
+    diff = a - b  # (N, F, 6, n)
+    rows = np.square(diff, out=diff).sum(axis=-1)  # (N, F, 6)
+    lin = np.sqrt(rows[..., :3].sum(axis=-1))
+    ang = np.sqrt(rows[..., 3:].sum(axis=-1))
     out = {}
-    for j, frame in enumerate(other.frames):
-        if frame not in ref_index:
-            continue
-        diff = ref_jac[:, ref_index[frame]] - other.jacobians[:, j]
-        out[("jacobian.linear", frame)] = np.linalg.norm(diff[:, :3], axis=(-2, -1))
-        out[("jacobian.angular", frame)] = np.linalg.norm(diff[:, 3:], axis=(-2, -1))
+    for k, j in enumerate(mine):
+        frame = other.frames[j]
+        out[("jacobian.linear", frame)] = lin[:, k]
+        out[("jacobian.angular", frame)] = ang[:, k]
     return out
 
 

@@ -38,6 +38,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--report", help="HTML report path (default reports/<model>.html)")
     p.add_argument("--json", help="JSON results path (default reports/<model>.json)")
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
+    # performance and scale (issue 8)
+    p.add_argument("--jobs", type=_count, default=1, help="worker processes for the chunks (default 1); results are identical for any N")
+    p.add_argument("--executor", choices=["local", "dask"], default="local", help="run chunks here (local) or on dask.distributed (needs kinverify[dask])")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="with --executor dask: an existing scheduler (default: a LocalCluster of --jobs workers)")
+    p.add_argument("--chunk", type=_count, default=2000, help="configurations per chunk (default 2000); memory is bounded by the chunk, not --samples")
+    p.add_argument("--slow-samples", type=_count, default=100_000, help="slow backends (yourdfpy) compare only the first this many configurations (default 100000)")
     return p
 
 
@@ -62,9 +68,13 @@ def options_from_args(args):
             raise InputError(f"--tolerance: {item!r} is not PROPERTY=NUMBER") from None
         if not tolerances[prop].value >= 0:
             raise InputError(f"--tolerance: {item!r} must be a non-negative number")
+    if args.chunk < 1:
+        raise InputError("--chunk must be >= 1")
     return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra, tolerances=tolerances,
                          backends=args.backends.split(",") if args.backends else None,
-                         suites=[n for n in names if n not in args.skip])
+                         suites=[n for n in names if n not in args.skip],
+                         jobs=args.jobs, executor=args.executor, scheduler=args.scheduler, chunk=args.chunk,
+                         slow_samples=args.slow_samples)
 
 
 def run(args) -> int:
@@ -92,13 +102,14 @@ def run(args) -> int:
     else:
         if not args.model:
             raise InputError("give a spec MODEL (models/*.toml) or --urdf and --mjcf")
+        from ..progress import VerifyProgress
         from ..specfile import load_spec
         from ..verify import verify_spec
 
         spec = load_spec(args.model)
-        with console.status(f"verifying {spec.name}...") as status:
-            result = verify_spec(spec, options, source=str(args.model), command=command,
-                                 progress=lambda suite: status.update(f"verifying {spec.name}: {suite}"))
+        with VerifyProgress(console, spec.name) as bar:
+            options.on_progress = bar.advance
+            result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
     if args.quiet:
         console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed)")
     else:
