@@ -102,3 +102,15 @@ def test_registry_reports_every_backend():
     registry = available_backends()
     assert set(registry) >= {"analytic", "analytic-dh", "pinocchio-urdf", "pinocchio-mjcf", "mujoco", "yourdfpy"}
     assert all(info.available for info in registry.values())
+
+
+@pytest.mark.parametrize("joint_type", ["revolute", "prismatic"])
+def test_single_joint_arm(joint_type):
+    # one DOF: some libraries return Jacobians as (6,) vectors rather than (6, 1) matrices
+    from kinverify import spec_from_dict
+
+    unit = "rad" if joint_type == "revolute" else "m"
+    spec = spec_from_dict({"name": "one", "joints": [{"type": joint_type, "axis": [0, 1, 0], "xyz": [0, 0, 0.1],
+                                                      "limits": {"lower": -0.5, "upper": 0.5, "unit": unit}}],
+                           "tools": [{"name": "tip", "xyz": [0.2, 0, 0]}]})
+    _agree(spec, spec_samples(spec, 10))

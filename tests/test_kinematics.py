@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
+import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
-import numpy as np
 
 from kinverify import load_spec, spec_from_dict
 from kinverify import strategies as kst
 from kinverify.backends import finite_difference_jacobians
 from kinverify.backends.analytic import AnalyticDHBackend
-from kinverify.kinematics import frame_poses, geometric_jacobians
-from kinverify.kinematics import frame_poses, joint_motion, link_poses
+from kinverify.kinematics import frame_poses, geometric_jacobians, joint_motion, link_poses
 from kinverify.sampling import spec_samples
 
 

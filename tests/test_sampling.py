@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import pickle
 
+import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
-import numpy as np
 
 from kinverify import strategies as kst
-from kinverify.sampling import Samples, sample_configurations
-from kinverify.sampling import edge_configurations, spec_samples
+from kinverify.sampling import Samples, edge_configurations, sample_configurations, spec_samples
 
 
 @settings(max_examples=50, deadline=None)

@@ -83,11 +83,13 @@ class PinocchioBackend(BackendBase):
         poses = np.empty((n_cfg, len(frames), 4, 4))
         if with_jacobians:
             full = np.empty((n_cfg, len(frames), 6, model.nv))
+            # with nv == 1 getFrameJacobian returns a (6,) vector: write through a (..., 6) view
+            target = full[..., 0] if model.nv == 1 else full
             cjj, ufp, gfj, lwa = pin.computeJointJacobians, pin.updateFramePlacements, pin.getFrameJacobian, pin.LOCAL_WORLD_ALIGNED
             for k, qk in enumerate(self._full_q(q)):
                 cjj(model, data, qk)  # also runs forward kinematics
                 ufp(model, data)
-                pk, jk = poses[k], full[k]
+                pk, jk = poses[k], target[k]
                 for f, fid in frames:
                     pk[f] = oMf[fid].homogeneous
                     jk[f] = gfj(model, data, fid, lwa)
