@@ -19,6 +19,7 @@ from .checks import DEFAULT_TOLERANCES
 from .checks.fk import fk_errors
 from .checks.jacobian import finite_difference_errors, jacobian_errors
 from .errors import InputError
+from .ik.suite import ik_suite
 from .results import Check, VerifyResult
 from .sampling import sample_configurations
 from .spec import ArmSpec
@@ -118,6 +119,7 @@ def kinematics_suite(ctx: VerifyContext) -> SuiteResult:
 
 SUITES: list[tuple[str, Callable[[VerifyContext], SuiteResult]]] = [
     ("kinematics", kinematics_suite),
+    ("ik", ik_suite),
 ]
 
 

@@ -31,9 +31,10 @@ class FrameModel:
         self.revolute = _revolute(backend) if revolute is None else np.asarray(revolute, bool)
         from ..backends.analytic import AnalyticBackend
 
-        self.batched = type(backend) is AnalyticBackend
+        # numpy backends evaluate a whole batch per call: solve their rows in lock-step
+        self.batched = type(backend).__module__.endswith("backends.analytic")
         self._eval = self._generic
-        if self.batched:
+        if type(backend) is AnalyticBackend:
             self._eval = self._analytic
         elif type(backend).__module__.endswith("backends.pinocchio_"):
             self._eval = self._pinocchio

@@ -24,8 +24,8 @@ from .frame_model import FrameModel, pose_error_single, pose_errors, residuals
 
 @dataclass(frozen=True)
 class IKOptions:
-    tol_pos: float = 1e-10  # m: stop when the position error is below this...
-    tol_rot: float = 1e-10  # rad: ...and the rotation error below this (full-pose targets)
+    tol_pos: float = 1e-12  # m: stop when the position error is below this...
+    tol_rot: float = 1e-12  # rad: ...and the rotation error below this (full-pose targets)
     max_iter: int = 30  # iterations per attempt
     max_restarts: int = 100  # random restarts after the first attempt
     time_budget: float = 1.0  # s per target (a batch gets time_budget × rows)
