@@ -13,7 +13,7 @@ import sys
 
 from . import __version__
 
-COMMANDS = ("verify", "generate")
+COMMANDS = ("verify", "generate", "ik")
 
 
 def build_parser() -> argparse.ArgumentParser:
