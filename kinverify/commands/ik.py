@@ -95,7 +95,7 @@ def run(args) -> int:
             print(f"closed form: {'reachable' if res.reachable else 'unreachable'}, closest approach {res.closest_distance:.3e} m")
         return 1
     solutions = _distinct(sol.q[ok], sources.revolute)
-    others = [b for b in build_backends(sources) if b.name != name]
+    others = [b for b in build_backends(sources) if b.name != name and frame in b.frames]
     all_confirmed = True
     for i, q in enumerate(solutions):
         pos, rot = residuals(model.poses(q[None]), target[None], position_only)

@@ -136,7 +136,7 @@ def _cross_checks(sol, ok, targets, backends, frame) -> list[Check]:
     out = []
     q = sol.q[ok]
     for name, other in backends.items():
-        if name == sol.backend or not len(q):
+        if name == sol.backend or not len(q) or frame not in other.frames:
             continue
         poses = other.evaluate(q, with_jacobians=False).poses[:, other.frames.index(frame)]
         pos, rot = residuals(poses, targets[ok], sol.position_only or not other.has_rotation)
