@@ -5,7 +5,9 @@ Each iteration solves ``(JᵀJ + λI) dq = Jᵀe`` for the pose error ``e`` of
 ``q + dq`` onto the joint limits (clip) and accepts the step only if the squared error drops
 (λ ÷ 10), else rejects it (λ × 10). An attempt that runs ``max_iter`` iterations or whose λ
 exceeds ``stuck_damping`` (a local minimum, often against a limit) restarts from a uniform
-random configuration inside the limits, up to ``max_restarts`` times or the time budget.
+random configuration inside the limits, up to ``max_restarts`` times or the time budget. An attempt
+counts as stalled after ``max_iter`` iterations without halving its error (near a singularity LM
+converges linearly: it is kept going while it keeps halving, up to ``max_attempt_iter``).
 
 Rows are solved in lock-step: the analytic backend evaluates every active row in one numpy call,
 so many targets (and their restarts) are solved at once (``batch=True``). Other backends solve
@@ -22,17 +24,21 @@ import numpy as np
 from .frame_model import FrameModel, pose_error_single, pose_errors, residuals
 
 
+_STREAM = 0x1C  # separates IK starts from uniform_configurations(seed)
+
+
 @dataclass(frozen=True)
 class IKOptions:
     tol_pos: float = 1e-12  # m: stop when the position error is below this...
     tol_rot: float = 1e-12  # rad: ...and the rotation error below this (full-pose targets)
-    max_iter: int = 30  # iterations per attempt
+    max_iter: int = 30  # an attempt ends after this many iterations without halving its error...
+    max_attempt_iter: int = 300  # ...or after this many in all (slow but steady near singularities)
     max_restarts: int = 100  # random restarts after the first attempt
     time_budget: float = 1.0  # s per target (a batch gets time_budget × rows)
     damping: float = 1e-3  # initial λ
     min_damping: float = 1e-12
     stuck_damping: float = 1e8
-    seed: int = 0  # random restarts (and random first guesses) come from default_rng(seed)
+    seed: int = 0  # random restarts (and random first guesses) come from default_rng([seed, _STREAM])
 
 
 @dataclass
@@ -70,7 +76,7 @@ def solve_lm(model: FrameModel, targets, lower, upper, position_only: bool = Fal
     opts = options or IKOptions()
     targets = np.asarray(targets, dtype=float).reshape(-1, 4, 4)
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
-    rng = np.random.default_rng(opts.seed)
+    rng = np.random.default_rng([opts.seed, _STREAM])  # not the stream sampling.py draws targets from
     b = len(targets)
     q0 = rng.uniform(lower, upper, (b, len(lower))) if q0 is None else np.asarray(q0, float).reshape(b, -1)
     batch = model.batched if batch is None else batch
@@ -122,7 +128,8 @@ def _lm_rows(model, targets, q, lower, upper, position_only, opts, rng, deadline
     pos, rot = residuals(poses, targets, position_only)
     best_q, best_cost, best_pos, best_rot = q.copy(), cost.copy(), pos.copy(), rot.copy()
     lam = np.full(b, opts.damping)
-    iters, attempt, restarts = np.zeros(b, int), np.zeros(b, int), np.zeros(b, int)
+    iters, attempt, restarts, stall = np.zeros(b, int), np.zeros(b, int), np.zeros(b, int), np.zeros(b, int)
+    ref_cost = cost.copy()
     success = (pos <= opts.tol_pos) & (rot <= opts.tol_rot)
     done = success.copy()
     eye = np.eye(n)
@@ -147,13 +154,17 @@ def _lm_rows(model, targets, q, lower, upper, position_only, opts, rng, deadline
         lam[idx[~better]] *= 10
         iters[idx] += 1
         attempt[idx] += 1
+        halved = cost[idx] < 0.25 * ref_cost[idx]
+        ref_cost[idx[halved]] = cost[idx[halved]]
+        stall[idx] = np.where(halved, 0, stall[idx] + 1)
         pos_i, rot_i = residuals(poses[idx], targets[idx], position_only)
         improved = cost[idx] < best_cost[idx]
         imp = idx[improved]
         best_q[imp], best_cost[imp], best_pos[imp], best_rot[imp] = q[imp], cost[imp], pos_i[improved], rot_i[improved]
         conv = (pos_i <= opts.tol_pos) & (rot_i <= opts.tol_rot)
         success[idx[conv]] = done[idx[conv]] = True
-        ended = idx[~conv & ((attempt[idx] >= opts.max_iter) | (lam[idx] > opts.stuck_damping))]
+        ended = idx[~conv & ((stall[idx] >= opts.max_iter) | (attempt[idx] >= opts.max_attempt_iter)
+                             | (lam[idx] > opts.stuck_damping))]
         if time.perf_counter() > deadline:
             done[idx] = True
             break
@@ -164,7 +175,7 @@ def _lm_rows(model, targets, q, lower, upper, position_only, opts, rng, deadline
             poses[again], jac[again] = model(q[again])
             err[again] = pose_errors(poses[again], targets[again], position_only)
             cost[again] = np.einsum("bi,bi->b", err[again], err[again])
-            lam[again], attempt[again] = opts.damping, 0
+            lam[again], attempt[again], stall[again], ref_cost[again] = opts.damping, 0, 0, cost[again]
             restarts[again] += 1
     q_out = np.where(success[:, None], q, best_q)
     pos_out = np.where(success, residuals(poses, targets, position_only)[0], best_pos)
@@ -184,7 +195,7 @@ def _lm_single(model, target, q, lower, upper, position_only, opts, rng, deadlin
     err, pos, rot = pose_error_single(pose, target, position_only)
     cost = err @ err
     best = (cost, q, pos, rot)
-    lam, iters, attempt, restarts = opts.damping, 0, 0, 0
+    lam, iters, attempt, restarts, stall, ref_cost = opts.damping, 0, 0, 0, 0, cost
     success = pos <= opts.tol_pos and rot <= opts.tol_rot
     while not success:
         j = jac[:rows]
@@ -200,23 +211,27 @@ def _lm_single(model, target, q, lower, upper, position_only, opts, rng, deadlin
         cn = en @ en
         iters += 1
         attempt += 1
+        stall += 1
         if cn < cost:
             q, jac, err, cost, pos, rot = qn, jn, en, cn, pn_pos, pn_rot
             lam = max(lam / 10, opts.min_damping)
             if cost < best[0]:
                 best = (cost, q, pos, rot)
             success = pos <= opts.tol_pos and rot <= opts.tol_rot
+            if cost < 0.25 * ref_cost:
+                ref_cost, stall = cost, 0
         else:
             lam *= 10
         if success:
             break
-        if attempt >= opts.max_iter or lam > opts.stuck_damping:
+        if stall >= opts.max_iter or attempt >= opts.max_attempt_iter or lam > opts.stuck_damping:
             if restarts >= opts.max_restarts or time.perf_counter() > deadline:
                 break
             q = seed_q = rng.uniform(lower, upper)
             pose, jac = model.single(q)
             err, pos, rot = pose_error_single(pose, target, position_only)
-            cost, lam, attempt = err @ err, opts.damping, 0
+            cost, lam, attempt, stall = err @ err, opts.damping, 0, 0
+            ref_cost = cost
             restarts += 1
             success = pos <= opts.tol_pos and rot <= opts.tol_rot
         elif time.perf_counter() > deadline:
