@@ -80,7 +80,7 @@ class Arm3ClosedForm:
             return ClosedFormResult(True, np.clip(branches[inside], self.lower, self.upper), 0.0)
         return ClosedFormResult(False, np.empty((0, 3)), self.closest_distance(target))
 
-    def closest_distance(self, target, grid: int = 721) -> float:
+    def closest_distance(self, target, grid: int = 361) -> float:
         """Closest approach [m] to ``target`` over the limits: a (q2, q3) grid with q1 aimed at the
         target (front or back), refined by the grid's spacing. Resolution ≈ (l2 + l3) · Δq."""
         d = np.asarray(target, float) - self.shoulder
