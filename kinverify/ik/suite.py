@@ -53,7 +53,7 @@ def ik_suite(ctx) -> "SuiteResult":
         if closed is not None:
             checks.append(_closed_form_check(sol, ok, targets, closed, frame, model))
         rows.append(_row(sol, ok))
-        if backend.name == opts.reference or backend is solvers[0] and opts.reference not in ctx.backends:
+        if backend.name == opts.reference:
             seed = solve_seed_pinv(model, targets, lower, upper)  # the baseline, once (not checked)
             rows.append(_row(seed, seed.solved(TOL_POS, TOL_ROT)))
         failures += [[backend.name, int(k), _fmt(q_gen[k]), _fmt(targets[k, :3, 3]), _fmt(sol.seed_q[k]),
