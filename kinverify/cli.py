@@ -13,7 +13,7 @@ import sys
 
 from . import __version__
 
-COMMANDS = ("verify", "generate", "report", "track", "baseline", "diff")
+COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff")
 
 
 def build_parser() -> argparse.ArgumentParser:

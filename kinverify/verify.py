@@ -19,6 +19,7 @@ from .checks import DEFAULT_TOLERANCES
 from .checks.fk import fk_errors
 from .checks.jacobian import finite_difference_errors, jacobian_errors
 from .errors import InputError
+from .ik.suite import ik_suite
 from .results import Check, VerifyResult
 from .parallel import run_chunks
 from .sampling import Samples
@@ -178,6 +179,7 @@ def _tracking_suite(ctx: VerifyContext) -> SuiteResult:
 
 SUITES: list[tuple[str, Callable[[VerifyContext], SuiteResult]]] = [
     ("kinematics", kinematics_suite),
+    ("ik", ik_suite),
     ("dynamics", _dynamics_suite),
     ("tracking", _tracking_suite),
     ("diagnosis", diagnosis_suite),  # report: hints and worst configurations of failing checks

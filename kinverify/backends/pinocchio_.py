@@ -67,6 +67,15 @@ class PinocchioBackend(BackendBase):
         full[:, self._idx_q] = q
         return full
 
+    def frame_pose_and_jacobian(self, q: np.ndarray, frame_index: int) -> tuple[np.ndarray, np.ndarray]:
+        """Pose (4, 4) and Jacobian (6, n) of ``frames[frame_index]`` at one configuration ``(n,)``:
+        the one-frame fast path iterative IK needs (``computeFrameJacobian`` also runs FK)."""
+        full = self._neutral.copy()
+        full[self._idx_q] = q
+        fid = self._frame_ids[frame_index]
+        jac = pin.computeFrameJacobian(self.model, self.data, full, fid, pin.LOCAL_WORLD_ALIGNED)
+        return self.data.oMf[fid].homogeneous, np.reshape(jac, (6, -1))[:, self._idx_v]
+
     def poses(self, q: np.ndarray) -> np.ndarray:
         return self.evaluate(q, with_jacobians=False).poses
 
