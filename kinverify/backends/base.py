@@ -93,3 +93,14 @@ class BackendBase:
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.name!r}: {len(self.joint_names)} joints, {len(self.frames)} frames>"
+
+
+class EvaluatingBackend(BackendBase):
+    """A backend whose library computes FK and Jacobians in one pass: :meth:`evaluate` is the
+    primitive, and poses/Jacobians alone are read from it."""
+
+    def poses(self, q: np.ndarray) -> np.ndarray:
+        return self.evaluate(q, with_jacobians=False).poses
+
+    def jacobians(self, q: np.ndarray) -> np.ndarray:
+        return self.evaluate(q).jacobians

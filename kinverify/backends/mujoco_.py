@@ -6,10 +6,10 @@ import mujoco
 import numpy as np
 
 from ..errors import BackendError, UnknownNameError
-from .base import BackendBase, Evaluation
+from .base import EvaluatingBackend, Evaluation
 
 
-class MujocoBackend(BackendBase):
+class MujocoBackend(EvaluatingBackend):
     """Frame FK and Jacobians from an ``mujoco.MjModel``.
 
     Native convention: ``xpos``/``xmat`` (row-major 3×3) are world poses of body frames,
@@ -56,12 +56,6 @@ class MujocoBackend(BackendBase):
         except ValueError as err:
             raise BackendError(name, f"cannot load URDF: {str(err).strip().splitlines()[0]}") from None
         return cls(model, name, joint_names, frames)
-
-    def poses(self, q: np.ndarray) -> np.ndarray:
-        return self.evaluate(q, with_jacobians=False).poses
-
-    def jacobians(self, q: np.ndarray) -> np.ndarray:
-        return self.evaluate(q).jacobians
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         # Lean loop (issue 8): body and site poses copied with one fancy index each per

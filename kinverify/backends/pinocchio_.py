@@ -9,10 +9,10 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import BackendError, UnknownNameError
-from .base import BackendBase, Evaluation
+from .base import EvaluatingBackend, Evaluation
 
 
-class PinocchioBackend(BackendBase):
+class PinocchioBackend(EvaluatingBackend):
     """Frame FK and Jacobians from a ``pin.Model``.
 
     Native convention: ``data.oMf[i]`` is ``T_world_from_frame``; ``getFrameJacobian`` with
@@ -75,12 +75,6 @@ class PinocchioBackend(BackendBase):
         fid = self._frame_ids[frame_index]
         jac = pin.computeFrameJacobian(self.model, self.data, full, fid, pin.LOCAL_WORLD_ALIGNED)
         return self.data.oMf[fid].homogeneous, np.reshape(jac, (6, -1))[:, self._idx_v]
-
-    def poses(self, q: np.ndarray) -> np.ndarray:
-        return self.evaluate(q, with_jacobians=False).poses
-
-    def jacobians(self, q: np.ndarray) -> np.ndarray:
-        return self.evaluate(q).jacobians
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         # Lean loop (issue 8): bound functions, results written straight into preallocated

@@ -7,15 +7,8 @@ from __future__ import annotations
 
 import argparse
 
+from . import count as _count
 
-def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, got {value}")
-    return value
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

@@ -28,14 +28,17 @@ def _placement(xyz, rpy) -> str:
     return text
 
 
-def _geom(name: str, geom: Geometry, rgba: str) -> str:
+def geom_shape_attributes(geom: Geometry) -> str:
+    """MJCF placement and size attributes of a spec geometry (box ``size`` is half-extents)."""
     if geom.shape in ("capsule", "cylinder"):
-        shape = f'fromto="{nums(geom.fromto)}" size="{nums([geom.radius])}"'
-    elif geom.shape == "sphere":
-        shape = f'pos="{nums(geom.pos)}" size="{nums([geom.radius])}"'
-    else:
-        shape = f'pos="{nums(geom.pos)}" size="{nums([s / 2 for s in geom.size])}"'
-    return f'<geom name={attr(name + "_geom")} type="{geom.shape}" {shape} rgba="{rgba}"/>'
+        return f'fromto="{nums(geom.fromto)}" size="{nums([geom.radius])}"'
+    if geom.shape == "sphere":
+        return f'pos="{nums(geom.pos)}" size="{nums([geom.radius])}"'
+    return f'pos="{nums(geom.pos)}" size="{nums([s / 2 for s in geom.size])}"'
+
+
+def _geom(name: str, geom: Geometry, rgba: str) -> str:
+    return f'<geom name={attr(name + "_geom")} type="{geom.shape}" {geom_shape_attributes(geom)} rgba="{rgba}"/>'
 
 
 def _inertial(link: Link) -> str:

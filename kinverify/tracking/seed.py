@@ -17,6 +17,7 @@ import numpy as np
 
 from ..spec import ArmSpec
 from ..generate._fmt import attr, nums
+from ..generate.mjcf import geom_shape_attributes
 from ..transforms import matrix_to_quat, rpy_to_matrix
 
 SEED_PID = {"kp": 2.0, "ki": 0.1, "kd": 0.5}
@@ -26,13 +27,7 @@ def _geom(link, name: str) -> str:
     g = link.geometry
     if g is None:
         return ""
-    if g.shape in ("capsule", "cylinder"):
-        shape = f'fromto="{nums(g.fromto)}" size="{nums([g.radius])}"'
-    elif g.shape == "sphere":
-        shape = f'pos="{nums(g.pos)}" size="{nums([g.radius])}"'
-    else:
-        shape = f'pos="{nums(g.pos)}" size="{nums([s / 2 for s in g.size])}"'
-    return f'<geom name={attr(name)} type="{g.shape}" {shape}/>'
+    return f'<geom name={attr(name)} type="{g.shape}" {geom_shape_attributes(g)}/>'
 
 
 def _joint_geom(joint) -> str:
