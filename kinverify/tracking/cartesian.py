@@ -32,6 +32,9 @@ IK_TOL = 1e-9  # m and rad: a candidate counts as a solution within this residua
 EXTRA_STARTS = 8  # random-start solves besides the one from the previous configuration
 SPEED_MARGIN = 0.8  # the automatic duration keeps the quintic's peak speed at 80 % of the limit
 QUINTIC_PEAK = 1.875  # peak speed of a rest-to-rest quintic is 15/8 · |Δ| / T
+# ...and at most the seed trajectory's peak speed (0.98 rad/s), where computed-torque's 1e-4 rad
+# RMS bar was set: its error grows with the plan's acceleration (0.25 m/s for prismatic joints)
+CRUISE_SPEED = {"revolute": 1.0, "prismatic": 0.25}
 
 
 class UnreachableError(InputError):
@@ -184,10 +187,10 @@ def _closed_form(spec: ArmSpec, frame: str) -> Arm3ClosedForm | None:
 
 
 def auto_duration(spec: ArmSpec, qa, qb, minimum: float) -> float:
-    """At least ``minimum`` s, and long enough that the quintic's peak speed stays at
-    :data:`SPEED_MARGIN` of every joint's speed limit (rounded up to 0.1 s)."""
-    vmax = np.array([j.limits.velocity for j in spec.joints])
-    need = QUINTIC_PEAK * float(np.max(np.abs(np.asarray(qb) - np.asarray(qa)) / (SPEED_MARGIN * vmax)))
+    """At least ``minimum`` s, and long enough that the quintic's peak speed stays within
+    :data:`SPEED_MARGIN` of every joint's speed limit and :data:`CRUISE_SPEED` (rounded up to 0.1 s)."""
+    vmax = np.array([min(SPEED_MARGIN * j.limits.velocity, CRUISE_SPEED[j.type]) for j in spec.joints])
+    need = QUINTIC_PEAK * float(np.max(np.abs(np.asarray(qb) - np.asarray(qa)) / vmax))
     return max(float(minimum), math.ceil(need * 10 - 1e-9) / 10)
 
 
