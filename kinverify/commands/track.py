@@ -26,7 +26,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("track", help="execute a quintic joint trajectory in MuJoCo under a controller",
                        description="Plan a rest-to-rest quintic from the start configuration to --to, execute it in MuJoCo "
                        "on the generated MJCF (model terms from Pinocchio on the generated URDF) and report tracking "
-                       "metrics. Default: the model's default trajectory (on arm3 the seed's 0 -> (60, 45, -30) deg in 2 s).")
+                       "metrics. Default: the model's default trajectory (on arm3 the seed's 0 -> (60, 45, -30) deg in 2 s). "
+                       "--target X Y Z: a Cartesian goal for the tool frame, solved by IK (the solution closest to the start); "
+                       "the final end-effector error against it is reported.")
     p.add_argument("model", help="spec file (models/*.toml)")
     p.add_argument("--to", nargs="+", type=_float, metavar="Q", help="target joint values (rad, m; degrees with --deg)")
     p.add_argument("--target", nargs="+", action="append", metavar="X",
@@ -36,7 +38,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--ik-backend", help="IK solver backend: pinocchio-urdf (default) or analytic")
     p.add_argument("--deg", action="store_true", help="--to revolute values are in degrees")
     p.add_argument("--duration", type=_float, help="motion time in s, per segment with --target (default: the default trajectory's; with --target, "
-                   "also long enough to keep the peak speed at 80 %% of each joint's limit)")
+                   "also long enough to keep each joint's peak speed at <= 80 %% of its limit and <= 1 rad/s)")
     p.add_argument("--hold", type=_float, help="hold time after the motion in s (default: the default trajectory's)")
     p.add_argument("--controller", default="computed-torque",
                    help="computed-torque (default), pd+gravity, position, seed-pid, or all")
