@@ -149,6 +149,8 @@ def test_track_target_cli_reports_the_final_error(tmp_path, capsys):
     (["--target", "0.2", "0.1", "0.8", "--ik-backend", "mujoco"], "IK backend must be"),
     (["--target", "0.2", "0.1", "0.8", "--duration", "0"], "must be positive"),
     (["--target", "2", "0", "0.8", "--ik-backend", "analytic"], "closest approach"),
+    (["--target", "0.2", "0.1", "0.8", "--target", "0.1", "0.1", "0.9", "--rpy", "0", "0", "0"], "one --rpy per --target"),
+    (["--target", "0.2", "0.1", "0.8", "--deg"], "--deg applies to --to only"),
 ])
 def test_track_target_bad_input_is_one_line_and_exit_2(argv, words, capsys):
     assert main(["track", "models/arm3.toml", *argv]) == 2

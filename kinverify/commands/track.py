@@ -140,6 +140,8 @@ def _run_cartesian(args, spec, default, controllers) -> int:
     from ..tracking.cartesian import parse_target, plan_cartesian, track_waypoints
     from ..tracking.suite import Trajectory, track
 
+    if args.deg:
+        raise InputError("--deg applies to --to only; --target is in m and --rpy in rad")
     rpys = args.rpy or []
     if rpys and len(rpys) != len(args.target):
         raise InputError(f"give one --rpy per --target or none, got {len(rpys)} for {len(args.target)}")
