@@ -16,7 +16,7 @@ prints one line with the closest approach found and exits 2) — there is nothin
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -67,7 +67,6 @@ class CartesianPlan:
     q_start: np.ndarray
     choices: list[IKChoice]
     durations: list[float]
-    notes: list[str] = field(default_factory=list)
 
     @property
     def waypoints(self) -> np.ndarray:
