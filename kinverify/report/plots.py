@@ -125,5 +125,6 @@ def workspace_svg(section: dict) -> str | None:
             ax.set_aspect("equal", adjustable="datalim")
             ax.set_title(name)
             ax.grid(True, alpha=0.3)
+        fig.subplots_adjust(wspace=0.6, hspace=0.4)  # room for the 3D panel's labels and the projections' titles
         fig.colorbar(sc, ax=fig.axes, shrink=0.6, label="height z [m]")
         return _svg(fig)
