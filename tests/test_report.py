@@ -12,13 +12,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from kinverify.backends import ModelSources
 from kinverify.backends.analytic import AnalyticBackend
 from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.cli import main
-from kinverify.report.html import render_html
+from kinverify.report.html import cell, render_html
 from kinverify.report.json_ import write_json
+from kinverify.results import VerifyResult
 from kinverify.specfile import load_spec
 from kinverify.transforms import geodesic_distance
 from kinverify.verify import VerifyOptions, verify
@@ -227,3 +230,61 @@ def test_verify_cli_writes_a_report_that_report_cli_reproduces_from_the_json(tmp
     assert main(["report", str(js), "--out", str(tmp_path / "again.html")]) == 0
     assert (tmp_path / "again.html").read_text(encoding="utf-8") == page
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]  # atomic writes leave nothing behind
+
+
+def test_default_arm3_report_stays_under_5_mb_and_shows_every_section(tmp_path):
+    """The default ``kinverify verify models/arm3.toml`` (only the output paths changed): one page
+    under 5 MB with every section, its plots, and the tracking animation or the note saying why not."""
+    html, js = tmp_path / "arm3.html", tmp_path / "arm3.json"
+    assert main(["verify", str(ROOT / "models" / "arm3.toml"), "--quiet", "--report", str(html), "--json", str(js)]) == 0
+    size = html.stat().st_size
+    assert size < 5_000_000, f"{size / 1e6:.2f} MB"
+    page, data = html.read_text(encoding="utf-8"), json.loads(js.read_text())
+    toc = page[page.index('<nav class="toc"'):page.index("</nav>")]
+    for name in ("pictures", "workspace", "ik", "tracking", "dynamics"):
+        assert f'<section id="section-{name}">' in page and f'href="#section-{name}"' in toc
+        for fig in data["sections"][name]["figures"]:
+            assert f"base64,{fig['data']}" in page
+    assert len(data["sections"]["ik"]["figures"]) == 2
+    tracking = data["sections"]["tracking"]
+    gifs = [f for f in tracking["figures"] if f["mime"] == "image/gif"]
+    unavailable = [n for n in tracking["notes"] if n.startswith("rendering unavailable")]
+    assert (len(gifs), len(unavailable)) in ((1, 0), (0, 1))  # the computed-torque animation, or why it is missing
+    assert not gifs or "computed-torque" in gifs[0]["title"]
+    # section tables are formatted for reading: no 17-digit floats
+    sections = page[page.index('<section id="section-'):page.index('<section id="checks">')]
+    cells = re.findall(r'<td class="num">([^<]*)</td>', sections)
+    assert cells and max(len(c) for c in cells) <= 11, max(cells, key=len)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.one_of(st.floats(-1e300, 1e300), st.floats(allow_nan=False), st.integers(-10**9, 10**9), st.booleans(), st.text(max_size=20)))
+def test_section_cells_are_short_and_faithful(value):
+    text = cell(value)
+    if isinstance(value, bool):
+        assert text == ("yes" if value else "no")
+    elif isinstance(value, float):
+        assert len(text) <= 11
+        if abs(value) < 1e300:  # (rounding the largest floats up to 4 digits overflows to inf)
+            assert float(text) == pytest.approx(value, rel=5e-4)
+    else:
+        assert text == str(value)
+
+
+def test_file_mode_findings_are_summarised_once_not_repeated_as_notes(passing):
+    data = passing.to_dict()
+    findings = [{"kind": "damping_difference", "joint": f"j{i}", "message": f"joint j{i}: damping 0.003 in the URDF, 1 in the MJCF",
+                 "values": {}} for i in range(3)] + [{"kind": "rounding", "joint": "j0", "message": "quat rounded", "values": {}}]
+    data["findings"] = findings
+    data["notes"] = [f"{f['kind']}: {f['message']}" for f in findings] + ["URDF: meshes skipped", "a run note"]
+    data["sections"]["filemode"] = {"title": "File mode: URDF vs MJCF", "summary": "", "figures": [],
+                                    "notes": ["URDF: meshes skipped"], "findings": findings,
+                                    "tables": [{"title": "Findings", "columns": ["kind", "subject", "finding"],
+                                                "rows": [[f["kind"], f["joint"], f["message"]] for f in findings]}]}
+    page = render_html(VerifyResult.from_dict(data))
+    text = _text(page)
+    assert "4 file-mode findings (3 damping_difference, 1 rounding)" in text
+    for f in findings:
+        assert text.count(f["message"]) == 1  # in the findings table only
+    assert text.count("URDF: meshes skipped") == 1 and "a run note" in text
+    assert 'href="#section-filemode"' in page

@@ -14,6 +14,7 @@ import numpy as np
 from ..errors import InputError
 from ..results import Check
 from .closed_form import Arm3ClosedForm
+from .figures import ik_figures, solver_data
 from .frame_model import FrameModel, residuals
 from .lm import IKOptions, IKSolutions, solve_lm
 from .seed_pinv import solve_seed_pinv
@@ -41,7 +42,7 @@ def ik_suite(ctx) -> "SuiteResult":
     q_gen, targets = reachable_targets(ctx.backends[opts.reference], frame, lower, upper, n, opts.seed + 4)
     solvers = [b for b in ctx.backends.values() if b.jacobian_method == "analytic"]
     closed = _closed_form(src, frame)
-    checks, rows, failures = [], [], []
+    checks, rows, failures, plotted = [], [], [], []
     ik_opts = IKOptions(seed=opts.seed)
     for backend in solvers:
         model = FrameModel(backend, frame, src.revolute)
@@ -53,10 +54,13 @@ def ik_suite(ctx) -> "SuiteResult":
         if closed is not None:
             checks.append(_closed_form_check(sol, ok, targets, closed, frame, model))
         rows.append(_row(sol, ok))
+        plotted.append(solver_data(sol, ok, sol.success))
         if backend.name == opts.reference:
             seed = solve_seed_pinv(model, targets, lower, upper)  # the baseline, once (not checked)
             pos, rot = residuals(model.poses(seed.q), targets, position_only)  # against the full targets
-            rows.append(_row(seed, (pos <= TOL_POS) & (rot <= TOL_ROT)))
+            seed_ok = (pos <= TOL_POS) & (rot <= TOL_ROT)
+            rows.append(_row(seed, seed_ok))
+            plotted.append(solver_data(seed, seed_ok, seed.success))
         failures += [[backend.name, int(k), _fmt(q_gen[k]), _fmt(targets[k, :3, 3]), _fmt(sol.seed_q[k]),
                       float(sol.pos_error[k]), float(sol.rot_error[k])] for k in np.flatnonzero(~ok)[:10]]
     unreach_rows = []
@@ -74,6 +78,9 @@ def ik_suite(ctx) -> "SuiteResult":
                                           "p95 ms", "median iterations", "p95 iterations", "max restarts",
                                           "max position error [m]", "max rotation error [rad]", "batched"],
                               "rows": rows})
+    # the plots' data stays in the section: ik_figures(section["solvers"], **section["tolerance"]) redraws them
+    section["solvers"], section["tolerance"] = plotted, {"tol_pos": TOL_POS, "tol_rot": TOL_ROT}
+    section["figures"] += ik_figures(plotted, TOL_POS, TOL_ROT)
     if failures:
         section["tables"].append({"title": "Failures (first 10 per backend)", "columns":
                                   ["backend", "target", "target q [rad/m]", "target xyz [m]", "last seed q",

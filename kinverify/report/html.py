@@ -113,11 +113,57 @@ def summary_rows(result: VerifyResult) -> list[Check]:
 
 
 def _figures(section: dict) -> list[dict[str, Any]]:
+    """Images of a section; plots (SVG) get a full row, pictures and animations share one."""
     figs = []
     for f in section.get("figures") or []:
         if isinstance(f, dict) and f.get("mime") in IMAGE_MIMES and isinstance(f.get("data"), str):
-            figs.append({"title": f.get("title", ""), "caption": f.get("caption", ""), "src": f"data:{f['mime']};base64,{f['data']}"})
+            figs.append({"title": f.get("title", ""), "caption": f.get("caption", ""), "wide": f["mime"] == "image/svg+xml",
+                         "src": f"data:{f['mime']};base64,{f['data']}"})
     return figs
+
+
+def cell(value) -> str:
+    """A section table cell as text: floats to 4 significant digits, booleans as yes/no, lists
+    comma-separated; strings as they are."""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(cell(v) for v in value)
+    return "" if value is None else str(value)
+
+
+def _table(t: dict) -> dict[str, Any]:
+    rows = [[{"text": cell(v), "num": isinstance(v, (int, float)) and not isinstance(v, bool),
+              "long": isinstance(v, str) and len(v) > 60} for v in (row if isinstance(row, (list, tuple)) else [row])]
+            for row in t.get("rows") or []]
+    return {"title": t.get("title", ""), "columns": list(t.get("columns") or []), "rows": rows}
+
+
+def _is_alert(note: str) -> bool:
+    """Notes that say something is missing from the page are shown up front; the others explain
+    the numbers and follow the tables."""
+    return "unavailable" in note or note.startswith(("skipped", "not run"))
+
+
+def run_notes(result: VerifyResult) -> list[str]:
+    """The run's notes without those the page shows elsewhere (file-mode findings, which have
+    their own table, and notes a section repeats)."""
+    shown = {f"{f.get('kind')}: {f.get('message')}" for f in result.findings if isinstance(f, dict)}
+    for sec in result.sections.values():
+        if isinstance(sec, dict):
+            shown |= {str(n) for n in sec.get("notes") or []}
+    return [n for n in result.notes if n not in shown]
+
+
+def findings_summary(result: VerifyResult) -> list[tuple[str, int]]:
+    """File-mode findings counted per kind, in the order they were found."""
+    counts: dict[str, int] = {}
+    for f in result.findings:
+        if isinstance(f, dict):
+            counts[str(f.get("kind", "finding"))] = counts.get(str(f.get("kind", "finding")), 0) + 1
+    return list(counts.items())
 
 
 def sections(result: VerifyResult) -> list[dict[str, Any]]:
@@ -128,17 +174,18 @@ def sections(result: VerifyResult) -> list[dict[str, Any]]:
         if name in SPECIAL_SECTIONS or not isinstance(sec, dict):
             continue
         svg = workspace_svg(sec) if name == "workspace" else None
-        tables = [t for t in sec.get("tables") or [] if isinstance(t, dict)]
+        tables = [_table(t) for t in sec.get("tables") or [] if isinstance(t, dict)]
         notes = [str(n) for n in sec.get("notes") or []]
         out.append({"id": name, "title": sec.get("title") or name, "summary": sec.get("summary", ""),
-                    "svg": Markup(svg) if svg else None, "figures": _figures(sec), "tables": tables, "notes": notes})
+                    "svg": Markup(svg) if svg else None, "figures": _figures(sec), "tables": tables,
+                    "alerts": [n for n in notes if _is_alert(n)], "notes": [n for n in notes if not _is_alert(n)]})
     return out
 
 
 def render_html(result: VerifyResult) -> str:
     dist = error_distributions_svg(result)
     return _environment().get_template("report.html.j2").render(
-        r=result, failing=failing_pairs(result), rows=summary_rows(result), overview=overview_rows(result), sections=sections(result),
+        r=result, run_notes=run_notes(result), findings=findings_summary(result), failing=failing_pairs(result), rows=summary_rows(result), overview=overview_rows(result), sections=sections(result),
         distributions=Markup(dist) if dist else None,
         versions=[(k, result.versions[k]) for k in _ordered(result.versions, VERSION_ORDER)], revolute=_revolute(result), math=math,
         failed_groups=sorted({(c.property, " vs ".join(c.backends)) for c in result.failed}),

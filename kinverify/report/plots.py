@@ -7,6 +7,7 @@ markup in the SVG.
 
 from __future__ import annotations
 
+import base64
 import io
 
 import numpy as np
@@ -15,6 +16,7 @@ from ..results import VerifyResult
 from ..stats import HIST_EDGES
 
 _RC = {"svg.fonttype": "path", "svg.hashsalt": "kinverify", "font.size": 8, "axes.titlesize": 9}
+RC = _RC  # for suites drawing their own section figures
 
 
 def _svg(fig) -> str:
@@ -25,6 +27,18 @@ def _svg(fig) -> str:
     plt.close(fig)
     text = buf.getvalue()
     return text[text.index("<svg"):]
+
+
+def figure_entry(fig, title: str, caption: str) -> dict:
+    """A matplotlib figure as a section ``figures`` entry (schema in results.py): deterministic
+    SVG, base64. Draw it inside ``matplotlib.rc_context(RC)`` so text becomes paths."""
+    data = base64.b64encode(_svg(fig).encode("utf-8")).decode("ascii")
+    return {"title": title, "mime": "image/svg+xml", "data": data, "caption": caption}
+
+
+def new_figure(**kwargs):
+    """A pyplot figure on the Agg backend (closed by :func:`figure_entry`)."""
+    return _figure(**kwargs)
 
 
 def _figure(**kwargs):
@@ -111,5 +125,6 @@ def workspace_svg(section: dict) -> str | None:
             ax.set_aspect("equal", adjustable="datalim")
             ax.set_title(name)
             ax.grid(True, alpha=0.3)
+        fig.subplots_adjust(wspace=0.6, hspace=0.4)  # room for the 3D panel's labels and the projections' titles
         fig.colorbar(sc, ax=fig.axes, shrink=0.6, label="height z [m]")
         return _svg(fig)

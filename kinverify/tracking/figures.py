@@ -1,11 +1,20 @@
-"""Report figures for a set of runs: matplotlib plots as base64 SVG, and an offscreen-rendered
-animated GIF when MuJoCo has a GL backend (``MUJOCO_GL=egl`` or ``osmesa``), else a note."""
+"""Report figures for a set of runs: matplotlib plots as base64 SVG, and the execution as an
+animated GIF rendered offscreen by MuJoCo.
+
+Rendering runs in a child process (``python -m kinverify.tracking.figures``) with
+``MUJOCO_GL=egl`` unless the environment sets it, as the pictures suite does: a missing or broken
+GL stack (even one that kills the process) becomes a "rendering unavailable: <reason>" note,
+never a failed run.
+"""
 
 from __future__ import annotations
 
 import base64
 import io
+import json
 import os
+import subprocess
+import sys
 
 import numpy as np
 
@@ -72,45 +81,110 @@ def error_plot(runs: list[Run]) -> dict:
             "caption": "joint error norm per controller (log scale); grey line: end of motion"}
 
 
-def gl_available() -> str:
-    """'' when offscreen rendering can be tried, else why not."""
-    backend = os.environ.get("MUJOCO_GL", "")
-    if backend not in ("egl", "osmesa"):
-        return f"rendering unavailable: MUJOCO_GL is {backend or 'unset'} (set MUJOCO_GL=egl for offscreen frames)"
-    return ""
+FPS = 8.0  # frames per second of the animation (the run itself is simulated at 1 kHz)
+SIZE = (320, 240)  # width, height [px]: about 50 kB of GIF for arm3's 4 s run
+TIMEOUT_S = 120
 
 
-def animation(run: Run, mjcf: str, qadr, fps: float = 10.0, size=(320, 240)) -> tuple[dict | None, str]:
-    """(GIF figure, '') or (None, reason). Frames every 1/fps s of the run, offscreen."""
-    reason = gl_available()
-    if reason:
-        return None, reason
-    try:
-        import mujoco
-        from PIL import Image
+def frame_indices(n: int, dt: float, fps: float = FPS) -> np.ndarray:
+    """Indices of ``n`` states ``dt`` s apart, one every ``1/fps`` s, always including the last."""
+    step = max(1, int(round(1.0 / (fps * dt))))
+    idx = np.arange(0, n, step)
+    return idx if n == 0 or idx[-1] == n - 1 else np.append(idx, n - 1)
 
-        model = mujoco.MjModel.from_xml_string(mjcf)
-        data = mujoco.MjData(model)
-        renderer = mujoco.Renderer(model, size[1], size[0])
-        data.qpos[qadr] = run.q[0]
+
+def render_gifs(mjcf: str, qadr, clips, fps: float = FPS, size=SIZE) -> list[bytes]:
+    """GIF bytes per clip (a list of configurations), in-process: needs a working GL. One camera
+    for all clips, framing every pose of every clip and looking across the arm's final reach."""
+    import mujoco
+    from PIL import Image
+
+    model = mujoco.MjModel.from_xml_string(mjcf)
+    data = mujoco.MjData(model)
+    qadr = np.asarray(qadr, dtype=int)
+    points = []
+    for q in (q for clip in clips for q in clip):
+        data.qpos[qadr] = q
         mujoco.mj_kinematics(model, data)
-        arm = data.xpos[2:]  # bodies after world and the mount
-        cam = mujoco.MjvCamera()
-        cam.lookat[:] = arm.mean(axis=0)
-        cam.distance = 2.5 * float(np.linalg.norm(arm - arm.mean(axis=0), axis=1).max()) + 0.5
-        cam.azimuth, cam.elevation = 135.0, -20.0
-        step = max(1, int(round(1.0 / (fps * run.plan.dt))))
-        frames = []
-        for k in range(0, len(run.q), step):
-            data.qpos[qadr] = run.q[k]
-            mujoco.mj_kinematics(model, data)
-            renderer.update_scene(data, cam)
-            frames.append(Image.fromarray(renderer.render()))
-        renderer.close()
-        buf = io.BytesIO()
-        frames[0].save(buf, format="GIF", save_all=True, append_images=frames[1:], duration=int(1000 / fps), loop=0)
-    except Exception as err:  # no GL context, driver trouble...: a note, never a crash
-        return None, f"rendering unavailable: {type(err).__name__}: {err}"
-    return ({"title": f"Execution under {run.controller}", "mime": "image/gif",
-             "data": base64.b64encode(buf.getvalue()).decode(),
-             "caption": f"MuJoCo offscreen frames every {1 / fps:.2g} s ({len(frames)} frames)"}, "")
+        points.append(data.xpos[1:].copy())
+    points = np.concatenate(points) if points else np.zeros((1, 3))
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    cam = mujoco.MjvCamera()
+    mujoco.mjv_defaultFreeCamera(model, cam)
+    cam.lookat[:] = (lo + hi) / 2
+    cam.distance = 1.2 * float(np.linalg.norm(hi - lo)) + 0.4
+    reach = points[-1, :2] - points[0, :2]  # last body of the last pose, from the first body
+    cam.azimuth = float(np.degrees(np.arctan2(reach[1], reach[0]))) + 90.0 if np.linalg.norm(reach) > 0.05 else 135.0
+    cam.elevation = -20.0
+    out = []
+    with mujoco.Renderer(model, size[1], size[0]) as renderer:
+        for clip in clips:
+            frames = []
+            for q in clip:
+                data.qpos[qadr] = q
+                mujoco.mj_forward(model, data)  # not only kinematics: lights follow the scene too
+                renderer.update_scene(data, cam)
+                renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = False  # 15x faster in software GL
+                frames.append(Image.fromarray(renderer.render()))
+            buf = io.BytesIO()
+            frames[0].save(buf, format="GIF", save_all=True, append_images=frames[1:], duration=int(round(1000 / fps)),
+                           loop=0)
+            out.append(buf.getvalue())
+    return out
+
+
+def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[list[dict], str]:
+    """(GIF figures, '') or ([], "rendering unavailable: <reason>"), rendered in a child process."""
+    clips = [run.q[frame_indices(len(run.q), run.plan.dt, fps)] for run in runs]
+    clips = [c[np.isfinite(c).all(axis=1)] for c in clips]  # a diverged run: up to its last finite state
+    runs, clips = [r for r, c in zip(runs, clips) if len(c)], [c for c in clips if len(c)]
+    if not runs:
+        return [], "rendering unavailable: no finite executed states to show"
+    env = dict(os.environ)
+    env.setdefault("MUJOCO_GL", "egl")
+    request = json.dumps({"mjcf": mjcf, "qadr": [int(a) for a in qadr], "clips": [c.tolist() for c in clips],
+                          "fps": fps, "size": list(size)})
+    try:
+        proc = subprocess.run([sys.executable, "-m", "kinverify.tracking.figures"], input=request, capture_output=True,
+                              text=True, env=env, timeout=TIMEOUT_S)
+    except (OSError, subprocess.TimeoutExpired) as err:
+        return [], f"rendering unavailable: {err}"
+    if proc.returncode != 0:
+        lines = [line for line in proc.stderr.strip().splitlines() if line.strip()]
+        return [], (f"rendering unavailable (MUJOCO_GL={env['MUJOCO_GL']}): "
+                    f"{lines[-1] if lines else f'renderer exit code {proc.returncode}'}")
+    try:
+        gifs = [base64.b64decode(g, validate=True) for g in json.loads(proc.stdout)]
+    except (ValueError, TypeError) as err:
+        return [], f"rendering unavailable: bad output from the renderer ({err})"
+    if len(gifs) != len(runs) or not all(g.startswith(b"GIF8") for g in gifs):
+        return [], "rendering unavailable: the renderer returned no GIF"
+    return [{"title": f"Execution under {run.controller}", "mime": "image/gif", "data": base64.b64encode(gif).decode("ascii"),
+             "caption": f"MuJoCo offscreen rendering of the executed joint states, a frame every {1 / fps:.3g} s of "
+                        f"simulated time ({len(clip)} frames, {size[0]}×{size[1]} px, loops)"}
+            for run, clip, gif in zip(runs, clips, gifs)], ""
+
+
+def animation(run: Run, mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[dict | None, str]:
+    """(GIF figure, '') or (None, reason) for one run."""
+    figs, reason = animations([run], mjcf, qadr, fps, size)
+    return (figs[0] if figs else None), reason
+
+
+def _main() -> int:  # child process: JSON request on stdin, JSON list of base64 GIFs on stdout
+    from .. import mujoco_gl
+
+    if mujoco_gl.IMPORT_ERROR:  # kinverify imported MuJoCo without GL (see mujoco_gl.py): say why, not what broke
+        gl = os.environ.get("MUJOCO_GL", "")
+        if not mujoco_gl.accepted(gl):
+            sys.exit(f"{gl!r} is not a GL backend MuJoCo knows (use egl or osmesa for offscreen rendering)")
+        sys.exit(f"the {gl} GL backend did not load: {mujoco_gl.IMPORT_ERROR}")
+    request = json.load(sys.stdin)
+    clips = [np.asarray(c, dtype=float) for c in request["clips"]]
+    gifs = render_gifs(request["mjcf"], request["qadr"], clips, request["fps"], tuple(request["size"]))
+    json.dump([base64.b64encode(g).decode("ascii") for g in gifs], sys.stdout)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_main())

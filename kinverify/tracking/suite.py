@@ -20,7 +20,7 @@ from ..results import Check
 from ..spec import ArmSpec
 from .controllers import CONTROLLERS
 from .execute import Run, execute
-from .figures import animation, error_plot, joint_plot
+from .figures import animations, error_plot, joint_plot
 from .metrics import CRITERIA, Metrics, compute_metrics
 from .quintic import hold, plan_violations, quintic
 
@@ -99,9 +99,10 @@ def _fmt(x) -> str:
 
 
 def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked=None, render: bool = True,
-          plots: bool = True) -> TrackResult:
+          plots: bool = True, animate=None) -> TrackResult:
     """Plan, execute under each controller, measure; ``checked``: controllers that become checks
-    (default: all). ``plots``/``render``: matplotlib figures / offscreen GIF in the section."""
+    (default: all). ``plots``/``render``: matplotlib figures / offscreen GIF in the section;
+    ``animate``: controllers to animate (default: computed-torque and the negative example)."""
     checked = list(controllers) if checked is None else list(checked)
     plan = hold(quintic(trajectory.q0, trajectory.q1, trajectory.duration, 0.001), trajectory.hold)
     checks = [_plan_check(spec, plan)]
@@ -124,20 +125,21 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
     notes = []
     if render and runs:
         from ..generate import generate_mjcf
-        from .models import MujocoDynamics
-
         from ..kinematics import frame_poses
+        from .models import MujocoDynamics
 
         tool = spec.frame_names.index(spec.tool_names[0] if spec.tools else spec.link_names[-1])
         scene = generate_mjcf(spec, target=frame_poses(spec, trajectory.q1)[0, tool, :3, 3])  # marker at the goal
         qadr = MujocoDynamics(scene, spec.joint_names).qadr
-        for run in [r for r in runs if r.controller in ("computed-torque", NEGATIVE_EXAMPLE)][:2] or runs[:1]:
-            fig, reason = animation(run, scene, qadr)
-            if fig:
-                figures.append(fig)
-            else:
-                notes.append(reason)
-                break
+        if animate is None:
+            animate = [r.controller for r in runs if r.controller in ("computed-torque", NEGATIVE_EXAMPLE)][:2] or [runs[0].controller]
+        wanted = [r for r in runs if r.controller in animate]
+        gifs, reason = animations(wanted, scene, qadr) if wanted else ([], "")
+        for fig in gifs:
+            fig["caption"] += "; translucent green sphere: the goal of the tool"
+        figures += gifs
+        if reason:
+            notes.append(f"{reason} (animation of {', '.join(r.controller for r in wanted)})")
     deg = ", ".join(f"{math.degrees(v):.4g}" for v in trajectory.q1)
     section = {
         "title": "Trajectory tracking (MuJoCo on the MJCF, model terms from Pinocchio on the URDF)",
@@ -173,5 +175,6 @@ def tracking_suite(ctx):
         if unknown:
             raise InputError(f"unknown controller {unknown[0]!r}; controllers: {', '.join(CONTROLLERS)}")
         checked = list(controllers)
-    result = track(spec, ctx.sources.urdf, default_trajectory(spec), controllers, checked)
+    main = [c for c in controllers if c == "computed-torque"] or list(controllers[:1])  # one small GIF keeps the page light
+    result = track(spec, ctx.sources.urdf, default_trajectory(spec), controllers, checked, animate=main)
     return SuiteResult(result.checks, result.section)
