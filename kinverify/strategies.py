@@ -43,10 +43,15 @@ def axes(draw) -> list[float]:
     return v
 
 
+TINY_ROTATION = 1e-6  # rad: yourdfpy can lose origin rotations of ~1e-8 (backends/quirks.py)
+
+
 @st.composite
 def angles_rpy(draw) -> list[float]:
+    """Roll, pitch, yaw with special values (0, ±π/2, π); each angle is 0 or at least 1e-6 rad."""
     special = st.sampled_from([0.0, math.pi / 2, -math.pi / 2, math.pi])
-    return [draw(st.one_of(special, _floats(-math.pi, math.pi))) for _ in range(3)]
+    angles = [draw(st.one_of(special, _floats(-math.pi, math.pi))) for _ in range(3)]
+    return [0.0 if abs(a) < TINY_ROTATION else a for a in angles]
 
 
 # MuJoCo places a site within ~1e-6 m / 1e-6 rad of its body exactly at the body frame

@@ -36,6 +36,20 @@ class YourdfpyBackend(BackendBase):
                 raise UnknownNameError("frame", frame, links)
         self._root = robot.base_link
         self._cfg = np.asarray(robot.cfg, dtype=float).copy()
+        self._reseat_transforms()
+
+    def _reseat_transforms(self) -> None:
+        """At load time trimesh keeps a joint's first (identity) transform when the real origin is
+        within 1e-8 of it (quirks.py): move every joint far away once, then back."""
+        far = np.eye(4)
+        far[:3, 3] = 1.0
+        graph = self.robot.scene.graph
+        for joint in self.robot.robot.joints:
+            if joint.type == "fixed" and joint.origin is not None:
+                graph.update(frame_from=joint.parent, frame_to=joint.child, matrix=far)
+                graph.update(frame_from=joint.parent, frame_to=joint.child, matrix=joint.origin)
+        self.robot.update_cfg(self._cfg + 1.0)
+        self.robot.update_cfg(self._cfg)
 
     @classmethod
     def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "yourdfpy", **load_kwargs) -> "YourdfpyBackend":
