@@ -240,28 +240,13 @@ def end_of_motion_index(run) -> int:
 def track_waypoints(spec: ArmSpec, urdf: str, cplan: CartesianPlan, hold_s: float, controllers):
     """Execute a multi-segment Cartesian plan under each controller: the same checks and
     section table as :func:`~.suite.track` (which plans one segment), without figures."""
-    from .execute import execute
-    from .metrics import compute_metrics
     from .quintic import hold
-    from .suite import TrackResult, Trajectory, _check, _fmt as fmt, _plan_check
+    from .suite import Trajectory, track
 
     motion = cplan.plan(0.001)
-    plan = hold(motion, hold_s)
-    checks, runs, metrics = [_plan_check(spec, plan)], [], []
-    for name in controllers:
-        run = execute(spec, urdf, plan, name, motion.duration)
-        m = compute_metrics(spec, run)
-        runs.append(run)
-        metrics.append(m)
-        checks.append(_check(spec, run, m))
-    rows = [[m.controller, "ok" if m.passed else "FAIL", fmt(m.rms_error), fmt(m.max_error), fmt(m.final_error),
-             fmt(m.ee_path_deviation), fmt(m.residual_speed), m.reason] for m in metrics]
-    section = {"title": "Trajectory tracking through Cartesian waypoints",
-               "summary": f"{len(cplan.choices)} waypoints for {cplan.frame} solved by IK ({cplan.backend}), "
-                          f"quintic segments of {', '.join(f'{d:g}' for d in cplan.durations)} s, then a {hold_s:g} s hold",
-               "tables": [{"title": "Metrics per controller",
-                           "columns": ["controller", "verdict", "RMS error [rad]", "max error [rad]", "final error [rad]",
-                                       "ee path deviation [m]", "residual speed [rad/s]", "reason"], "rows": rows}],
-               "figures": [], "notes": [], "metrics": [m.to_dict() for m in metrics]}
     trajectory = Trajectory(cplan.q_start, cplan.choices[-1].q, motion.duration, hold_s)
-    return TrackResult(trajectory, runs, metrics, checks, section)
+    result = track(spec, urdf, trajectory, controllers, plots=False, render=False, plan=hold(motion, hold_s))
+    result.section["title"] = "Trajectory tracking through Cartesian waypoints"
+    result.section["summary"] = (f"{len(cplan.choices)} waypoints for {cplan.frame} solved by IK ({cplan.backend}), "
+                                 f"quintic segments of {', '.join(f'{d:g}' for d in cplan.durations)} s, then a {hold_s:g} s hold")
+    return result

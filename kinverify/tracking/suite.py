@@ -99,12 +99,14 @@ def _fmt(x) -> str:
 
 
 def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked=None, render: bool = True,
-          plots: bool = True, animate=None) -> TrackResult:
+          plots: bool = True, animate=None, plan=None) -> TrackResult:
     """Plan, execute under each controller, measure; ``checked``: controllers that become checks
     (default: all). ``plots``/``render``: matplotlib figures / offscreen GIF in the section;
-    ``animate``: controllers to animate (default: computed-torque and the negative example)."""
+    ``animate``: controllers to animate (default: computed-torque and the negative example);
+    ``plan``: a ready plan (e.g. several segments, hold included) instead of one quintic."""
     checked = list(controllers) if checked is None else list(checked)
-    plan = hold(quintic(trajectory.q0, trajectory.q1, trajectory.duration, 0.001), trajectory.hold)
+    if plan is None:
+        plan = hold(quintic(trajectory.q0, trajectory.q1, trajectory.duration, 0.001), trajectory.hold)
     checks = [_plan_check(spec, plan)]
     runs, metrics = [], []
     for name in controllers:
