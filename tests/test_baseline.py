@@ -199,7 +199,7 @@ def test_cli_diff_two_specs(tmp_path, capsys):
     assert main(["diff", str(ARM3), str(ARM3), "--samples", "5", "--report", str(tmp_path / "same.html")]) == 0
     assert "IDENTICAL" in capsys.readouterr().out
     assert main(["diff", str(ARM3), str(tmp_path / "arm.urdf")]) == 2
-    assert "not supported yet" in capsys.readouterr().err
+    assert "is a spec and" in capsys.readouterr().err
 
 
 def test_diff_of_the_same_change_in_python():
