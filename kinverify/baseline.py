@@ -39,7 +39,7 @@ from .generate import generate_mjcf, generate_urdf
 from .kinematics import frame_poses, geometric_jacobians
 from .report.writer import write_atomic
 from .sampling import spec_samples
-from .baseline_quantities import dynamics_records, ik_fixed, ik_records
+from .baseline_quantities import dynamics_records, ik_fixed, ik_parse, ik_records
 from .spec import ArmSpec
 from .transforms import geodesic_distance
 from .versions import library_versions
@@ -212,8 +212,14 @@ def _validate_body(path, data: dict[str, Any]) -> None:
         raise InputError(f"{path}: malformed baseline: q is not a table of numbers") from None
     if q.ndim != 2 or q.shape[1] != len(data["joint_names"]):
         raise InputError(f"{path}: malformed baseline: q must have one column per joint")
-    if not isinstance(data.get("fixed", {}), dict):
+    fixed = data.get("fixed", {})
+    if not isinstance(fixed, dict):
         raise InputError(f"{path}: malformed baseline: fixed must be an object")
+    if "ik" in fixed:
+        try:
+            ik_parse(fixed["ik"], len(q))
+        except InputError as err:
+            raise InputError(f"{path}: {err}") from None
     if not isinstance(data["records"], list):
         raise InputError(f"{path}: malformed baseline: records must be a list")
     for i, rec in enumerate(data["records"]):

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from .errors import InputError
 from .spec import ArmSpec
 
 IK_TARGETS = 5  # fixed targets per baseline (fewer when there are fewer configurations)
@@ -52,24 +53,38 @@ def ik_fixed(spec: ArmSpec, q: np.ndarray) -> dict[str, Any]:
     return {"frame": frame, "position_only": spec.dof < 6, "targets": targets}
 
 
+def ik_parse(fixed, n_samples: int | None = None):
+    """``(frame, targets, poses (K, 4, 4), starts (K, n), samples)`` of stored ``fixed.ik`` data;
+    :class:`InputError` when it is malformed (or, given ``n_samples``, names a missing sample)."""
+    try:
+        frame, targets = fixed.get("frame"), list(fixed.get("targets") or [])
+        poses = np.array([t["pose"] for t in targets], dtype=float).reshape(len(targets), 4, 4)
+        starts = np.array([t["start"] for t in targets], dtype=float).reshape(len(targets), -1)
+        samples = [t["sample"] for t in targets]
+    except (AttributeError, KeyError, TypeError, ValueError):
+        raise InputError("malformed baseline: fixed.ik must hold targets with a 4x4 pose, a start and a sample") from None
+    if not all(isinstance(s, int) and (n_samples is None or 0 <= s < n_samples) for s in samples):
+        raise InputError("malformed baseline: fixed.ik targets must name stored samples")
+    return frame, targets, poses, starts, samples
+
+
 def ik_records(spec: ArmSpec, q: np.ndarray, fixed: dict[str, Any]) -> list[dict]:
     """Solve the stored targets with ``spec``; nothing when the frame or the joint count changed
     (the kinematics records and the frame lists already report that)."""
     from .backends.analytic import AnalyticBackend
     from .ik import FrameModel, IKOptions, solve_lm
 
-    frame, targets = fixed.get("frame"), fixed.get("targets") or []
-    if frame not in spec.frame_names or not targets or len(targets[0]["start"]) != spec.dof:
+    frame, targets, poses, starts, samples = ik_parse(fixed)
+    if frame not in spec.frame_names or not targets or starts.shape[1] != spec.dof:
         return []
     model = FrameModel(AnalyticBackend(spec), frame)
     opts = IKOptions(max_restarts=IK_RESTARTS, max_iter=IK_ITERATIONS, max_attempt_iter=IK_ITERATIONS, time_budget=60.0, seed=0)
-    sol = solve_lm(model, np.array([t["pose"] for t in targets]), spec.lower, spec.upper,
-                   position_only=bool(fixed.get("position_only")), options=opts,
-                   q0=np.array([t["start"] for t in targets]), batch=True)
+    sol = solve_lm(model, poses, spec.lower, spec.upper, position_only=bool(fixed.get("position_only")),
+                   options=opts, q0=starts, batch=True)
     out = []
-    for k, t in enumerate(targets):
-        out.append({"property": "ik.q", "frame": frame, "sample": t["sample"], "value": sol.q[k].tolist()})
-        out.append({"property": "ik.error", "frame": frame, "sample": t["sample"],
+    for k, sample in enumerate(samples):
+        out.append({"property": "ik.q", "frame": frame, "sample": sample, "value": sol.q[k].tolist()})
+        out.append({"property": "ik.error", "frame": frame, "sample": sample,
                     "value": [float(sol.pos_error[k]), float(sol.rot_error[k])]})
     return out
 

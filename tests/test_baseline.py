@@ -151,6 +151,7 @@ def test_a_joint_count_change_fails_and_says_why(arm3_baseline):
     (lambda text: text.replace('"format_version": 2', '"format_version": 7'), "format version 7 is newer"),
     (lambda text: text.replace('"model": "arm3"', '"model": "ur5e"'), "for model 'ur5e', not 'arm3'"),
     (lambda text: text.replace('"sample": 3,', '"sample": 999,'), "records"),
+    (lambda text: text.replace('"targets": [{"pose"', '"targets": [{"pos"'), "fixed.ik"),
     (lambda text: text.replace('"value": [0.0, 0.0, 0.42]', '"value": "oops"', 1), r"records\[0\].value"),
 ])
 def test_bad_baselines_are_one_line_errors_and_nothing_is_overwritten(arm3_baseline, tmp_path, capsys, content, message):
