@@ -2,7 +2,12 @@
 
 Both files are read as file mode reads them (:mod:`kinverify.filemode.loading`: unsafe XML
 refused, meshes dropped) and described by their library (:mod:`kinverify.filemode.describe`).
-Joints and frames are paired by name.
+Joints are paired as file mode pairs a URDF with an MJCF (:func:`kinverify.filemode.match.match_joints`:
+by name, by name without a prefix common to every name, then by chain order where the joint type
+and the angle to the parent axis agree), so a re-export that renamed joints is still compared;
+frames are paired by name, then as the child frames of paired joints, then by the prefix change
+the renamed joints share (``panda_link0`` ~ ``link0``). A pair whose names differ is reported as a
+rename.
 
 Parameter level, everything at q = 0 and relative to the parent, so one edited number shows as
 one change and not as every frame downstream of it:
@@ -16,7 +21,7 @@ one change and not as every frame downstream of it:
 - ``inertia moving with J`` (``base``: the fixed part): total ``mass`` [kg], ``com`` [m] and
   ``inertia`` about the CoM ``[ixx, iyy, izz, ixy, ixz, iyz]`` [kg·m²] in J's child frame, of
   every body moving with J (MJCF bodies welded to one another count as one);
-- joints and frames present in only one file: ``added`` / ``removed``.
+- joints and frames present in only one file: ``added`` / ``removed``; renamed: ``name``.
 
 Behaviour level: FK and Jacobians of every common frame at the same seeded configurations of the
 common joints (inside both files' limits; a joint in one file only is held at 0), and the reach
@@ -34,6 +39,7 @@ import numpy as np
 from .errors import InputError
 from .filemode.describe import ModelDesc, describe_mjcf, describe_urdf
 from .filemode.loading import LoadedFile, load_mjcf, load_urdf
+from .filemode.match import match_joints
 from .modeldiff import DIFF_SAMPLES, REACH_SAMPLES, FrameChange, ModelDiff, ReachChange
 from .sampling import sample_configurations
 from .specdiff import ATOL, ParamChange
@@ -115,10 +121,52 @@ def _pose_changes(out, where: str, old: np.ndarray, new: np.ndarray) -> None:
                                _tuple(matrix_to_rpy(new[:3, :3])), angle))
 
 
-def _names(out, kind: str, old: list[str], new: list[str]) -> list[str]:
-    out += [ParamChange(f"{kind} {n}", "name", "removed", n, None) for n in old if n not in new]
-    out += [ParamChange(f"{kind} {n}", "name", "added", None, n) for n in new if n not in old]
-    return [n for n in old if n in new]
+def pair_names(old: ModelDesc, new: ModelDesc) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
+    """Joint pairs (file mode's matching: by name, by name without a common prefix, then by chain
+    order where type and twist agree) and frame pairs (by name, then each joint pair's child
+    frames), both in the old file's order."""
+    joints = [(a, b) for a, b, _ in match_joints(old, new)[0]] if old.joints and new.joints else []
+    frames = [(f, f) for f in old.frames if f in new.frames]
+    paired_old, paired_new = {f for f, _ in frames}, {f for _, f in frames}
+    for a, b in joints:
+        ca, cb = old.joint(a).child, new.joint(b).child
+        if ca not in paired_old and cb not in paired_new:
+            frames.append((ca, cb))
+            paired_old.add(ca)
+            paired_new.add(cb)
+    old_prefix, new_prefix = _rename_prefixes(joints)
+    for f in old.frames:  # remaining frames: the prefix change the joints had
+        if f not in paired_old and f.startswith(old_prefix):
+            other = new_prefix + f[len(old_prefix):]
+            if other in new.frames and other not in paired_new:
+                frames.append((f, other))
+                paired_new.add(other)
+    order = {f: i for i, f in enumerate(old.frames)}
+    return joints, sorted(frames, key=lambda p: order[p[0]])
+
+
+def _rename_prefixes(joints) -> tuple[str, str]:
+    """``(old, new)`` when every renamed joint pair differs only by a leading prefix, e.g.
+    ``panda_joint1 -> joint1`` gives ``("panda_", "")``; ``("", "")`` otherwise."""
+    found = set()
+    for a, b in joints:
+        if a == b:
+            continue
+        if a.endswith(b):
+            found.add((a[: len(a) - len(b)], ""))
+        elif b.endswith(a):
+            found.add(("", b[: len(b) - len(a)]))
+        else:
+            return "", ""
+    return found.pop() if len(found) == 1 else ("", "")
+
+
+def _renames(out, kind: str, pairs, old_names, new_names) -> None:
+    """Names added, removed or renamed (a pair whose names differ)."""
+    paired_old, paired_new = {a for a, _ in pairs}, {b for _, b in pairs}
+    out += [ParamChange(f"{kind} {a}", "name", "changed", a, b) for a, b in pairs if a != b]
+    out += [ParamChange(f"{kind} {n}", "name", "removed", n, None) for n in old_names if n not in paired_old]
+    out += [ParamChange(f"{kind} {n}", "name", "added", None, n) for n in new_names if n not in paired_new]
 
 
 def _joint_frame(desc: ModelDesc, joint: str | None) -> str | None:
@@ -142,15 +190,17 @@ def _inertias(desc: ModelDesc) -> dict[str | None, tuple[float, tuple, tuple]]:
     return out
 
 
-def param_changes(old: ModelDesc, new: ModelDesc) -> list[ParamChange]:
-    """Every parameter that differs, base to tip (see the module docstring)."""
+def param_changes(old: ModelDesc, new: ModelDesc, joints=None, frames=None) -> list[ParamChange]:
+    """Every parameter that differs, base to tip (see the module docstring); ``joints`` and
+    ``frames``: (old name, new name) pairs, default :func:`pair_names`."""
+    if joints is None or frames is None:
+        joints, frames = pair_names(old, new)
     out: list[ParamChange] = []
-    joints = _names(out, "joint", [j.name for j in old.joints], [j.name for j in new.joints])
-    for name in joints:
-        a, b = old.joint(name), new.joint(name)
+    _renames(out, "joint", joints, [j.name for j in old.joints], [j.name for j in new.joints])
+    for name, other in joints:
+        a, b = old.joint(name), new.joint(other)
         where = f"joint {name}"
         _change(out, where, "type", a.type, b.type)
-        _change(out, where, "parent", a.parent_frame, b.parent_frame)
         _pose_changes(out, where, _relative(old, a.child, a.parent_frame), _relative(new, b.child, b.parent_frame))
         ra, rb = old.frames[a.child], new.frames[b.child]
         _change(out, where, "axis", _tuple(ra[:3, :3].T @ a.axis), _tuple(rb[:3, :3].T @ b.axis))
@@ -159,32 +209,44 @@ def param_changes(old: ModelDesc, new: ModelDesc) -> list[ParamChange]:
             x, y = getattr(a, attr), getattr(b, attr)
             field = f"limits.{attr}" if attr in ("lower", "upper", "effort", "velocity") else attr
             _change(out, where, field, None if x is None else float(x), None if y is None else float(y))
+    _renames(out, "frame", frames, list(old.frames), list(new.frames))
+    joint_map = dict(joints)
     children_old = {j.child for j in old.joints}
-    frames = _names(out, "frame", [f for f in old.frames if f not in children_old],
-                    [f for f in new.frames if f not in {j.child for j in new.joints}])
-    for name in frames:
-        oa, ob = old.frame_owner.get(name), new.frame_owner.get(name)
-        _change(out, f"frame {name}", "moves with", oa or "base", ob or "base")
-        if oa == ob:
+    for name, other in frames:
+        if name in children_old:  # its origin is its joint's
+            continue
+        oa, ob = old.frame_owner.get(name), new.frame_owner.get(other)
+        if oa is not None and joint_map.get(oa) != ob:
+            out.append(ParamChange(f"frame {name}", "moves with", "changed", oa, ob or "base"))
+        elif (oa is None) != (ob is None):
+            out.append(ParamChange(f"frame {name}", "moves with", "changed", "base", ob))
+        else:
             _pose_changes(out, f"frame {name}", _relative(old, name, _joint_frame(old, oa)),
-                          _relative(new, name, _joint_frame(new, ob)))
+                          _relative(new, other, _joint_frame(new, ob)))
     io, inew = _inertias(old), _inertias(new)
-    for owner in dict.fromkeys([*io, *inew]):
+    mapped = {owner: (joint_map.get(owner) if owner is not None else None) for owner in io}
+    for owner in io:
         where = f"inertia moving with {owner or 'base'}"
-        if owner not in inew or owner not in io:
-            out.append(ParamChange(where, "name", "removed" if owner not in inew else "added", None, None))
+        if owner is not None and owner not in joint_map:
+            continue  # the joint was removed: reported above
+        if mapped[owner] not in inew:
+            out.append(ParamChange(where, "mass", "changed", io[owner][0], 0.0, io[owner][0]))
             continue
         for k, field in enumerate(("mass", "com", "inertia")):
-            _change(out, where, field, io[owner][k], inew[owner][k])
+            _change(out, where, field, io[owner][k], inew[mapped[owner]][k])
+    for owner in inew:
+        if owner not in mapped.values() and (owner is None or owner in joint_map.values()):
+            out.append(ParamChange(f"inertia moving with {owner or 'base'}", "mass", "changed", 0.0, inew[owner][0], inew[owner][0]))
     return out
 
 
-def _limits(old: ModelDesc, new: ModelDesc, joints: list[str]):
+def _limits(old: ModelDesc, new: ModelDesc, joints: list[tuple[str, str]]):
+    """Sampling ranges of paired joints: inside both files' limits (disjoint: the old file's)."""
     lower, upper, revolute = [], [], []
-    for name in joints:
-        a, b = old.joint(name), new.joint(name)
+    for name, other in joints:
+        a, b = old.joint(name), new.joint(other)
         lo, up = max(a.lower, b.lower), min(a.upper, b.upper)
-        if not lo < up:  # disjoint ranges: the old file's
+        if not lo < up:
             lo, up = a.lower, a.upper
         span = OPEN_RANGE[a.type]
         lower.append(lo if math.isfinite(lo) else -span)
@@ -203,11 +265,12 @@ def _backend(loaded: LoadedFile, joints, frames):
 
 
 def frame_changes(old_file: LoadedFile, new_file: LoadedFile, joints, frames, q) -> list[FrameChange]:
-    """Per common frame, the largest FK and Jacobian change at configurations ``q``."""
-    eo = _backend(old_file, joints, frames).evaluate(q)
-    en = _backend(new_file, joints, frames).evaluate(q)
+    """Per frame pair, the largest FK and Jacobian change at configurations ``q`` of the joint
+    pairs (named as in the old file)."""
+    eo = _backend(old_file, [a for a, _ in joints], [a for a, _ in frames]).evaluate(q)
+    en = _backend(new_file, [b for _, b in joints], [b for _, b in frames]).evaluate(q)
     out = []
-    for f, frame in enumerate(frames):
+    for f, (frame, _) in enumerate(frames):
         dp = np.linalg.norm(en.poses[:, f, :3, 3] - eo.poses[:, f, :3, 3], axis=-1)
         dr = geodesic_distance(eo.poses[:, f, :3, :3], en.poses[:, f, :3, :3])
         dj = en.jacobians[:, f] - eo.jacobians[:, f]
@@ -229,7 +292,7 @@ def reach(loaded: LoadedFile, desc: ModelDesc, samples: int = REACH_SAMPLES, see
     fixed = [f for f in desc.frames if desc.frame_owner.get(f) is None]
     base = desc.frames[min(fixed, key=lambda f: desc.frame_depth[f])][:3, 3] if fixed else np.zeros(3)
     names = [j.name for j in desc.joints]
-    lower, upper, revolute = _limits(desc, desc, names)
+    lower, upper, revolute = _limits(desc, desc, [(n, n) for n in names])
     q = sample_configurations(lower, upper, revolute, samples, seed)
     poses = _backend(loaded, names, ends).evaluate(q, with_jacobians=False).poses
     return {f: float(np.max(np.linalg.norm(poses[:, i, :3, 3] - base, axis=-1))) for i, f in enumerate(ends)}
@@ -250,21 +313,23 @@ def diff_files(old_path: str, new_path: str, samples: int = DIFF_SAMPLES, seed: 
     if samples < 0:
         raise InputError(f"--samples must be >= 0, got {samples}")
     (lo, old), (ln, new) = _load(old_path, kinds[0]), _load(new_path, kinds[1])
-    result = ModelDiff(lo.name, ln.name, param_changes(old, new))
+    joints, frames = pair_names(old, new)
+    result = ModelDiff(lo.name, ln.name, param_changes(old, new, joints, frames))
     result.notes += [f"{path}: {w}" for path, f in ((old_path, lo), (new_path, ln)) for w in f.warnings]
     result.notes += [f"{path}: {s}" for path, d in ((old_path, old), (new_path, new)) for s in d.skipped]
-    new_joints = {j.name for j in new.joints}
-    joints = [j.name for j in old.joints if j.name in new_joints]
-    only = [j.name for j in old.joints if j.name not in new_joints] + [j.name for j in new.joints if j.name not in {k.name for k in old.joints}]
+    renamed = [f"{a} -> {b}" for a, b in joints if a != b]
+    if renamed:
+        result.notes.append(f"joints paired by file mode's matching although renamed: {', '.join(renamed)}")
+    only = [j.name for j in old.joints if j.name not in dict(joints)]
+    only += [j.name for j in new.joints if j.name not in {b for _, b in joints}]
     if only:
         result.notes.append(f"joints in one file only, held at 0: {', '.join(only)}")
-    frames = [f for f in old.frames if f in new.frames]
     if joints and frames:
         lower, upper, revolute = _limits(old, new, joints)
         q = sample_configurations(lower, upper, revolute, samples, seed)
         result.samples = len(q)
         result.frames = frame_changes(lo, ln, joints, frames, q)
-        if any(old.joint(j).lower != new.joint(j).lower or old.joint(j).upper != new.joint(j).upper for j in joints):
+        if any((old.joint(a).lower, old.joint(a).upper) != (new.joint(b).lower, new.joint(b).upper) for a, b in joints):
             result.notes.append("joint limits changed: FK and Jacobians are compared inside both files' limits")
     else:
         result.notes.append("no common joints or frames: FK and Jacobians not compared")

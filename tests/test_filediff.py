@@ -102,11 +102,27 @@ def test_a_heavier_link_and_a_renamed_joint(tmp_path):
     assert (change.where, change.field) == (f"inertia moving with {spec.joints[1].name}", "mass")
     assert change.delta == pytest.approx(0.2 * link.inertial.mass, rel=1e-9)
     assert all(f.position == 0 for f in d.frames)  # kinematics untouched
+    # a joint renamed: paired by chain order (same type, same angle to its parent axis)
     renamed = urdf.replace('name="panda_joint7"', 'name="wrist_roll"')
     d = diff_files(*write_pair(tmp_path, urdf, renamed, ".urdf"), samples=5)
-    kinds = {(c.where, c.kind) for c in d.params}
-    assert {("joint panda_joint7", "removed"), ("joint wrist_roll", "added")} <= kinds
-    assert any("held at 0" in n for n in d.notes)
+    assert [(c.where, c.field, c.old, c.new) for c in d.params] == [("joint panda_joint7", "name", "panda_joint7", "wrist_roll")]
+    assert all(f.position == 0 for f in d.frames) and len(d.frames) == len(spec.frame_names) + 1  # + world
+
+
+def test_a_reexport_without_the_name_prefix_is_still_compared(tmp_path):
+    spec = load_spec(MODELS / "panda.toml")
+    urdf = generate_urdf(spec)
+    stripped = generate_urdf(moved_joint(spec, 3, (0.0, 0.0, 1e-3))).replace("panda_", "")
+    d = diff_files(*write_pair(tmp_path, urdf, stripped, ".urdf"), samples=5)
+    renames = {c.old: c.new for c in d.params if c.field == "name"}
+    assert renames["panda_joint4"] == "joint4" and renames["panda_link4"] == "link4" and renames["panda_link0"] == "link0"
+    assert not [c for c in d.params if c.kind in ("added", "removed")]
+    (moved,) = [c for c in d.params if c.field != "name"]
+    assert (moved.where, moved.field) == ("joint panda_joint4", "origin.xyz") and moved.delta == pytest.approx(1e-3, rel=1e-9)
+    moving = {f.frame for f in d.frames if f.position > 0}
+    assert moving == {"panda_link4", "panda_link5", "panda_link6", "panda_link7", "flange"}
+    assert all(f.position == pytest.approx(1e-3, rel=1e-9) for f in d.frames if f.frame in moving)
+    assert not any("held at 0" in n for n in d.notes)
 
 
 def test_cli_files_mixed_types_and_reports(tmp_path, capsys):
