@@ -7,11 +7,17 @@ the spec and of the generated URDF and MJCF, and the library versions.
 
 Records are ``{"property", "frame", "sample", "value"}``: ``value`` is a number or nested list
 (metres, radians, world-aligned Jacobians ``[linear; angular]``) for configuration
-``q[sample]``. Families of records come from ``QUANTITIES``; kinematics (FK of every frame and
-its Jacobian, analytic backend) is built in. Another property (IK results, tracking metrics,
-dynamics) is one function ``(spec, q) -> records`` appended to ``QUANTITIES`` plus its
-tolerances in ``BASELINE_TOLERANCES`` (and a metric in ``METRICS`` if the Euclidean norm of
-the difference is not the right one).
+``q[sample]``. Families of records come from ``QUANTITIES``: kinematics (FK of every frame and
+its Jacobian, analytic backend), IK results for fixed targets and dynamics (mass matrix and
+gravity torques per joint, Pinocchio on the generated URDF; see
+:mod:`kinverify.baseline_quantities`). Another property is one function ``(spec, q) -> records``
+appended to ``QUANTITIES`` plus its tolerances in ``BASELINE_TOLERANCES`` (and a metric in
+``METRICS`` if the Euclidean norm of the difference is not the right one). A quantity that
+needs inputs fixed at save time (IK targets in the world) also has ``prepare(spec, q) -> data``:
+the data is stored under ``fixed[name]`` and passed back as ``compute(spec, q, data)``.
+
+Format version 2 added ``fixed`` and the ``ik`` and ``dynamics`` records; version 1 files are
+still read and checked (their FK and Jacobian records; the check says what they lack).
 
 The file is JSON with sorted keys, one configuration or record per line and floats at full
 precision (``repr``), so ``git diff`` of two baselines is readable and re-reading is exact.
@@ -33,12 +39,13 @@ from .generate import generate_mjcf, generate_urdf
 from .kinematics import frame_poses, geometric_jacobians
 from .report.writer import write_atomic
 from .sampling import spec_samples
+from .baseline_quantities import dynamics_records, ik_fixed, ik_parse, ik_records
 from .spec import ArmSpec
 from .transforms import geodesic_distance
 from .versions import library_versions
 
 FORMAT = "kinverify-baseline"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: "fixed" (IK targets), ik.* and dynamics.* records
 DEFAULT_SAMPLES = 30  # uniform configurations, after the edge configurations
 DEFAULT_SEED = 0
 REQUIRED_KEYS = ("model", "spec", "fingerprints", "versions", "joint_names", "frames", "q", "records")
@@ -48,10 +55,12 @@ Record = dict[str, Any]
 
 @dataclass(frozen=True)
 class Quantity:
-    """A family of baseline records: ``compute(spec, q) -> [record, ...]``."""
+    """A family of baseline records: ``compute(spec, q) -> [record, ...]``, or with ``prepare``
+    ``compute(spec, q, prepare(spec, q_at_save_time))``."""
 
     name: str
-    compute: Callable[[ArmSpec, np.ndarray], list[Record]]
+    compute: Callable[..., list[Record]]
+    prepare: Callable[[ArmSpec, np.ndarray], Any] | None = None
 
 
 def kinematics_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
@@ -69,10 +78,15 @@ def kinematics_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
 
 QUANTITIES: list[Quantity] = [
     Quantity("kinematics", kinematics_records),
+    Quantity("ik", ik_records, prepare=ik_fixed),
+    Quantity("dynamics", dynamics_records),
 ]
 
 BASELINE_TOLERANCES: dict[str, Tolerance] = {
-    name: tol for name, tol in DEFAULT_TOLERANCES.items() if name != "jacobian.fd"
+    **{name: tol for name, tol in DEFAULT_TOLERANCES.items() if name != "jacobian.fd"},
+    # the solver stops at 1e-12 m / rad of pose error, so its solution is settled far below 1e-8
+    "ik.q": Tolerance(1e-8, "rad"),
+    "ik.error": Tolerance(1e-9, "m, rad"),
 }
 
 
@@ -94,10 +108,21 @@ def record_delta(prop: str, old, new) -> float:
     return float(np.linalg.norm(a - b))
 
 
-def compute_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
+def prepare_fixed(spec: ArmSpec, q: np.ndarray) -> dict[str, Any]:
+    """The save-time inputs of the quantities that have a ``prepare``."""
+    return {qt.name: qt.prepare(spec, q) for qt in QUANTITIES if qt.prepare is not None}
+
+
+def compute_records(spec: ArmSpec, q: np.ndarray, fixed: dict[str, Any] | None = None) -> list[Record]:
+    """Every quantity's records at ``q``. ``fixed``: the baseline's save-time inputs (default: made
+    now from ``spec``); a quantity with ``prepare`` whose input is not in ``fixed`` is skipped."""
+    fixed = prepare_fixed(spec, q) if fixed is None else fixed
     out: list[Record] = []
     for quantity in QUANTITIES:
-        out += quantity.compute(spec, q)
+        if quantity.prepare is None:
+            out += quantity.compute(spec, q)
+        elif quantity.name in fixed:
+            out += quantity.compute(spec, q, fixed[quantity.name])
     return out
 
 
@@ -106,6 +131,7 @@ def build_baseline(spec: ArmSpec, samples: int = DEFAULT_SAMPLES, seed: int = DE
     if samples < 0:
         raise InputError(f"--samples must be >= 0, got {samples}")
     q = spec_samples(spec, samples, seed)
+    fixed = prepare_fixed(spec, q)
     return {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
@@ -119,7 +145,8 @@ def build_baseline(spec: ArmSpec, samples: int = DEFAULT_SAMPLES, seed: int = DE
         "versions": library_versions(),
         "quantities": [qt.name for qt in QUANTITIES],
         "q": q.tolist(),
-        "records": compute_records(spec, q),
+        "fixed": fixed,
+        "records": compute_records(spec, q, fixed),
     }
 
 
@@ -129,13 +156,18 @@ def fingerprints(spec: ArmSpec) -> dict[str, str]:
 
 
 def dumps_baseline(data: dict[str, Any]) -> str:
-    """Valid JSON, keys sorted, one configuration / record per line, other values indented."""
+    """Valid JSON, keys sorted, one configuration / record / quantity's fixed inputs per line, other
+    values indented."""
     parts = []
     for key in sorted(data):
         value = data[key]
         if key in ("q", "records"):
             lines = ",\n".join("  " + json.dumps(v, sort_keys=True, allow_nan=False) for v in value)
             text = "[\n" + lines + "\n ]" if value else "[]"
+        elif key == "fixed":  # one line per quantity's save-time inputs
+            lines = ",\n".join(f"  {json.dumps(k)}: " + json.dumps(value[k], sort_keys=True, allow_nan=False)
+                                for k in sorted(value))
+            text = "{\n" + lines + "\n }" if value else "{}"
         else:
             text = json.dumps(value, sort_keys=True, indent=1, allow_nan=False).replace("\n", "\n ")
         parts.append(f" {json.dumps(key)}: {text}")
@@ -180,6 +212,14 @@ def _validate_body(path, data: dict[str, Any]) -> None:
         raise InputError(f"{path}: malformed baseline: q is not a table of numbers") from None
     if q.ndim != 2 or q.shape[1] != len(data["joint_names"]):
         raise InputError(f"{path}: malformed baseline: q must have one column per joint")
+    fixed = data.get("fixed", {})
+    if not isinstance(fixed, dict):
+        raise InputError(f"{path}: malformed baseline: fixed must be an object")
+    if "ik" in fixed:
+        try:
+            ik_parse(fixed["ik"], len(q))
+        except InputError as err:
+            raise InputError(f"{path}: {err}") from None
     if not isinstance(data["records"], list):
         raise InputError(f"{path}: malformed baseline: records must be a list")
     for i, rec in enumerate(data["records"]):

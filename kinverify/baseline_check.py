@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .baseline import BASELINE_TOLERANCES, compute_records, fingerprints, record_delta
+from .baseline import BASELINE_TOLERANCES, QUANTITIES, compute_records, fingerprints, record_delta
 from .canonical import spec_from_canonical, spec_to_canonical
 from .checks.tolerances import Tolerance
 from .spec import ArmSpec
@@ -59,6 +59,7 @@ class BaselineCheck:
     version_changes: dict[str, tuple[str, str]] = field(default_factory=dict)
     comparable: bool = True  # False when the joint count changed: samples cannot be re-evaluated
     compared: int = 0  # records compared
+    missing_quantities: list[str] = field(default_factory=list)  # computed now, absent from the baseline
 
     @property
     def passed(self) -> bool:
@@ -84,6 +85,9 @@ class BaselineCheck:
                 out.append(f"the spec is unchanged; library versions changed ({versions}): they explain the movement")
         elif not self.spec_changed and not self.passed:
             out.append("neither the spec nor the library versions changed")
+        if self.missing_quantities:
+            out.append(f"the baseline has no {', '.join(self.missing_quantities)} records (an older format or "
+                       "kinverify); they were not compared: save a new baseline to include them")
         if not self.comparable:
             out.append("the joint count changed, so the baseline's configurations cannot be re-evaluated; save a new baseline")
         return out
@@ -94,6 +98,7 @@ class BaselineCheck:
                 "frames_added": self.frames_added, "frames_removed": self.frames_removed,
                 "spec_changed": self.spec_changed, "spec_changes": [c.to_dict() for c in self.spec_changes],
                 "files_changed": self.files_changed, "comparable": self.comparable,
+                "missing_quantities": self.missing_quantities,
                 "version_changes": {k: list(v) for k, v in self.version_changes.items()},
                 "explanations": self.explanations}
 
@@ -153,8 +158,12 @@ def check_baseline(spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, To
     old_versions = data.get("versions") or {}
     result.version_changes = {k: (str(old_versions.get(k)), str(now.get(k)))
                               for k in sorted(set(old_versions) | set(now)) if old_versions.get(k) != now.get(k)}
+    stored_quantities = data.get("quantities") or ["kinematics"]
+    result.missing_quantities = [qt.name for qt in QUANTITIES if qt.name not in stored_quantities]
     if q.shape[1] != spec.dof:
         result.comparable = False
         return result
-    result.moved, result.compared = compare_records(data["records"], compute_records(spec, q), q, new_frames, tolerances)
+    records = compute_records(spec, q, data.get("fixed") or {})
+    order = new_frames + [j for j in spec.joint_names if j not in new_frames]
+    result.moved, result.compared = compare_records(data["records"], records, q, order, tolerances)
     return result

@@ -117,11 +117,13 @@ def test_matches_baseline_missing_update_and_moved(tmp_path):
     with pytest.raises(AssertionError) as info:
         assert_matches_baseline(longer_link2(ARM3), path)
     message = str(info.value)
-    assert message.startswith(f"kinverify: arm3 does not match baseline {path}: 4 quantities moved")
+    # 4 kinematic quantities (FK and Jacobian of link3 and end_effector), plus dynamics and IK ones
+    assert message.startswith(f"kinverify: arm3 does not match baseline {path}: ")
+    assert "dynamics.mass_matrix at frame 'joint2'" in message and "ik.q at frame 'end_effector'" in message
     assert "fk.position at frame 'link3'" in message and "delta 1.000e-03 m > tolerance 1e-09" in message
     assert "why: the spec changed: joint joint3: origin.xyz [0, 0, 0.25] -> [0, 0, 0.251]" in message
     assert pasted_q(message).shape == (3,)
-    assert assert_matches_baseline(longer_link2(ARM3), path, tolerance=0.01).passed
+    assert assert_matches_baseline(longer_link2(ARM3), path, tolerance=0.1).passed  # IK moves ~0.03 rad
 
 
 def test_yourdfpy_is_evaluated_fresh_at_each_configuration():

@@ -13,6 +13,7 @@ import pytest
 from hypothesis import given, settings
 
 from kinverify import baseline as bl
+from kinverify import baseline_quantities as bl_q
 from kinverify import load_spec, spec_from_dict
 from kinverify import strategies as kst
 from kinverify.baseline_check import check_baseline
@@ -53,7 +54,10 @@ def test_unchanged_shipped_models_pass(tmp_path):
         spec = load_spec(MODELS / f"{name}.toml")
         result = bl.check(spec, bl.save_baseline(spec, tmp_path / f"{name}.json", samples=5))
         assert result.passed and not result.moved and not result.spec_changed
-        assert result.compared == 4 * len(spec.frame_names) * result.samples
+        kinematics = 4 * len(spec.frame_names) * result.samples
+        dynamics = 2 * spec.dof * result.samples
+        ik = 2 * min(bl_q.IK_TARGETS, result.samples)
+        assert result.compared == kinematics + dynamics + ik
         assert result.explanations == []
 
 
@@ -83,7 +87,8 @@ def test_a_perturbation_moves_the_perturbed_frame_first(data):
     (change,) = result.spec_changes
     kind, _, name = change.where.partition(" ")
     frame = {"base": spec.base_link.name, "tool": name}.get(kind) or next(j.link.name for j in spec.joints if j.name == name)
-    first = min(result.moved, key=lambda m: list(spec.frame_names).index(m.frame))
+    kinematic = [m for m in result.moved if m.property.startswith(("fk.", "jacobian."))]
+    first = min(kinematic, key=lambda m: list(spec.frame_names).index(m.frame))
     assert first.frame == frame
     if change.field.endswith("xyz"):  # the frame's origin moves by exactly the perturbation
         moved = next(m for m in result.moved if m.property == "fk.position" and m.frame == frame)
@@ -106,7 +111,9 @@ def test_the_file_is_sorted_one_record_per_line_and_exact(arm3_baseline):
     spec = load_spec(ARM3)
     assert np.array_equal(np.array(data["q"]), spec_samples(spec, 10, 0))  # repr floats round-trip exactly
     record_lines = [line for line in text.splitlines() if line.lstrip().startswith('{"frame"')]
-    assert len(record_lines) == len(data["records"]) == 4 * len(spec.frame_names) * len(data["q"])
+    kinematics = [r for r in data["records"] if r["property"].startswith(("fk.", "jacobian."))]
+    assert len(record_lines) == len(data["records"]) and len(kinematics) == 4 * len(spec.frame_names) * len(data["q"])
+    assert sorted(data["fixed"]) == ["ik"] and text.count('\n  "ik": {') == 1  # fixed inputs: one line each
     assert data["format_version"] == bl.FORMAT_VERSION and data["model"] == "arm3"
     assert set(data["fingerprints"]) == {"spec", "urdf", "mjcf"}
 
@@ -141,9 +148,10 @@ def test_a_joint_count_change_fails_and_says_why(arm3_baseline):
     (lambda text: text[: len(text) // 2], "corrupt or truncated"),
     (lambda text: "{not json", "corrupt or truncated"),
     (lambda text: json.dumps({"hello": 1}), "not a kinverify baseline"),
-    (lambda text: text.replace('"format_version": 1', '"format_version": 7'), "format version 7 is newer"),
+    (lambda text: text.replace('"format_version": 2', '"format_version": 7'), "format version 7 is newer"),
     (lambda text: text.replace('"model": "arm3"', '"model": "ur5e"'), "for model 'ur5e', not 'arm3'"),
     (lambda text: text.replace('"sample": 3,', '"sample": 999,'), "records"),
+    (lambda text: text.replace('"targets": [{"pose"', '"targets": [{"pos"'), "fixed.ik"),
     (lambda text: text.replace('"value": [0.0, 0.0, 0.42]', '"value": "oops"', 1), r"records\[0\].value"),
 ])
 def test_bad_baselines_are_one_line_errors_and_nothing_is_overwritten(arm3_baseline, tmp_path, capsys, content, message):
@@ -174,7 +182,10 @@ def test_cli_save_check_and_report(tmp_path, capsys):
     assert "link3" in text and "1.000e-03 m" in text and "joint joint3: origin.xyz" in text
     html = report.read_text()
     assert "FAIL" in html and "link3" in html and "joint joint3" in html
-    assert main(["baseline", "check", str(changed), "--baseline", str(out), "--tolerance", "0.01"]) == 0
+    # near the stretched-arm singularity a 1 mm longer link moves an IK solution by ~0.1 rad
+    assert main(["baseline", "check", str(changed), "--baseline", str(out), "--tolerance", "0.01"]) == 1
+    assert "ik.q" in capsys.readouterr().out
+    assert main(["baseline", "check", str(changed), "--baseline", str(out), "--tolerance", "0.5"]) == 0
 
 
 def test_cli_diff_two_specs(tmp_path, capsys):
@@ -189,7 +200,7 @@ def test_cli_diff_two_specs(tmp_path, capsys):
     assert main(["diff", str(ARM3), str(ARM3), "--samples", "5", "--report", str(tmp_path / "same.html")]) == 0
     assert "IDENTICAL" in capsys.readouterr().out
     assert main(["diff", str(ARM3), str(tmp_path / "arm.urdf")]) == 2
-    assert "not supported yet" in capsys.readouterr().err
+    assert "is a spec and" in capsys.readouterr().err
 
 
 def test_diff_of_the_same_change_in_python():
@@ -211,3 +222,75 @@ def test_html_is_escaped(tmp_path):
            "tables": [{"title": "t", "columns": ["c"], "rows": [["<img>"]]}]}
     html = render_document_html(doc)
     assert "<script>x" not in html and "&lt;script&gt;" in html and "&lt;img&gt;" in html
+
+
+def scale_link_mass(spec, index: int, factor: float):
+    """``spec`` with joint ``index``'s child link ``factor`` times heavier (same CoM and inertia)."""
+    joints = list(spec.joints)
+    link = joints[index].link
+    joints[index] = replace(joints[index], link=replace(link, inertial=replace(link.inertial, mass=link.inertial.mass * factor)))
+    return replace(spec, joints=tuple(joints))
+
+
+def test_a_20_percent_heavier_link_moves_dynamics_only(arm3_baseline):
+    from kinverify.tracking.models import PinocchioDynamics
+    from kinverify.generate import generate_urdf
+
+    spec = load_spec(ARM3)
+    heavy = scale_link_mass(spec, 1, 1.2)  # link2, carried by joint2
+    result = bl.check(heavy, arm3_baseline)
+    assert not result.passed
+    assert {m.property.split(".")[0] for m in result.moved} == {"dynamics"}  # kinematics and IK unchanged
+    (change,) = result.spec_changes
+    assert (change.where, change.field) == ("link link2", "inertial.mass")
+    assert change.delta == pytest.approx(0.2 * spec.joints[1].link.inertial.mass, rel=1e-12)
+    gravity = {m.frame: m for m in result.moved if m.property == "dynamics.gravity"}
+    assert "joint2" in gravity and "joint1" not in gravity  # joint1's axis is vertical: no gravity torque
+    # the reported delta is the gravity torque change recomputed independently at that configuration
+    m = gravity["joint2"]
+    torques = [PinocchioDynamics(generate_urdf(s), s.joint_names, [0.0] * s.dof).gravity(np.array(m.q)) for s in (spec, heavy)]
+    assert m.old == pytest.approx(torques[0][1], abs=1e-12) and m.new == pytest.approx(torques[1][1], abs=1e-12)
+    assert m.delta == pytest.approx(abs(torques[1][1] - torques[0][1]), abs=1e-12) and m.unit == "N·m"
+    assert any(m.property == "dynamics.mass_matrix" and m.frame == "joint2" for m in result.moved)
+
+
+@settings(max_examples=10, deadline=None)
+@given(kst.arm_specs(max_joints=6))
+def test_ik_targets_are_stable_for_an_unchanged_model(spec):
+    data = bl.build_baseline(spec, samples=3)
+    again = json.loads(bl.dumps_baseline(bl.build_baseline(spec, samples=3)))
+    assert again["fixed"] == json.loads(bl.dumps_baseline(data))["fixed"]
+    ik = [r for r in data["records"] if r["property"] == "ik.q"]
+    assert len(ik) == min(bl_q.IK_TARGETS, len(data["q"]))
+    result = check_baseline(spec, json.loads(bl.dumps_baseline(data)))
+    assert result.passed and not result.missing_quantities
+
+
+def test_ik_solutions_move_when_a_link_grows(arm3_baseline):
+    spec = shift_joint(load_spec(ARM3), 2, 0.001)
+    result = bl.check(spec, arm3_baseline)
+    data = json.loads(arm3_baseline.read_text())
+    targets = data["fixed"]["ik"]["targets"]
+    moved = next(m for m in result.moved if m.property == "ik.q")
+    assert moved.frame == "end_effector" and 0 < moved.delta < 0.1  # a nearby solution, not another branch
+    # the new solution reaches the stored target with the changed arm
+    from kinverify.kinematics import frame_poses
+
+    target = next(t for t in targets if t["sample"] == moved.sample)
+    reached = frame_poses(spec, np.array([moved.new]))[0, spec.frame_names.index("end_effector"), :3, 3]
+    assert np.linalg.norm(reached - np.array(target["pose"])[:3, 3]) < 1e-9
+
+
+def test_a_format_1_baseline_is_still_checked(arm3_baseline):
+    data = json.loads(arm3_baseline.read_text())
+    data["format_version"], data["quantities"] = 1, ["kinematics"]
+    del data["fixed"]
+    data["records"] = [r for r in data["records"] if r["property"].startswith(("fk.", "jacobian."))]
+    old = tmp = arm3_baseline.with_name("v1.json")
+    tmp.write_text(bl.dumps_baseline(data))
+    result = bl.check(load_spec(ARM3), old)
+    assert result.passed and result.compared == len(data["records"])
+    assert result.missing_quantities == ["ik", "dynamics"]
+    assert any("no ik, dynamics records" in e for e in result.explanations)
+    moved = bl.check(shift_joint(load_spec(ARM3), 2, 0.001), old)
+    assert {m.frame for m in moved.moved if m.property == "fk.position"} == {"link3", "end_effector"}

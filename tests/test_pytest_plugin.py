@@ -94,8 +94,9 @@ def test_the_readme_example_passes_then_reports_a_1mm_change(project):
     after = project.runpytest_subprocess("-p", "no:cacheprovider")
     after.assert_outcomes(passed=1, failed=1)  # the backends still agree with each other; the baseline does not
     after.stdout.fnmatch_lines([
-        "*kinverify: arm3 does not match baseline *my_arm.json: 4 quantities moved beyond tolerance",
+        "*kinverify: arm3 does not match baseline *my_arm.json: 10 quantities moved beyond tolerance",
         "*fk.position at frame 'link3': old * new *, delta 1.000e-03 m > tolerance 1e-09 m (*",
+        "*dynamics.gravity at frame 'joint2': old * new *, delta 3.287e-04 N·m > tolerance 1e-09 N·m (*",
         "*q = [[]*[]]",
         "*why: the spec changed: joint joint3: origin.xyz [[]0, 0, 0.25[]] -> [[]0, 0, 0.251[]] (Δ 0.001)",
         "*rewrite the baseline: pytest --kinverify-update-baselines",

@@ -25,7 +25,7 @@ def _positive(text: str) -> float:
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("baseline", help="save a model's FK/Jacobian baseline, or check a model against one",
+    p = sub.add_parser("baseline", help="save a model's baseline (FK, Jacobians, IK, dynamics), or check a model against one",
                        description="Save what a model computes at a fixed seeded sample set, or check that nothing moved.")
     actions = p.add_subparsers(dest="action", required=True, metavar="ACTION")
     save = actions.add_parser("save", help="write a baseline JSON", description="Write MODEL's baseline to --out.")
