@@ -174,7 +174,7 @@ def _limits(model):
 
 def assert_matches_baseline(spec: ArmSpec, path, *, update: bool = False, tolerance: float | None = None):
     """``spec`` computes what the baseline at ``path`` recorded (FK and Jacobians at its sample
-    set). ``update=True`` rewrites the baseline instead (pytest ``--kinverify-update-baselines``).
+    set, dynamics quantities and fixed IK targets: see :data:`kinverify.baseline.QUANTITIES`). ``update=True`` rewrites the baseline instead (pytest ``--kinverify-update-baselines``).
     Returns the :class:`~kinverify.baseline_check.BaselineCheck`, or None after an update."""
     __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
     from .baseline import BASELINE_TOLERANCES, check, save_baseline

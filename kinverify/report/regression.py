@@ -81,7 +81,7 @@ def check_document(result: BaselineCheck) -> dict[str, Any]:
     if result.frames_added:
         summary.append("frames added since the baseline: " + ", ".join(result.frames_added))
     tables = [{"title": "moved quantities (worst configuration per frame and property)",
-               "columns": ["frame", "property", "old", "new", "delta", "tolerance", "samples moved", "q"], "rows": moved_rows}]
+               "columns": ["frame / joint", "property", "old", "new", "delta", "tolerance", "samples moved", "q"], "rows": moved_rows}]
     if result.spec_changes:
         tables.append(param_table(result.spec_changes))
     return {"title": f"kinverify baseline check: {result.model} against {result.source}", "passed": result.passed,
