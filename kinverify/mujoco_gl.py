@@ -51,3 +51,28 @@ def import_mujoco_despite_bad_gl() -> None:
         pass  # MuJoCo is broken beyond GL: its backends report themselves unavailable
     finally:
         os.environ["MUJOCO_GL"] = value
+
+
+def render_in_child(module: str, request: dict, timeout_s: float) -> tuple[list[bytes], str]:
+    """Run ``python -m module`` with ``request`` as JSON on stdin and ``MUJOCO_GL`` defaulting to
+    ``egl``; the child prints a JSON list of base64 images. Returns ``(images, "")``, or
+    ``([], reason)`` starting with "rendering unavailable" when GL or the child fails."""
+    import base64
+    import json
+    import subprocess
+
+    env = dict(os.environ)
+    env.setdefault("MUJOCO_GL", "egl")
+    try:
+        proc = subprocess.run([sys.executable, "-m", module], input=json.dumps(request), capture_output=True,
+                              text=True, env=env, timeout=timeout_s)
+    except (OSError, subprocess.TimeoutExpired) as err:
+        return [], f"rendering unavailable: {err}"
+    if proc.returncode != 0:
+        lines = [line for line in proc.stderr.strip().splitlines() if line.strip()]
+        return [], (f"rendering unavailable (MUJOCO_GL={env['MUJOCO_GL']}): "
+                    f"{lines[-1] if lines else f'renderer exit code {proc.returncode}'}")
+    try:
+        return [base64.b64decode(s, validate=True) for s in json.loads(proc.stdout)], ""
+    except (ValueError, TypeError) as err:
+        return [], f"rendering unavailable: bad output from the renderer ({err})"

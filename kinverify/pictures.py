@@ -10,9 +10,7 @@ from __future__ import annotations
 
 import base64
 import json
-import os
 import struct
-import subprocess
 import sys
 import zlib
 from typing import Any
@@ -64,21 +62,10 @@ def png_bytes(rgb: np.ndarray) -> bytes:
 
 def render_in_child(mjcf: str, joint_names, configurations) -> tuple[list[bytes], str]:
     """``(pngs, "")`` or ``([], reason)`` when rendering is unavailable."""
-    env = dict(os.environ)
-    env.setdefault("MUJOCO_GL", "egl")
-    request = json.dumps({"mjcf": mjcf, "joints": list(joint_names), "q": [list(map(float, q)) for q in configurations]})
-    try:
-        proc = subprocess.run([sys.executable, "-m", "kinverify.pictures"], input=request, capture_output=True,
-                              text=True, env=env, timeout=TIMEOUT_S)
-    except (OSError, subprocess.TimeoutExpired) as err:
-        return [], f"rendering unavailable: {err}"
-    if proc.returncode != 0:
-        lines = [l for l in proc.stderr.strip().splitlines() if l.strip()]
-        return [], f"rendering unavailable (MUJOCO_GL={env['MUJOCO_GL']}): {lines[-1] if lines else f'exit code {proc.returncode}'}"
-    try:
-        return [base64.b64decode(s) for s in json.loads(proc.stdout)], ""
-    except (ValueError, TypeError) as err:
-        return [], f"rendering unavailable: bad output from the renderer ({err})"
+    from .mujoco_gl import render_in_child as run_child
+
+    request = {"mjcf": mjcf, "joints": list(joint_names), "q": [list(map(float, q)) for q in configurations]}
+    return run_child("kinverify.pictures", request, TIMEOUT_S)
 
 
 def worst_configuration(ctx, max_configs: int = 200) -> tuple[np.ndarray, str]:

@@ -117,8 +117,6 @@ def run(args) -> int:
 
 
 def _distinct(qs, revolute, tol: float = 1e-6):
-    import numpy as np
-
     out = []
     for q in qs:
         if not any(_joint_distance(q, p, revolute) <= tol for p in out):

@@ -9,6 +9,8 @@ through every other backend's FK), ``ik.closed_form`` (arm3-shaped specs), ``ik.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import InputError
@@ -19,6 +21,9 @@ from .frame_model import FrameModel, residuals
 from .lm import IKOptions, IKSolutions, solve_lm
 from .seed_pinv import solve_seed_pinv
 from .targets import reachable_targets, unreachable_targets
+
+if TYPE_CHECKING:
+    from ..verify import SuiteResult
 
 DEFAULT_TARGETS = 50
 DEFAULT_UNREACHABLE = 5

@@ -13,7 +13,6 @@ import base64
 import io
 import json
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -140,23 +139,13 @@ def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) ->
     runs, clips = [r for r, c in zip(runs, clips) if len(c)], [c for c in clips if len(c)]
     if not runs:
         return [], "rendering unavailable: no finite executed states to show"
-    env = dict(os.environ)
-    env.setdefault("MUJOCO_GL", "egl")
-    request = json.dumps({"mjcf": mjcf, "qadr": [int(a) for a in qadr], "clips": [c.tolist() for c in clips],
-                          "fps": fps, "size": list(size)})
-    try:
-        proc = subprocess.run([sys.executable, "-m", "kinverify.tracking.figures"], input=request, capture_output=True,
-                              text=True, env=env, timeout=TIMEOUT_S)
-    except (OSError, subprocess.TimeoutExpired) as err:
-        return [], f"rendering unavailable: {err}"
-    if proc.returncode != 0:
-        lines = [line for line in proc.stderr.strip().splitlines() if line.strip()]
-        return [], (f"rendering unavailable (MUJOCO_GL={env['MUJOCO_GL']}): "
-                    f"{lines[-1] if lines else f'renderer exit code {proc.returncode}'}")
-    try:
-        gifs = [base64.b64decode(g, validate=True) for g in json.loads(proc.stdout)]
-    except (ValueError, TypeError) as err:
-        return [], f"rendering unavailable: bad output from the renderer ({err})"
+    from ..mujoco_gl import render_in_child
+
+    request = {"mjcf": mjcf, "qadr": [int(a) for a in qadr], "clips": [c.tolist() for c in clips],
+               "fps": fps, "size": list(size)}
+    gifs, reason = render_in_child("kinverify.tracking.figures", request, TIMEOUT_S)
+    if reason:
+        return [], reason
     if len(gifs) != len(runs) or not all(g.startswith(b"GIF8") for g in gifs):
         return [], "rendering unavailable: the renderer returned no GIF"
     return [{"title": f"Execution under {run.controller}", "mime": "image/gif", "data": base64.b64encode(gif).decode("ascii"),
