@@ -101,6 +101,9 @@ class MujocoBackend(EvaluatingBackend):
         return Evaluation(self.name, self.frames, poses, jac)
 
 
+MUJOCO_MESH_FORMATS = (".stl", ".obj", ".msh")
+
+
 def urdf_for_mujoco(urdf_text: str) -> str:
     """The URDF with the ``<mujoco><compiler>`` extension MuJoCo's URDF import reads: keep fixed
     links as bodies (``fusestatic="false"``) so every URDF link stays a frame."""
@@ -112,5 +115,10 @@ def urdf_for_mujoco(urdf_text: str) -> str:
         raise ValueError(f"not XML: {err}") from None
     for ext in root.findall("mujoco"):
         root.remove(ext)
+    for link in root.iter("link"):  # MuJoCo reads STL, OBJ and MSH meshes only (not e.g. COLLADA .dae)
+        for el in list(link):
+            mesh = el.find("geometry/mesh")
+            if mesh is not None and not mesh.get("filename", "").lower().endswith(MUJOCO_MESH_FORMATS):
+                link.remove(el)
     ET.SubElement(ET.SubElement(root, "mujoco"), "compiler", fusestatic="false", discardvisual="true")
     return ET.tostring(root, encoding="unicode")

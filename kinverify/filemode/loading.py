@@ -1,9 +1,12 @@
 """Reading a user's URDF and MJCF safely, and cleaning them so every library loads them without meshes.
 
 Untrusted XML goes through defusedxml first: a DTD with entities (external or an expansion bomb)
-is refused before any library sees the file. Meshes are dropped (real files are usually copied
-without them): URDF ``<visual>``/``<collision>`` elements with a ``<mesh>``; MJCF mesh geoms,
-mesh assets and file textures through MuJoCo's ``MjSpec`` editing API.
+is refused before any library sees the file. Mesh references are resolved where the files exist
+(``package://pkg/...`` looked up beside or above the model's folder, ROS style; ``file://``,
+relative and absolute paths) and rewritten as absolute paths; meshes whose files are absent (real
+files are usually copied without them) are dropped: URDF ``<visual>``/``<collision>`` elements
+with such a ``<mesh>``, MJCF geoms using such a mesh asset, and the asset. File textures are
+always dropped (they are visual only).
 """
 
 from __future__ import annotations
@@ -56,18 +59,45 @@ def read_xml(path: str, kind: str) -> tuple[str, ET.Element]:
     return text, root
 
 
+def resolve_asset(filename: str, base: Path) -> Path | None:
+    """The file a mesh reference names, if it exists: ``package://pkg/rel`` as ``<dir>/pkg/rel``
+    or ``<dir>/rel`` with ``<dir>`` named ``pkg``, for the model's folder and each folder above it;
+    ``file://`` and plain paths relative to ``base``. None when absent."""
+    if filename.startswith("package://"):
+        package, _, rel = filename[len("package://"):].partition("/")
+        for folder in (base, *base.parents):
+            for candidate in (folder / package / rel, folder / rel if folder.name == package else None):
+                if candidate is not None and candidate.is_file():
+                    return candidate.resolve()
+        return None
+    filename = filename[len("file://"):] if filename.startswith("file://") else filename
+    candidate = Path(filename) if Path(filename).is_absolute() else base / filename
+    return candidate.resolve() if candidate.is_file() else None
+
+
 def load_urdf(path: str) -> LoadedFile:
-    """URDF without mesh visuals/collisions (kinematics and inertials are untouched)."""
+    """URDF without the mesh visuals/collisions whose files are absent (kinematics and inertials
+    are untouched); meshes that exist are kept with absolute paths."""
     text, root = read_xml(path, "urdf")
-    dropped = 0
+    dropped = kept = 0
+    base = Path(path).resolve().parent
     for link in root.iter("link"):
         for tag in ("visual", "collision"):
             for el in list(link.findall(tag)):
-                if el.find("geometry/mesh") is not None:
+                mesh = el.find("geometry/mesh")
+                if mesh is None:
+                    continue
+                found = resolve_asset(mesh.get("filename", ""), base)
+                if found is None:
                     link.remove(el)
                     dropped += 1
-    warnings = (f"URDF: {dropped} mesh visual/collision elements skipped (meshes are not needed for kinematics "
-                "and dynamics)",) if dropped else ()
+                else:
+                    mesh.set("filename", str(found))
+                    kept += 1
+    warnings = (f"URDF: {dropped} mesh visual/collision elements skipped, their files are absent (meshes are not "
+                "needed for kinematics and dynamics)",) if dropped else ()
+    if kept:
+        warnings += (f"URDF: {kept} mesh references resolved to existing files and kept",)
     cleaned = ET.tostring(root, encoding="unicode")
     return LoadedFile(str(path), "urdf", text, cleaned, root.get("name") or Path(path).stem, warnings)
 
@@ -83,8 +113,11 @@ def load_mjcf(path: str) -> LoadedFile:
 
     text, root = read_xml(path, "mjcf")
     name = root.get("model") or Path(path).stem
-    dropped, massless = _drop_meshes(root)
-    warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped"] if dropped else []
+    kept = _resolve_mesh_assets(root, Path(path).resolve().parent)
+    dropped, massless = _drop_meshes(root, kept)
+    warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped, their files are absent"] if dropped else []
+    if kept:
+        warnings.append(f"MJCF: {len(kept)} mesh assets resolved to existing files and kept")
     if massless:
         warnings.append(f"MJCF bodies without <inertial> whose mass came from their (absent) meshes: {', '.join(massless)}")
     cleaned = ET.tostring(root, encoding="unicode")
@@ -92,16 +125,33 @@ def load_mjcf(path: str) -> LoadedFile:
         spec = mujoco.MjSpec.from_string(cleaned)
         spec.compile()
     except ValueError as err:
-        warnings.append(f"mujoco cannot compile the MJCF without its meshes: {_first_line(err)}")
+        warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {_first_line(err)}")
     return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
 
 
-def _drop_meshes(root: ET.Element) -> tuple[int, list[str]]:
-    """Remove geoms with a mesh, mesh/skin/hfield assets and file textures (and references to them)."""
+def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:
+    """Names of the mesh assets whose files exist (``compiler meshdir``/``assetdir`` honoured);
+    their ``file`` is rewritten as an absolute path so the text loads from anywhere."""
+    compiler = root.find("compiler")
+    folder = base / ((compiler.get("meshdir") or compiler.get("assetdir") or "") if compiler is not None else "")
+    kept = set()
+    for asset in root.iter("asset"):
+        for mesh in asset.findall("mesh"):
+            filename = mesh.get("file")
+            found = resolve_asset(filename, folder) if filename else None
+            if found is not None:
+                mesh.set("file", str(found))
+                kept.add(mesh.get("name") or Path(filename).stem)
+    return kept
+
+
+def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, list[str]]:
+    """Remove geoms using a mesh not in ``kept``, those mesh assets, skin/hfield assets and file
+    textures (and references to them)."""
     parents = {child: parent for parent in root.iter() for child in parent}
     dropped, massless, gone_geoms, gone_tex = 0, [], set(), set()
     for geom in list(root.iter("geom")):
-        if geom.get("mesh") is not None and parents[geom].tag != "default":
+        if geom.get("mesh") is not None and geom.get("mesh") not in kept and parents[geom].tag != "default":
             body = parents[geom]
             body.remove(geom)
             dropped += 1
@@ -110,7 +160,8 @@ def _drop_meshes(root: ET.Element) -> tuple[int, list[str]]:
                 massless.append(body.get("name") or "?")
     for asset in root.iter("asset"):
         for el in list(asset):
-            if el.tag in ("mesh", "skin", "hfield") or (el.tag == "texture" and el.get("file") is not None):
+            kept_mesh = el.tag == "mesh" and (el.get("name") or Path(el.get("file") or "").stem) in kept
+            if (el.tag in ("mesh", "skin", "hfield") and not kept_mesh) or (el.tag == "texture" and el.get("file") is not None):
                 if el.tag == "texture":
                     gone_tex.add(el.get("name"))
                 asset.remove(el)
