@@ -155,3 +155,14 @@ def test_ik_command_bad_input_is_one_line_exit_2(argv, capsys):
     assert main(["ik", "models/arm3.toml", *argv]) == 2
     err = capsys.readouterr().err
     assert err.startswith("kinverify: error:") and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("q", [[1.0, -math.pi / 2, 6.10351562e-05], [-math.pi, math.pi / 2, 6.10351562e-05]])
+def test_arm3_closed_form_on_a_limit_with_a_nearly_straight_elbow(q):
+    # found by hypothesis: acos near the straight elbow put these branches ~1e-11 rad beyond a limit
+    closed = Arm3ClosedForm.from_spec(ARM3)
+    target = frame_poses(ARM3, np.array(q))[0, -1, :3, 3]
+    res = closed.solve(target)
+    assert res.reachable
+    assert np.abs(np.angle(np.exp(1j * (res.solutions - q)))).max(axis=1).min() < 1e-9
+    assert np.abs(frame_poses(ARM3, res.solutions)[:, -1, :3, 3] - target).max() < 1e-12

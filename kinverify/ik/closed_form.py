@@ -75,7 +75,9 @@ class Arm3ClosedForm:
 
     def solve(self, target) -> ClosedFormResult:
         branches = self.all_branches(target)
-        inside = np.all((branches >= self.lower - 1e-12) & (branches <= self.upper + 1e-12), axis=1)
+        # Near the straight elbow acos loses precision (~1e-16/|q3| rad), so a branch that lies on
+        # a limit can come out ~1e-11 beyond it: accept 1e-9 rad, then clip into the limits.
+        inside = np.all((branches >= self.lower - LIMIT_SLACK) & (branches <= self.upper + LIMIT_SLACK), axis=1)
         if inside.any():
             return ClosedFormResult(True, np.clip(branches[inside], self.lower, self.upper), 0.0)
         return ClosedFormResult(False, np.empty((0, 3)), self.closest_distance(target))
@@ -100,6 +102,9 @@ class Arm3ClosedForm:
             q2 = np.linspace(max(self.lower[1], q2[i] - s2), min(self.upper[1], q2[i] + s2), 41)
             q3 = np.linspace(max(self.lower[2], q3[k] - s3), min(self.upper[2], q3[k] + s3), 41)
         return best
+
+
+LIMIT_SLACK = 1e-9  # rad
 
 
 def _wrap(a: float) -> float:
