@@ -23,7 +23,7 @@ def _float(text: str) -> float:
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("track", help="execute a quintic joint trajectory in MuJoCo under a controller",
+    p = sub.add_parser("track", help="plan a quintic trajectory (to joint values, or to a Cartesian target through IK) and execute it in MuJoCo under a controller",
                        description="Plan a rest-to-rest quintic from the start configuration to --to, execute it in MuJoCo "
                        "on the generated MJCF (model terms from Pinocchio on the generated URDF) and report tracking "
                        "metrics. Default: the model's default trajectory (on arm3 the seed's 0 -> (60, 45, -30) deg in 2 s). "
