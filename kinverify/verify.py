@@ -111,6 +111,7 @@ def _kinematics_chunk(backends: dict[str, Backend], opts: VerifyOptions, q: np.n
     acc = _Accumulator(opts)
     fd_rows = slice(0, max(0, min(opts.fd_samples - start, len(q))))
     ref_eval = backends[opts.reference].evaluate(q)
+    evaluations = {opts.reference: ref_eval}  # reused below for the finite-difference checks
     for name, backend in backends.items():
         if name == opts.reference:
             continue
@@ -120,7 +121,7 @@ def _kinematics_chunk(backends: dict[str, Backend], opts: VerifyOptions, q: np.n
             continue
         ref = ref_eval if rows.stop == len(q) else _head(ref_eval, rows.stop)
         analytic_jac = backend.jacobian_method == "analytic"
-        ev = backend.evaluate(q[rows], with_jacobians=analytic_jac)
+        ev = evaluations[name] = backend.evaluate(q[rows], with_jacobians=analytic_jac)
         acc.add(fk_errors(ref, ev, backend.has_rotation), pair, q[rows])
         if analytic_jac:
             acc.add(jacobian_errors(ref, ev), pair, q[rows])
@@ -128,9 +129,10 @@ def _kinematics_chunk(backends: dict[str, Backend], opts: VerifyOptions, q: np.n
             fd = slice(0, min(fd_rows.stop, rows.stop))
             acc.add(jacobian_errors(ref_eval, backend.evaluate(q[fd]), fd), pair, q[fd])
     for name, backend in backends.items():
-        if backend.jacobian_method == "analytic" and fd_rows.stop > 0:
-            jac = backend.jacobians(q[fd_rows])
-            acc.add(finite_difference_errors(backend, q[fd_rows], jac), (name, "finite-difference"), q[fd_rows])
+        ev = evaluations.get(name)
+        if backend.jacobian_method == "analytic" and fd_rows.stop > 0 and ev is not None:
+            fd = slice(0, min(fd_rows.stop, len(ev.poses)))
+            acc.add(finite_difference_errors(backend, q[fd], ev.jacobians[fd]), (name, "finite-difference"), q[fd])
     return acc
 
 
