@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .spec import DHRow, Origin
-from .transforms import make_transform, matrix_to_rpy
+from .transforms import matrix_to_rpy
 
 CONVENTIONS = ("standard", "modified")
 
@@ -56,7 +56,8 @@ def dh_matrix(convention: str, row: DHRow, q=0.0, prismatic: bool = False) -> np
     return rot_x(row.alpha) @ trans(x=row.a) @ rot_z(theta) @ trans(z=d)
 
 
-def _origin_of(t: np.ndarray) -> Origin:
+def origin_from_transform(t: np.ndarray) -> Origin:
+    """The ``Origin`` (xyz, rpy) of a 4×4 transform."""
     return Origin(tuple(t[:3, 3]), tuple(matrix_to_rpy(t[:3, :3])))
 
 
@@ -68,14 +69,10 @@ def static_part(convention: str, row: DHRow) -> np.ndarray:
 def joint_origins(convention: str, rows: tuple[DHRow, ...]) -> tuple[list[Origin], np.ndarray | None]:
     """Joint origins of the equivalent URDF-style chain, and the flange transform (standard only)."""
     if convention == "modified":
-        return [_origin_of(static_part(convention, r)) for r in rows], None
-    origins = [Origin()] + [_origin_of(static_part(convention, r)) for r in rows[:-1]]
+        return [origin_from_transform(static_part(convention, r)) for r in rows], None
+    origins = [Origin()] + [origin_from_transform(static_part(convention, r)) for r in rows[:-1]]
     return origins, static_part(convention, rows[-1])
 
-
-def flange_origin(convention: str, rows: tuple[DHRow, ...]) -> Origin | None:
-    _, flange = joint_origins(convention, rows)
-    return None if flange is None else _origin_of(flange)
 
 
 def dh_link_poses(convention: str, rows, prismatic, base: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -98,6 +95,3 @@ def dh_link_poses(convention: str, rows, prismatic, base: np.ndarray, q: np.ndar
             frame = frame @ dh_matrix(convention, row, q[:, i], prismatic[i])
     return out
 
-
-def identity() -> np.ndarray:
-    return make_transform(np.eye(3), np.zeros(3))

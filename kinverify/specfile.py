@@ -201,7 +201,7 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     flange = None
     if convention is not None:
         origins, flange_t = dhmod.joint_origins(convention, tuple(rows))
-        flange = None if flange_t is None else dhmod._origin_of(flange_t)
+        flange = None if flange_t is None else dhmod.origin_from_transform(flange_t)
     tool_tables = top.tables("tools")
     tool_specs = []
     for tt in tool_tables:
@@ -214,7 +214,7 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     for tt, tname, parent, origin in tool_specs:
         if flange is not None and parent in (None, flange_name):
             t = flange.transform @ origin.transform
-            origin = dhmod._origin_of(t)
+            origin = dhmod.origin_from_transform(t)
             parent = last_link
         tools.append(_build(tt.path, Tool, name=tname, parent=parent or last_link, origin=origin))
         tt.done()

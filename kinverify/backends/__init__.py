@@ -79,10 +79,11 @@ def default_backend_names(sources: ModelSources) -> list[str]:
     """Backends that apply to ``sources``: spec backends need a spec, ``analytic-dh`` a DH table."""
     names = []
     for info in available_backends().values():
-        if info.source == "spec" and (sources.spec is None or (info.name == "analytic-dh" and sources.spec.dh is None)):
+        if not info.available or getattr(sources, info.source) is None:
             continue
-        if info.available and getattr(sources, info.source if info.source != "spec" else "spec") is not None:
-            names.append(info.name)
+        if info.name == "analytic-dh" and sources.spec.dh is None:
+            continue
+        names.append(info.name)
     return names
 
 
