@@ -45,10 +45,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from raw import raw_for  # noqa: E402
 
 from kinverify.backends import ModelSources, build_backends  # noqa: E402
-from kinverify.kinematics import frame_poses, joint_motion  # noqa: E402
-from kinverify.sampling import Samples  # noqa: E402
-from kinverify.specfile import load_spec  # noqa: E402
-from kinverify.verify import VerifyContext, VerifyOptions, kinematics_suite  # noqa: E402
+from kinverify.model.kinematics import frame_poses, joint_motion  # noqa: E402
+from kinverify.pipeline.sampling import Samples  # noqa: E402
+from kinverify.model.specfile import load_spec  # noqa: E402
+from kinverify.run import VerifyContext, VerifyOptions  # noqa: E402
+from kinverify.suites.kinematics import KinematicsSuite  # noqa: E402
 
 MEMORY_BACKENDS = "analytic,pinocchio-urdf"
 MEMORY_JOBS = 2  # the 1e7 runs take minutes per model even so
@@ -83,7 +84,7 @@ def cross_validation(sources, backends: dict, n: int, repeats: int) -> dict:
     def xval(names):
         opts = VerifyOptions(samples=n, seed=1, fd_samples=0, slow_samples=None, chunk=10_000)
         ctx = VerifyContext(sources, {k: backends[k] for k in names}, samples, opts)
-        return lambda: kinematics_suite(ctx)
+        return lambda: KinematicsSuite().run(ctx)
 
     for label, names in (("", list(backends)), ("_no_yourdfpy", [k for k in backends if k != "yourdfpy"])):
         t_x, t_raw = 1e30, sum(raw_t[k] for k in names)
@@ -121,8 +122,8 @@ def analytic_vs_numpy(spec, n: int, chunk: int = 4096, repeats: int = 3) -> floa
 _CHILD = """
 import json, resource, sys, time
 sys.path.insert(0, {root!r})
-from kinverify.specfile import load_spec
-from kinverify.verify import VerifyOptions, verify_spec
+from kinverify.model.specfile import load_spec
+from kinverify.run import VerifyOptions, verify_spec
 t = time.perf_counter()
 r = verify_spec(load_spec({model!r}), VerifyOptions(samples={n}, backends={backends!r}, jobs={jobs}, suites=["kinematics"]))
 print(json.dumps({{"seconds": time.perf_counter() - t, "verdict": r.verdict,

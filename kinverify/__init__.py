@@ -9,13 +9,13 @@ the frame origin, rows ``[linear; angular]``; quaternions ``wxyz``.
 
 __version__ = "0.1.0"
 
-from .mujoco_gl import import_mujoco_despite_bad_gl  # noqa: E402
+from kinverify.mujoco_gl import import_mujoco_despite_bad_gl  # noqa: E402
 
 import_mujoco_despite_bad_gl()  # an unknown MUJOCO_GL must not stop the run, only the renderings
 
-from .errors import BackendError, InputError, KinverifyError, SpecError  # noqa: E402
-from .spec import ArmSpec, Geometry, Inertial, Joint, Limits, Link, Origin, Tool  # noqa: E402
-from .specfile import load_spec, spec_from_dict  # noqa: E402
+from kinverify.errors import BackendError, InputError, KinverifyError, SpecError  # noqa: E402
+from kinverify.model.spec import ArmSpec, Geometry, Inertial, Joint, Limits, Link, Origin, Tool  # noqa: E402
+from kinverify.model.specfile import load_spec, spec_from_dict  # noqa: E402
 
 __all__ = ["ArmSpec", "BackendError", "Geometry", "Inertial", "InputError", "Joint", "KinverifyError", "Limits",
            "Link", "Origin", "SpecError", "Tool", "__version__", "load_spec", "spec_from_dict"]

@@ -11,7 +11,7 @@ import argparse
 import importlib
 import sys
 
-from . import __version__
+from kinverify import __version__
 
 COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff")
 
@@ -28,7 +28,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from .errors import KinverifyError
+    from kinverify.errors import KinverifyError
 
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -1,56 +1,29 @@
-"""Result dataclasses: everything a report shows, and nothing from a backend library.
+"""The outcome of one ``kinverify verify`` run: everything a report shows, and nothing from a
+backend library.
 
-``VerifyResult.to_dict()`` is the JSON schema (``verdict``, ``versions``, ``checks``...);
-``VerifyResult.from_dict()`` reads it back, so a saved JSON re-renders the same report.
+``VerifyResult.to_dict()`` is the JSON schema (``verdict``, ``versions``, ``checks``,
+``findings``, ``sections``...); ``VerifyResult.from_dict()`` reads it back, so a saved JSON
+re-renders the same report.
 """
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
+from kinverify.suites.base import Check, Finding, Section, _plain
 
-SCHEMA_VERSION = 1
-
-
-@dataclass(frozen=True)
-class Check:
-    """One property compared for one frame between two backends (or a backend and its own
-    finite differences). Errors are in ``unit``; ``worst_q`` is in radians/metres."""
-
-    property: str
-    frame: str
-    backends: tuple[str, str]
-    max_error: float
-    p99_error: float
-    tolerance: float
-    passed: bool
-    worst_q: tuple[float, ...]
-    unit: str = ""
-    samples: int = 0
-    histogram: tuple[int, ...] = ()
-    note: str = ""
-
-    def to_dict(self) -> dict[str, Any]:
-        d = asdict(self)
-        d["backends"] = list(self.backends)
-        d["worst_q"] = list(self.worst_q)
-        d["histogram"] = list(self.histogram)
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> "Check":
-        d = dict(d)
-        d["backends"] = tuple(d["backends"])
-        d["worst_q"] = tuple(d.get("worst_q") or ())
-        d["histogram"] = tuple(d.get("histogram") or ())
-        return cls(**{k: v for k, v in d.items() if k in cls.__dataclass_fields__})
+SCHEMA_VERSION = 2
+VERDICTS = {"pass": 0, "fail": 1, "error": 3}  # verdict -> exit code (2 is bad input, before any result)
 
 
 @dataclass
 class VerifyResult:
-    """The outcome of one ``kinverify verify`` run."""
+    """The outcome of one ``kinverify verify`` run.
+
+    ``verdict``: ``pass`` when every check that counts is within tolerance and no error finding
+    stands; ``fail`` when the models disagree; ``error`` when kinverify itself failed
+    (``internal_errors``), in which case what was computed is still here."""
 
     model: str
     source: str
@@ -67,27 +40,41 @@ class VerifyResult:
     lower: list[float] = field(default_factory=list)
     upper: list[float] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
-    # Extra report sections keyed by suite name (ik, tracking, ...). Each is plain JSON data:
-    # {"title": str, "summary": str,
-    #  "tables": [{"title": str, "columns": [str], "rows": [[...]]}],
-    #  "figures": [{"title": str, "mime": "image/svg+xml"|"image/png"|"image/gif", "data": base64, "caption": str}],
-    #  "notes": [str], ...any further keys a suite keeps for re-rendering}
-    sections: dict[str, Any] = field(default_factory=dict)
+    sections: dict[str, Section] = field(default_factory=dict)  # by suite name, in report order
     model_info: dict[str, Any] = field(default_factory=dict)  # joint table, masses, URDF/MJCF text
-    # File mode: what differs between a URDF and an MJCF, [{"kind", "message", "joint"/"link"/"frame", "values"}]
-    findings: list[dict[str, Any]] = field(default_factory=list)
+    findings: list[Finding] = field(default_factory=list)
+    timings: dict[str, float] = field(default_factory=dict)  # suite -> seconds
+    internal_errors: list[str] = field(default_factory=list)
 
     @property
     def passed(self) -> bool:
-        return all(c.passed for c in self.checks)
+        return self.verdict == "pass"
 
     @property
     def verdict(self) -> str:
-        return "pass" if self.passed else "fail"
+        if self.internal_errors:
+            return "error"
+        if any(c.decisive_failure for c in self.checks) or any(f.fails for f in self.findings):
+            return "fail"
+        return "pass"
+
+    @property
+    def exit_code(self) -> int:
+        return VERDICTS[self.verdict]
 
     @property
     def failed(self) -> list[Check]:
-        return [c for c in self.checks if not c.passed]
+        """Checks that decide the verdict and failed."""
+        return [c for c in self.checks if c.decisive_failure]
+
+    @property
+    def missed_goals(self) -> list[Check]:
+        """Performance checks below their goal that do not decide the verdict."""
+        return [c for c in self.checks if not c.passed and not c.counts]
+
+    @property
+    def failing_findings(self) -> list[Finding]:
+        return [f for f in self.findings if f.fails]
 
     def first_failures(self) -> list[Check]:
         """Per failing (property, backend pair): the failing check on the earliest frame of the
@@ -101,26 +88,19 @@ class VerifyResult:
         return list(first.values())
 
     def to_dict(self) -> dict[str, Any]:
-        d = {k: v for k, v in asdict(self).items() if k != "checks"}
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in ("checks", "sections", "findings")}
         d["schema_version"] = SCHEMA_VERSION
         d["verdict"] = self.verdict
         d["checks"] = [c.to_dict() for c in self.checks]
+        d["findings"] = [f.to_dict() for f in self.findings]
+        d["sections"] = {name: s.to_dict() for name, s in self.sections.items()}
         return _plain(d)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "VerifyResult":
-        fields = {k: v for k, v in d.items() if k in cls.__dataclass_fields__ and k != "checks"}
-        return cls(checks=[Check.from_dict(c) for c in d.get("checks", [])], **fields)
-
-
-def _plain(value):
-    """Numpy scalars/arrays to plain Python for JSON."""
-    if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _plain(value.tolist())
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
+        skip = ("checks", "sections", "findings")
+        kwargs = {k: v for k, v in d.items() if k in cls.__dataclass_fields__ and k not in skip}
+        return cls(checks=[Check.from_dict(c) for c in d.get("checks", [])],
+                   findings=[Finding.from_dict(f) for f in d.get("findings", []) if isinstance(f, dict)],
+                   sections={k: Section.from_dict(s) for k, s in (d.get("sections") or {}).items() if isinstance(s, dict)},
+                   **kwargs)

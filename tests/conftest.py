@@ -6,8 +6,8 @@ point; it is loaded here only when the installed metadata does not have that ent
 from importlib.metadata import entry_points
 
 pytest_plugins = ["pytester"]
-if not any(ep.value == "kinverify.pytest_plugin" for ep in entry_points(group="pytest11")):
-    pytest_plugins.append("kinverify.pytest_plugin")
+if not any(ep.value == "kinverify.testing.pytest_plugin" for ep in entry_points(group="pytest11")):
+    pytest_plugins.append("kinverify.testing.pytest_plugin")
 
 import os
 

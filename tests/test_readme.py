@@ -9,8 +9,9 @@ from pathlib import Path
 import pytest
 
 from kinverify.cli import COMMANDS
+from tests.paths import ROOT
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = ROOT / "README.md"
 MARK = "<!-- checked: tests/test_readme.py runs this block -->"
 BLOCKS = re.findall(re.escape(MARK) + r"\n```python\n(.*?)```", README.read_text(), re.S)
 

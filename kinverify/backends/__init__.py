@@ -11,10 +11,10 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Callable
 
-from ..errors import BackendUnavailable, UnknownNameError
-from .base import Backend, BackendBase, Evaluation, finite_difference_jacobians
-from .function import FunctionBackend
-from .sources import ModelSources
+from kinverify.errors import BackendUnavailable, UnknownNameError
+from kinverify.backends.base import Backend, BackendBase, Evaluation, finite_difference_jacobians
+from kinverify.backends.function import FunctionBackend
+from kinverify.backends.sources import ModelSources
 
 __all__ = ["Backend", "BackendBase", "BackendInfo", "Evaluation", "FunctionBackend", "ModelSources",
            "available_backends", "build_backend", "build_backends", "finite_difference_jacobians"]

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import dh as dhmod
-from ..kinematics import frame_poses, geometric_jacobians, tool_poses
-from ..spec import ArmSpec
-from .base import BackendBase, Evaluation
+from kinverify.model import dh as dhmod
+from kinverify.model.kinematics import frame_poses, geometric_jacobians, tool_poses
+from kinverify.model.spec import ArmSpec
+from kinverify.backends.base import BackendBase, Evaluation
 
 
 class AnalyticBackend(BackendBase):

@@ -17,7 +17,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ..transforms import rotation_log
+from kinverify.model.transforms import rotation_log
 
 FD_STEP = 1e-6  # rad or m; central differences: truncation ~h², round-off ~1e-16/h
 

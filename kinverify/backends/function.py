@@ -6,7 +6,7 @@ from typing import Callable
 
 import numpy as np
 
-from .base import BackendBase
+from kinverify.backends.base import BackendBase
 
 
 class FunctionBackend(BackendBase):

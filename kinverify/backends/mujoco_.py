@@ -5,8 +5,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from ..errors import BackendError, UnknownNameError
-from .base import EvaluatingBackend, Evaluation
+from kinverify.errors import BackendError, UnknownNameError
+from kinverify.backends.base import EvaluatingBackend, Evaluation
 
 
 class MujocoBackend(EvaluatingBackend):

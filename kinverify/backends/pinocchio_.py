@@ -8,8 +8,8 @@ import tempfile
 import numpy as np
 import pinocchio as pin
 
-from ..errors import BackendError, UnknownNameError
-from .base import EvaluatingBackend, Evaluation
+from kinverify.errors import BackendError, UnknownNameError
+from kinverify.backends.base import EvaluatingBackend, Evaluation
 
 
 class PinocchioBackend(EvaluatingBackend):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..generate import generate_mjcf, generate_urdf
-from ..spec import ArmSpec
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.spec import ArmSpec
 
 
 @dataclass(frozen=True)

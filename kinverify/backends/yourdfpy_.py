@@ -7,8 +7,8 @@ import io
 import numpy as np
 import yourdfpy
 
-from ..errors import BackendError, UnknownNameError
-from .base import BackendBase
+from kinverify.errors import BackendError, UnknownNameError
+from kinverify.backends.base import BackendBase
 
 
 STALE_BELOW = 1e-6  # rad or m: smaller joint changes may leave trimesh's transforms stale

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from . import count as _count
+from kinverify.commands import count as _count
 
 
 
@@ -49,20 +49,20 @@ def run(args) -> int:
 
     from rich.console import Console
 
-    from ..specfile import load_spec
+    from kinverify.model.specfile import load_spec
 
     console = Console() if sys.stdout.isatty() else Console(width=160)
     spec = load_spec(args.model)
     if args.action == "save":
-        from ..baseline import DEFAULT_SAMPLES, save_baseline
+        from kinverify.regression.baseline import DEFAULT_SAMPLES, save_baseline
 
         samples = DEFAULT_SAMPLES if args.samples is None else args.samples
         path = save_baseline(spec, args.out, samples, args.seed)
         console.print(f"baseline of {spec.name} written: {path}")
         return 0
-    from ..baseline import BASELINE_TOLERANCES, check
-    from ..checks.tolerances import Tolerance
-    from ..report.regression import check_document, print_document, write_document
+    from kinverify.regression.baseline import BASELINE_TOLERANCES, Tolerance
+    from kinverify.regression.check import check
+    from kinverify.report.regression import check_document, print_document, write_document
 
     tolerances = None
     if args.tolerance is not None:

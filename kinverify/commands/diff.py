@@ -30,11 +30,11 @@ def run(args) -> int:
 
     from rich.console import Console
 
-    from ..errors import InputError
-    from ..filediff import diff_files, file_kind
-    from ..modeldiff import DIFF_SAMPLES, diff_models
-    from ..report.regression import diff_document, print_document, write_document
-    from ..specfile import load_spec
+    from kinverify.errors import InputError
+    from kinverify.regression.filediff import diff_files, file_kind
+    from kinverify.regression.modeldiff import DIFF_SAMPLES, diff_models
+    from kinverify.report.regression import diff_document, print_document, write_document
+    from kinverify.model.specfile import load_spec
 
     samples = DIFF_SAMPLES if args.samples is None else args.samples
     if samples < 0:

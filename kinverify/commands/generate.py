@@ -16,9 +16,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def run(args) -> int:
     from pathlib import Path
 
-    from ..generate import generate_mjcf, generate_urdf
-    from ..report.writer import write_atomic
-    from ..specfile import load_spec
+    from kinverify.generate import generate_mjcf, generate_urdf
+    from kinverify.report.writer import write_atomic
+    from kinverify.model.specfile import load_spec
 
     spec = load_spec(args.model)
     out = Path(args.out)

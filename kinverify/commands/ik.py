@@ -28,7 +28,7 @@ def add_parser(sub):
 
 
 def _values(name: str, values, count: int) -> list[float]:
-    from ..errors import InputError
+    from kinverify.errors import InputError
 
     if values is None:
         return []
@@ -49,11 +49,11 @@ def _values(name: str, values, count: int) -> list[float]:
 def run(args) -> int:
     import numpy as np
 
-    from ..backends import ModelSources, available_backends, build_backend, build_backends
-    from ..errors import InputError, UnknownNameError
-    from ..ik import Arm3ClosedForm, FrameModel, IKOptions, residuals, solve_lm
-    from ..specfile import load_spec
-    from ..transforms import make_transform, rpy_to_matrix
+    from kinverify.backends import ModelSources, available_backends, build_backend, build_backends
+    from kinverify.errors import InputError, UnknownNameError
+    from kinverify.ik import Arm3ClosedForm, FrameModel, IKOptions, residuals, solve_lm
+    from kinverify.model.specfile import load_spec
+    from kinverify.model.transforms import make_transform, rpy_to_matrix
 
     xyz = _values("--target", args.target, 3)
     rpy = _values("--rpy", args.rpy, 3)

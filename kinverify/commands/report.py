@@ -18,8 +18,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def run(args) -> int:
     from pathlib import Path
 
-    from ..report.html import write_html
-    from ..report.json_ import load_result_json
+    from kinverify.report.html import write_html
+    from kinverify.report.json_ import load_result_json
 
     result = load_result_json(args.results)
     out = write_html(result, args.out or Path(args.results).with_suffix(".html"))

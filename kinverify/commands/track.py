@@ -53,11 +53,11 @@ def run(args) -> int:
 
     import numpy as np
 
-    from ..backends import ModelSources
-    from ..errors import InputError
-    from ..specfile import load_spec
-    from ..tracking.controllers import CONTROLLERS
-    from ..tracking.suite import Trajectory, default_trajectory, track, validate_target
+    from kinverify.backends import ModelSources
+    from kinverify.errors import InputError
+    from kinverify.model.specfile import load_spec
+    from kinverify.tracking.controllers import CONTROLLERS
+    from kinverify.tracking.track import Trajectory, default_trajectory, track, validate_target
 
     controllers = list(CONTROLLERS) if args.controller == "all" else [args.controller]
     if controllers[0] not in CONTROLLERS:
@@ -81,8 +81,16 @@ def run(args) -> int:
     trajectory = Trajectory(default.q0, q1, duration, default.hold if args.hold is None else args.hold)
     sources = ModelSources.from_spec(spec)
     started, t0 = datetime.now(timezone.utc), time.perf_counter()
-    result = track(spec, sources.urdf, trajectory, controllers)
+    result = track(spec, sources.urdf, trajectory, controllers, options=_gated())
     return _report(args, spec, result, started, t0)
+
+
+def _gated():
+    """``kinverify track`` is asked about the controllers' performance: their goals decide its verdict."""
+    from kinverify.suites.base import VerifyOptions
+    from kinverify.tracking.track import PROPERTIES
+
+    return VerifyOptions(gates={name: None for name in PROPERTIES})
 
 
 def _report(args, spec, result, started, t0, cartesian=None) -> int:
@@ -92,8 +100,8 @@ def _report(args, spec, result, started, t0, cartesian=None) -> int:
     from rich.console import Console
     from rich.table import Table
 
-    from ..results import VerifyResult
-    from ..versions import library_versions
+    from kinverify.results import VerifyResult
+    from kinverify.versions import library_versions
 
     trajectory = result.trajectory
     duration = trajectory.duration
@@ -116,9 +124,9 @@ def _report(args, spec, result, started, t0, cartesian=None) -> int:
             console.print(f"[red]plan outside limits:[/] {c.note}")
     if cartesian is not None:
         _ee_errors(console, spec, result, cartesian)
-    passed = all(c.passed for c in result.checks)
+    passed = all(c.passed for c in result.checks)  # every check is gated here
     if args.json:
-        from ..report import write_json
+        from kinverify.report import write_json
 
         vr = VerifyResult(model=spec.name, source=str(args.model), seed=0, samples=len(result.runs[0].plan.t),
                           joint_names=list(spec.joint_names), frames=list(spec.frame_names), backends=["pinocchio-urdf", "mujoco"],
@@ -135,10 +143,10 @@ def _run_cartesian(args, spec, default, controllers) -> int:
     import time
     from datetime import datetime, timezone
 
-    from ..backends import ModelSources
-    from ..errors import InputError
-    from ..tracking.cartesian import parse_target, plan_cartesian, track_waypoints
-    from ..tracking.suite import Trajectory, track
+    from kinverify.backends import ModelSources
+    from kinverify.errors import InputError
+    from kinverify.tracking.cartesian import parse_target, plan_cartesian, track_waypoints
+    from kinverify.tracking.track import Trajectory, track
 
     if args.deg:
         raise InputError("--deg applies to --to only; --target is in m and --rpy in rad")
@@ -161,16 +169,17 @@ def _run_cartesian(args, spec, default, controllers) -> int:
     sources = ModelSources.from_spec(spec)
     started, t0 = datetime.now(timezone.utc), time.perf_counter()
     if len(cplan.choices) == 1:
-        result = track(spec, sources.urdf, Trajectory(cplan.q_start, cplan.choices[0].q, cplan.durations[0], hold_s), controllers)
+        result = track(spec, sources.urdf, Trajectory(cplan.q_start, cplan.choices[0].q, cplan.durations[0], hold_s), controllers,
+                       options=_gated())
     else:
-        result = track_waypoints(spec, sources.urdf, cplan, hold_s, controllers)
+        result = track_waypoints(spec, sources.urdf, cplan, hold_s, controllers, options=_gated())
     return _report(args, spec, result, started, t0, cartesian=cplan)
 
 
 def _ee_errors(console, spec, result, cplan) -> None:
     """Print each run's end-effector error against the (last) Cartesian target and record it in
     the section (``cartesian``: the IK solutions and the errors; one note per run)."""
-    from ..tracking.cartesian import end_effector_errors, end_of_motion_index
+    from kinverify.tracking.cartesian import end_effector_errors, end_of_motion_index
 
     target = cplan.choices[-1].target
     errors = []
@@ -181,11 +190,11 @@ def _ee_errors(console, spec, result, cplan) -> None:
         line = (f"{run.controller}: final end-effector error against the Cartesian target {at_end[0]:.3e} m{rot(at_end)} "
                 f"at the end of the motion, {after[0]:.3e} m{rot(after)} at the end of the hold")
         console.print(line)
-        result.section.setdefault("notes", []).append(line)
+        result.section.notes.append(line)
         errors.append({"controller": run.controller, "position_error_end_of_motion": at_end[0],
                        "rotation_error_end_of_motion": at_end[1], "position_error_end_of_hold": after[0],
                        "rotation_error_end_of_hold": after[1]})
-    result.section["cartesian"] = {
+    result.section.data["cartesian"] = {
         "frame": cplan.frame, "ik_backend": cplan.backend, "position_only": cplan.position_only,
         "targets": [c.target.tolist() for c in cplan.choices], "q": [c.q.tolist() for c in cplan.choices],
         "ik_position_error": [c.pos_error for c in cplan.choices], "ik_rotation_error": [c.rot_error for c in cplan.choices],

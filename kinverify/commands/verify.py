@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import argparse
 
-from . import count as _count
+from kinverify.commands import count as _count
+from kinverify.errors import InputError
 
 
 
@@ -27,7 +28,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--ik-targets", type=_count, default=None, help="random reachable IK targets per solver (default: the IK suite's)")
     p.add_argument("--skip", action="append", default=[], metavar="SUITE", help="skip a property suite (repeatable), e.g. --skip ik")
     p.add_argument("--tolerance", action="append", default=[], metavar="PROPERTY=VALUE",
-                   help="override a tolerance (repeatable), e.g. --tolerance fk.position=1e-12")
+                   help="override a property's tolerance or goal (repeatable), e.g. --tolerance fk.position=1e-12; "
+                        "every property name in the JSON is accepted")
+    p.add_argument("--gate", action="append", default=[], metavar="PROPERTY[=GOAL]",
+                   help="make a performance property (ik.success_rate, tracking.*) decide the verdict, at its default goal "
+                        "or GOAL (repeatable); by default only agreement between the models does")
     p.add_argument("--report", help="HTML report path (default reports/<model>.html)")
     p.add_argument("--json", help="JSON results path (default reports/<model>.json)")
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
@@ -40,30 +45,48 @@ def add_parser(sub) -> argparse.ArgumentParser:
     return p
 
 
-def options_from_args(args):
-    from ..checks.tolerances import DEFAULT_TOLERANCES, Tolerance
-    from ..errors import InputError
-    from ..verify import SUITES, VerifyOptions
+def _number(item: str, flag: str) -> tuple[str, float | None]:
+    name, sep, value = item.partition("=")
+    if not sep:
+        return name, None
+    try:
+        number = float(value)
+    except ValueError:
+        raise InputError(f"{flag}: {item!r} is not PROPERTY=NUMBER") from None
+    if not number >= 0:  # also refuses NaN
+        raise InputError(f"{flag}: {item!r} must be a non-negative number")
+    return name, number
 
-    names = [n for n, _ in SUITES]
+
+def options_from_args(args):
+    from kinverify.run import VerifyOptions
+    from kinverify.suites.base import PERFORMANCE
+    from kinverify.suites.registry import properties, suite_names
+
+    names = suite_names()
     for skip in args.skip:
         if skip not in names:
             raise InputError(f"--skip: unknown suite {skip!r}; suites: {', '.join(names)}")
+    props = properties()
     extra = {} if args.ik_targets is None else {"ik_targets": args.ik_targets}
-    tolerances = dict(DEFAULT_TOLERANCES)
+    tolerances: dict[str, float] = {}
     for item in args.tolerance:
-        prop, _, value = item.partition("=")
-        if prop not in tolerances:
-            raise InputError(f"--tolerance: unknown property {prop!r}; properties: {', '.join(tolerances)}")
-        try:
-            tolerances[prop] = Tolerance(float(value), tolerances[prop].unit)
-        except ValueError:
-            raise InputError(f"--tolerance: {item!r} is not PROPERTY=NUMBER") from None
-        if not tolerances[prop].value >= 0:
-            raise InputError(f"--tolerance: {item!r} must be a non-negative number")
+        prop, value = _number(item, "--tolerance")
+        if prop not in props:
+            raise InputError(f"--tolerance: unknown property {prop!r}; properties: {', '.join(props)}")
+        if value is None:
+            raise InputError(f"--tolerance: {item!r} is not PROPERTY=NUMBER")
+        tolerances[prop] = value
+    gates: dict[str, float | None] = {}
+    for item in args.gate:
+        prop, goal = _number(item, "--gate")
+        performance = [n for n, p in props.items() if p.kind == PERFORMANCE]
+        if prop not in performance:
+            raise InputError(f"--gate: {prop!r} is not a performance property; performance properties: {', '.join(performance)}")
+        gates[prop] = goal
     if args.chunk < 1:
         raise InputError("--chunk must be >= 1")
-    return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra, tolerances=tolerances,
+    return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra, tolerances=tolerances, gates=gates,
                          backends=args.backends.split(",") if args.backends else None,
                          suites=[n for n in names if n not in args.skip],
                          jobs=args.jobs, executor=args.executor, scheduler=args.scheduler, chunk=args.chunk,
@@ -76,9 +99,8 @@ def run(args) -> int:
 
     from rich.console import Console
 
-    from ..errors import InputError
-    from ..report import print_result, write_json
-    from ..report.html import write_html
+    from kinverify.report import print_result, write_json
+    from kinverify.report.html import write_html
 
     options = options_from_args(args)
     command = "kinverify " + shlex.join(args.argv)
@@ -88,26 +110,30 @@ def run(args) -> int:
             raise InputError("give either a spec MODEL or --urdf/--mjcf, not both")
         if not (args.urdf and args.mjcf):
             raise InputError("file mode needs both --urdf and --mjcf")
-        from ..filemode import verify_files  # file mode (issue 7)
+        from kinverify.filemode import verify_files  # file mode (issue 7)
 
         with console.status("verifying files..."):
             result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command)
     else:
         if not args.model:
             raise InputError("give a spec MODEL (models/*.toml) or --urdf and --mjcf")
-        from ..progress import VerifyProgress
-        from ..specfile import load_spec
-        from ..verify import verify_spec
+        from kinverify.report.progress import VerifyProgress
+        from kinverify.model.specfile import load_spec
+        from kinverify.run import verify_spec
 
         spec = load_spec(args.model)
         with VerifyProgress(console, spec.name) as bar:
             options.on_progress = bar.advance
             result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
     if args.quiet:
-        console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed)")
+        console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
+                      f"{len(result.failing_findings)} error findings)")
     else:
         print_result(result, console)
     json_path = write_json(result, args.json or f"reports/{result.model}.json")
     html_path = write_html(result, args.report or f"reports/{result.model}.html")
     console.print(f"report: {html_path}  json: {json_path}")
-    return 0 if result.passed else 1
+    for err in result.internal_errors:
+        console.print(f"[bold red]internal error[/] (a kinverify bug, not a property of the model; please report it "
+                      f"with the JSON): {err}")
+    return result.exit_code

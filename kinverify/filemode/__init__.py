@@ -12,24 +12,24 @@ import dataclasses
 import math
 
 
-from ..backends import ModelSources, available_backends, build_backend
-from ..errors import InputError, KinverifyError
-from ..sampling import sample_configurations
-from .crosscheck import MJCF_SIDE, URDF_SIDE, frame_residuals, parser_checks, top_level_pose
-from .describe import ModelDesc, describe_mjcf, describe_urdf
-from .diagnose import (ANG_TOL, POS_TOL, base_transform, diagnose_base, diagnose_dynamics, diagnose_frames, diagnose_joints,
+from kinverify.backends import ModelSources, available_backends, build_backend
+from kinverify.errors import InputError, KinverifyError
+from kinverify.pipeline.sampling import sample_configurations
+from kinverify.filemode.crosscheck import MJCF_SIDE, URDF_SIDE, frame_residuals, parser_checks, top_level_pose
+from kinverify.filemode.describe import ModelDesc, describe_mjcf, describe_urdf
+from kinverify.filemode.diagnose import (ANG_TOL, POS_TOL, base_transform, diagnose_base, diagnose_dynamics, diagnose_frames, diagnose_joints,
                        diagnose_limits, diagnose_links, diagnose_rounding, finding)
-from .loading import load_mjcf, load_urdf
-from .match import Matching, match
-from .aliased import AliasedBackend
-from .section import build_section
+from kinverify.filemode.loading import load_mjcf, load_urdf
+from kinverify.filemode.match import Matching, match
+from kinverify.filemode.aliased import AliasedBackend
+from kinverify.filemode.section import build_section
 
 __all__ = ["verify_files", "diagnose_files"]
 
 DIAGNOSIS_SAMPLES = 64  # configurations for the FK evidence (residuals, parser cross-checks)
 
 
-def _describe(loaded, describe, kind: str, refusals: list[dict]) -> ModelDesc:
+def _describe(loaded, describe, kind: str, refusals: list) -> ModelDesc:
     try:
         return describe(loaded.text)
     except (ValueError, RuntimeError) as err:
@@ -37,14 +37,14 @@ def _describe(loaded, describe, kind: str, refusals: list[dict]) -> ModelDesc:
         refusals.append(finding("parser_refused", f"{lib} refuses the {kind.upper()}: {str(err).strip().splitlines()[-1]}",
                                 {"file": kind.upper(), "library": lib}))
     if kind == "urdf":  # second opinion: MuJoCo's URDF import
-        from ..backends.mujoco_ import urdf_for_mujoco
+        from kinverify.backends.mujoco_ import urdf_for_mujoco
 
         try:
             desc = describe_mjcf(urdf_for_mujoco(loaded.text))
             return dataclasses.replace(desc, kind="urdf", library="mujoco (URDF import)")
         except ValueError as err:
             raise InputError(f"--urdf: no library can load {loaded.path}: {str(err).strip().splitlines()[0]}") from None
-    raise InputError(f"--mjcf: MuJoCo cannot load {loaded.path}: {refusals[-1]['message']}")
+    raise InputError(f"--mjcf: MuJoCo cannot load {loaded.path}: {refusals[-1].message}")
 
 
 def _limits(u: ModelDesc, m: ModelDesc, matching: Matching):
@@ -65,7 +65,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
     """Everything file mode knows before the kinematics pipeline runs: loaded files, descriptions,
     matching, sources, the backends that loaded, and the findings."""
     U, M = load_urdf(urdf), load_mjcf(mjcf)
-    refusals: list[dict] = []
+    refusals: list = []
     u = _describe(U, describe_urdf, "urdf", refusals)
     m = _describe(M, describe_mjcf, "mjcf", refusals)
     matching = match(u, m, joints, frames)
@@ -95,7 +95,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
     other = next((n for n in MJCF_SIDE if n in backends), None)
     if ref is None or other is None:
         side = "URDF" if ref is None else "MJCF"
-        raise InputError(f"no backend could load the {side}: " + "; ".join(f["message"] for f in refusals))
+        raise InputError(f"no backend could load the {side}: " + "; ".join(f.message for f in refusals))
 
     q = sample_configurations(lower, upper, revolute, DIAGNOSIS_SAMPLES, seed=options.seed if options else 0)
     t_base = base_transform(u, m, matching)
@@ -136,7 +136,7 @@ def _mimic_hint(urdf_text: str, message: str) -> str:
 
 def verify_files(urdf: str, mjcf: str, options, frames=(), joints=(), command: str = ""):
     """File mode of ``kinverify verify``: the kinematics checks plus the diagnosis, as a VerifyResult."""
-    from ..verify import VerifyOptions, verify
+    from kinverify.run import VerifyOptions, verify
 
     options = options or VerifyOptions()
     diag = diagnose_files(urdf, mjcf, options, frames, joints)
@@ -146,8 +146,7 @@ def verify_files(urdf: str, mjcf: str, options, frames=(), joints=(), command: s
     opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]], suites=["kinematics"])
     result = verify(sources, opts, extra_backends=extra, source=f"{urdf} + {mjcf}", command=command)
     result.sections["filemode"] = diag["section"]
-    result.findings = diag["findings"]
-    result.notes += [f"{f['kind']}: {f['message']}" for f in diag["findings"]]
+    result.findings = diag["findings"] + result.findings
     result.notes += diag["notes"]
     result.model_info["files"] = {"urdf": urdf, "mjcf": mjcf}
     result.model_info["joint_pairs"] = [list(p) for p in diag["matching"].joints]

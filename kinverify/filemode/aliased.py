@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..backends.base import BackendBase, Evaluation
+from kinverify.backends.base import BackendBase, Evaluation
 
 
 class AliasedBackend(BackendBase):

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..transforms import geodesic_distance, invert_transform
-from .describe import ModelDesc
-from .diagnose import ANG_TOL, POS_TOL, finding
+from kinverify.model.transforms import geodesic_distance, invert_transform
+from kinverify.filemode.describe import ModelDesc
+from kinverify.filemode.diagnose import ANG_TOL, POS_TOL, finding
 
 URDF_SIDE = ("pinocchio-urdf", "yourdfpy", "mujoco-urdf")
 MJCF_SIDE = ("mujoco", "pinocchio-mjcf")

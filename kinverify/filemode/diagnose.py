@@ -13,11 +13,12 @@ import math
 
 import numpy as np
 
-from ..transforms import invert_transform, rotation_angle, rotation_vee
-from .describe import ModelDesc
-from .geometry import angle_between, apply, composite_inertials, frame_pose, line_distance, pose_difference, rpy_string, to_frame
-from .match import Matching
-from .rounding import rounded_constants, rounded_from
+from kinverify.model.transforms import invert_transform, rotation_angle, rotation_vee
+from kinverify.suites.base import Finding
+from kinverify.filemode.describe import ModelDesc
+from kinverify.filemode.geometry import angle_between, apply, composite_inertials, frame_pose, line_distance, pose_difference, rpy_string, to_frame
+from kinverify.filemode.match import Matching
+from kinverify.filemode.rounding import rounded_constants, rounded_from
 
 POS_TOL = 1e-9  # m
 ANG_TOL = 1e-9  # rad
@@ -25,8 +26,32 @@ REL_TOL = 1e-6  # masses, damping...
 INERTIA_REL = 1e-5  # MuJoCo diagonalises inertia tensors to about 1e-6 relative
 
 
-def finding(kind: str, message: str, values: dict | None = None, **names) -> dict:
-    return {"kind": kind, **{k: v for k, v in names.items() if v is not None}, "values": values or {}, "message": message}
+# Severity of each kind of finding. Errors fail the verdict unless accepted: what the two files
+# say differently about the robot's kinematics, limits, inertia or joint dynamics. Warnings: a
+# file or value one library cannot read, a quantity one format cannot express. Infos: rounding,
+# conventions and known library quirks that change nothing physical.
+SEVERITY = {
+    "base_transform": "error", "disagreement_starts": "error", "axis_sign_flip": "error", "axis_direction": "error",
+    "axis_position": "error", "zero_offset": "error", "frame_offset": "error", "type_difference": "error",
+    "limit_difference": "error", "limits_degrees_as_radians": "error", "mass_difference": "error",
+    "com_difference": "error", "inertia_difference": "error", "inertia_rotated": "error", "damping_difference": "error",
+    "friction_difference": "error", "effort_difference": "error", "armature_difference": "error",
+    "unmatched_joint": "error",
+    "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
+    "velocity_difference": "warning",
+    "frame_convention": "info", "rounding": "info", "parser_quirk": "info",
+}
+SUBJECTS = ("joint", "link", "frame")
+
+
+def finding(kind: str, message: str, values: dict | None = None, **names) -> Finding:
+    """A :class:`Finding` of ``kind`` (severity from ``SEVERITY``); ``names``: ``joint``/``link``/
+    ``frame`` (URDF name) and ``mjcf_joint``/``mjcf_link``/``mjcf_frame`` (its MJCF name)."""
+    values = dict(values or {})
+    subject_type = next((k for k in SUBJECTS if names.get(k) is not None), "file" if "file" in values else "model")
+    subject = names.get(subject_type) or str(values.get("file", ""))
+    other = names.get(f"mjcf_{subject_type}") or ""
+    return Finding(kind, SEVERITY.get(kind, "warning"), message, subject, subject_type, other, values=values)
 
 
 def base_transform(u: ModelDesc, m: ModelDesc, matching: Matching) -> np.ndarray:
@@ -249,8 +274,8 @@ def diagnose_frames(u: ModelDesc, m: ModelDesc, matching: Matching) -> list[dict
 def diagnose_rounding(findings: list[dict], urdf_text: str, mjcf_text: str, u: ModelDesc, m: ModelDesc, matching: Matching) -> list[dict]:
     """Rounded constants (1.5708 for π/2) in the origin of a joint that disagrees."""
     kinds = ("axis_direction", "axis_position", "zero_offset", "frame_offset", "frame_convention")
-    blamed = {f.get("joint") or f.get("frame") for f in findings if f["kind"] in kinds}
-    blamed |= {f.get("mjcf_frame") for f in findings if f["kind"] in kinds}
+    blamed = {f.subject for f in findings if f.kind in kinds}
+    blamed |= {f.other for f in findings if f.kind in kinds and f.subject_type == "frame"}
     body_to_joint = {m.joint(b).child: a for a, b, _ in matching.joints}
     out, seen = [], set()
     for side, where, value, exact, decimals in rounded_constants(urdf_text, mjcf_text):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..transforms import geodesic_distance, invert_transform
-from .describe import ModelDesc
+from kinverify.model.transforms import geodesic_distance, invert_transform
+from kinverify.filemode.describe import ModelDesc
 
 
 def apply(t: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -68,6 +68,6 @@ def to_frame(t_world_frame: np.ndarray, com: np.ndarray, inertia: np.ndarray) ->
 
 
 def rpy_string(rot: np.ndarray) -> list[float]:
-    from ..transforms import matrix_to_rpy
+    from kinverify.model.transforms import matrix_to_rpy
 
     return [float(v) for v in matrix_to_rpy(rot)]

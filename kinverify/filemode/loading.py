@@ -18,7 +18,7 @@ from pathlib import Path
 import defusedxml
 import defusedxml.ElementTree as DET
 
-from ..errors import InputError
+from kinverify.errors import InputError
 
 
 @dataclass(frozen=True)

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, UnknownNameError
-from .describe import ModelDesc
+from kinverify.errors import InputError, UnknownNameError
+from kinverify.filemode.describe import ModelDesc
 
 
 @dataclass

@@ -4,7 +4,7 @@ Both files use the same names: URDF link = MJCF body, URDF joint = MJCF joint, a
 URDF link (on a fixed joint ``<tool>_mount``) and an MJCF site.
 """
 
-from .mjcf import generate_mjcf
-from .urdf import generate_urdf
+from kinverify.generate.mjcf import generate_mjcf
+from kinverify.generate.urdf import generate_urdf
 
 __all__ = ["generate_mjcf", "generate_urdf"]

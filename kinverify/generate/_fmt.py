@@ -6,7 +6,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ..transforms import matrix_to_rpy
+from kinverify.model.transforms import matrix_to_rpy
 
 PALETTE = ("0.2 0.2 0.2 1", "0.8 0.2 0.2 1", "0.2 0.2 0.8 1", "0.2 0.6 0.2 1", "0.8 0.6 0.1 1", "0.5 0.2 0.6 1")
 

@@ -13,10 +13,10 @@ marker, sensors, actuators), with the seed's defects fixed:
 
 from __future__ import annotations
 
-from ..kinematics import home_tool_position
-from ..spec import ArmSpec, Geometry, Link
-from ..transforms import matrix_to_quat, rpy_to_matrix
-from ._fmt import attr, colour, nums
+from kinverify.model.kinematics import home_tool_position
+from kinverify.model.spec import ArmSpec, Geometry, Link
+from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
+from kinverify.generate._fmt import attr, colour, nums
 
 TIMESTEP = 0.001  # s, the seed's
 

@@ -7,8 +7,8 @@ URDF cannot carry joint armature: it is left out here and reported by the dynami
 
 from __future__ import annotations
 
-from ..spec import ArmSpec, Geometry, Link, Origin
-from ._fmt import attr, colour, nums, segment_placement
+from kinverify.model.spec import ArmSpec, Geometry, Link, Origin
+from kinverify.generate._fmt import attr, colour, nums, segment_placement
 
 
 def _origin(origin: Origin) -> str:

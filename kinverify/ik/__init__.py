@@ -7,11 +7,11 @@
 - :mod:`kinverify.ik.suite`: the ``ik`` property suite of ``kinverify verify``.
 """
 
-from .closed_form import Arm3ClosedForm, ClosedFormResult
-from .frame_model import FrameModel, pose_errors, residuals
-from .lm import IKOptions, IKSolutions, solve_lm
-from .seed_pinv import solve_seed_pinv
-from .targets import reach_bound, reachable_targets, unreachable_targets
+from kinverify.ik.closed_form import Arm3ClosedForm, ClosedFormResult
+from kinverify.ik.frame_model import FrameModel, pose_errors, residuals
+from kinverify.ik.lm import IKOptions, IKSolutions, solve_lm
+from kinverify.ik.seed_pinv import solve_seed_pinv
+from kinverify.ik.targets import reach_bound, reachable_targets, unreachable_targets
 
 __all__ = ["Arm3ClosedForm", "ClosedFormResult", "FrameModel", "IKOptions", "IKSolutions", "pose_errors",
            "reach_bound", "reachable_targets", "residuals", "solve_lm", "solve_seed_pinv", "unreachable_targets"]

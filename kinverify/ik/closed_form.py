@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from kinverify.errors import InputError
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..report.plots import RC, figure_entry, new_figure
+from kinverify.report.plots import RC, figure_entry, new_figure
 
 MIN_MS = 1e-6  # a solve time of 0 (timer resolution) is drawn at this value on the log axis
 BINS = 30

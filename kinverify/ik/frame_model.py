@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from ..errors import InputError, UnknownNameError
-from ..transforms import rotation_angle, rotation_log
+from kinverify.errors import InputError, UnknownNameError
+from kinverify.model.transforms import rotation_angle, rotation_log
 
 
 class FrameModel:
@@ -29,7 +29,7 @@ class FrameModel:
         self.index = backend.frames.index(frame)
         self.dof = len(backend.joint_names)
         self.revolute = _revolute(backend) if revolute is None else np.asarray(revolute, bool)
-        from ..backends.analytic import AnalyticBackend
+        from kinverify.backends.analytic import AnalyticBackend
 
         # numpy backends evaluate a whole batch per call: solve their rows in lock-step
         self.batched = type(backend).__module__.endswith("backends.analytic")
@@ -57,7 +57,7 @@ class FrameModel:
         return ev.poses[:, self.index], ev.jacobians[:, self.index]
 
     def _analytic(self, q):
-        from ..kinematics import frame_poses, geometric_jacobians
+        from kinverify.model.kinematics import frame_poses, geometric_jacobians
 
         spec = self.backend.spec
         poses = frame_poses(spec, q)

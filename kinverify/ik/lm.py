@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .frame_model import FrameModel, pose_error_single, pose_errors, residuals
+from kinverify.ik.frame_model import FrameModel, pose_error_single, pose_errors, residuals
 
 
 _STREAM = 0x1C  # separates IK starts from uniform_configurations(seed)

@@ -12,8 +12,8 @@ import time
 
 import numpy as np
 
-from .frame_model import FrameModel, residuals
-from .lm import IKSolutions
+from kinverify.ik.frame_model import FrameModel, residuals
+from kinverify.ik.lm import IKSolutions
 
 STEP, TOL, MAX_ITER = 0.1, 1e-3, 100
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sampling import uniform_configurations
+from kinverify.pipeline.sampling import uniform_configurations
 
 
 def reachable_targets(backend, frame: str, lower, upper, n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -21,14 +21,14 @@ def reach_bound(spec, frame: str) -> tuple[np.ndarray, float]:
     """``(centre, radius)``: no configuration puts ``frame`` farther than ``radius`` from ``centre``
     (the first joint's origin). Radius = the sum of the offsets after the first joint along the
     chain to ``frame`` plus each prismatic joint's largest travel."""
-    from ..kinematics import frame_link_indices
+    from kinverify.model.kinematics import frame_link_indices
 
     first = spec.base_origin.transform @ spec.joints[0].origin.transform
     link = int(frame_link_indices(spec)[spec.frame_names.index(frame)])  # frame rides on link `link`
     tools = {t.name: t for t in spec.tools}
     tool_offset = float(np.linalg.norm(tools[frame].origin.transform[:3, 3])) if frame in tools else 0.0
     if link == 0:  # rides on the base: it never moves
-        from ..kinematics import frame_poses
+        from kinverify.model.kinematics import frame_poses
 
         return frame_poses(spec, np.zeros(spec.dof))[0, spec.frame_names.index(frame), :3, 3], 0.0
     radius = sum(float(np.linalg.norm(j.origin.transform[:3, 3])) for j in spec.joints[1:link])

@@ -16,15 +16,16 @@ from typing import Any
 from jinja2 import Environment, PackageLoader
 from markupsafe import Markup
 
-from ..results import Check, VerifyResult
-from .plots import error_distributions_svg, workspace_svg
-from .writer import write_atomic
+from kinverify.results import VerifyResult
+from kinverify.suites.base import SEVERITIES, Check, Section, Table
+from kinverify.report.plots import error_distributions_svg, workspace_svg
+from kinverify.report.writer import write_atomic
 
 IMAGE_MIMES = {"image/svg+xml", "image/png", "image/gif", "image/jpeg", "image/webp"}
 SPECIAL_SECTIONS = {"diagnosis"}  # rendered inside the failing-check blocks, not as a section
 # Page order of sections and versions; anything else follows alphabetically. Fixed here (not
 # taken from dict order) so a result re-read from its JSON (sorted keys) renders identically.
-SECTION_ORDER = ("pictures", "workspace", "ik", "tracking", "dynamics")
+SECTION_ORDER = ("filemode", "pictures", "workspace", "ik", "tracking", "dynamics")
 VERSION_ORDER = ("kinverify", "python", "numpy", "pin", "mujoco", "yourdfpy")
 
 
@@ -62,7 +63,8 @@ def failing_pairs(result: VerifyResult) -> list[dict[str, Any]]:
     disagreement starts, worst configurations and the diagnosis hint."""
     revolute = _revolute(result)
     rank = {f: i for i, f in enumerate(result.frames)}
-    diagnosis = {tuple(p["backends"]): p for p in (result.sections.get("diagnosis") or {}).get("pairs", [])}
+    diag_section = result.sections.get("diagnosis")
+    diagnosis = {tuple(p["backends"]): p for p in (diag_section.data.get("pairs", []) if diag_section else [])}
     pairs: dict[tuple, list[Check]] = {}
     for c in result.checks:
         pairs.setdefault(c.backends, []).append(c)
@@ -112,14 +114,10 @@ def summary_rows(result: VerifyResult) -> list[Check]:
     return sorted(result.checks, key=lambda c: c.passed)
 
 
-def _figures(section: dict) -> list[dict[str, Any]]:
+def _figures(section: Section) -> list[dict[str, Any]]:
     """Images of a section; plots (SVG) get a full row, pictures and animations share one."""
-    figs = []
-    for f in section.get("figures") or []:
-        if isinstance(f, dict) and f.get("mime") in IMAGE_MIMES and isinstance(f.get("data"), str):
-            figs.append({"title": f.get("title", ""), "caption": f.get("caption", ""), "wide": f["mime"] == "image/svg+xml",
-                         "src": f"data:{f['mime']};base64,{f['data']}"})
-    return figs
+    return [{"title": f.title, "caption": f.caption, "wide": f.mime == "image/svg+xml", "src": f"data:{f.mime};base64,{f.data}"}
+            for f in section.figures if f.mime in IMAGE_MIMES]
 
 
 def cell(value) -> str:
@@ -134,11 +132,11 @@ def cell(value) -> str:
     return "" if value is None else str(value)
 
 
-def _table(t: dict) -> dict[str, Any]:
+def _table(t: Table) -> dict[str, Any]:
     rows = [[{"text": cell(v), "num": isinstance(v, (int, float)) and not isinstance(v, bool),
               "long": isinstance(v, str) and len(v) > 60} for v in (row if isinstance(row, (list, tuple)) else [row])]
-            for row in t.get("rows") or []]
-    return {"title": t.get("title", ""), "columns": list(t.get("columns") or []), "rows": rows}
+            for row in t.rows]
+    return {"title": t.title, "columns": list(t.columns), "rows": rows}
 
 
 def _is_alert(note: str) -> bool:
@@ -150,20 +148,17 @@ def _is_alert(note: str) -> bool:
 def run_notes(result: VerifyResult) -> list[str]:
     """The run's notes without those the page shows elsewhere (file-mode findings, which have
     their own table, and notes a section repeats)."""
-    shown = {f"{f.get('kind')}: {f.get('message')}" for f in result.findings if isinstance(f, dict)}
+    shown = {f"{f.kind}: {f.message}" for f in result.findings}
     for sec in result.sections.values():
-        if isinstance(sec, dict):
-            shown |= {str(n) for n in sec.get("notes") or []}
+        shown |= set(sec.notes)
     return [n for n in result.notes if n not in shown]
 
 
 def findings_summary(result: VerifyResult) -> list[tuple[str, int]]:
-    """File-mode findings counted per kind, in the order they were found."""
-    counts: dict[str, int] = {}
-    for f in result.findings:
-        if isinstance(f, dict):
-            counts[str(f.get("kind", "finding"))] = counts.get(str(f.get("kind", "finding")), 0) + 1
-    return list(counts.items())
+    """Findings counted per severity (errors first)."""
+    counts = {s: sum(f.severity == s and not f.accepted for f in result.findings) for s in SEVERITIES}
+    accepted = sum(f.accepted for f in result.findings)
+    return [(s, n) for s, n in counts.items() if n] + ([("accepted", accepted)] if accepted else [])
 
 
 def sections(result: VerifyResult) -> list[dict[str, Any]]:
@@ -171,12 +166,12 @@ def sections(result: VerifyResult) -> list[dict[str, Any]]:
     out = []
     for name in _ordered(result.sections, SECTION_ORDER):
         sec = result.sections[name]
-        if name in SPECIAL_SECTIONS or not isinstance(sec, dict):
+        if name in SPECIAL_SECTIONS:
             continue
-        svg = workspace_svg(sec) if name == "workspace" else None
-        tables = [_table(t) for t in sec.get("tables") or [] if isinstance(t, dict)]
-        notes = [str(n) for n in sec.get("notes") or []]
-        out.append({"id": name, "title": sec.get("title") or name, "summary": sec.get("summary", ""),
+        svg = workspace_svg(sec.data) if name == "workspace" else None
+        tables = [_table(t) for t in sec.tables]
+        notes = list(sec.notes)
+        out.append({"id": name, "title": sec.title or name, "summary": sec.summary,
                     "svg": Markup(svg) if svg else None, "figures": _figures(sec), "tables": tables,
                     "alerts": [n for n in notes if _is_alert(n)], "notes": [n for n in notes if not _is_alert(n)]})
     return out

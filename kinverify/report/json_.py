@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..errors import InputError
-from ..results import SCHEMA_VERSION, VerifyResult
-from .writer import write_atomic
+from kinverify.errors import InputError
+from kinverify.results import SCHEMA_VERSION, VerifyResult
+from kinverify.report.writer import write_atomic
 
 
 def result_json(result: VerifyResult) -> str:

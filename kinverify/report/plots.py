@@ -12,8 +12,10 @@ import io
 
 import numpy as np
 
-from ..results import VerifyResult
-from ..stats import HIST_EDGES
+from kinverify.suites.base import Figure
+
+from kinverify.results import VerifyResult
+from kinverify.pipeline.stats import HIST_EDGES
 
 _RC = {"svg.fonttype": "path", "svg.hashsalt": "kinverify", "font.size": 8, "axes.titlesize": 9}
 RC = _RC  # for suites drawing their own section figures
@@ -29,11 +31,11 @@ def _svg(fig) -> str:
     return text[text.index("<svg"):]
 
 
-def figure_entry(fig, title: str, caption: str) -> dict:
-    """A matplotlib figure as a section ``figures`` entry (schema in results.py): deterministic
+def figure_entry(fig, title: str, caption: str) -> Figure:
+    """A matplotlib figure as a section :class:`~kinverify.suites.base.Figure`: deterministic
     SVG, base64. Draw it inside ``matplotlib.rc_context(RC)`` so text becomes paths."""
     data = base64.b64encode(_svg(fig).encode("utf-8")).decode("ascii")
-    return {"title": title, "mime": "image/svg+xml", "data": data, "caption": caption}
+    return Figure(title, "image/svg+xml", data, caption)
 
 
 def new_figure(**kwargs):

@@ -16,10 +16,10 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from ..baseline_check import BaselineCheck
-from ..modeldiff import ModelDiff
-from ..specdiff import ParamChange
-from .writer import write_atomic
+from kinverify.regression.check import BaselineCheck
+from kinverify.regression.modeldiff import ModelDiff
+from kinverify.regression.specdiff import ParamChange
+from kinverify.report.writer import write_atomic
 
 
 def _num(x: float) -> str:

@@ -6,7 +6,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from ..errors import InputError
+from kinverify.errors import InputError
 
 
 def _umask() -> int:

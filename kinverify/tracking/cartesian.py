@@ -20,13 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..ik import Arm3ClosedForm, FrameModel, IKOptions, residuals, solve_lm
-from ..ik.lm import wrappable
-from ..kinematics import frame_poses
-from ..spec import ArmSpec
-from ..transforms import make_transform, rpy_to_matrix
-from .quintic import Plan, through_waypoints
+from kinverify.errors import InputError
+from kinverify.ik import Arm3ClosedForm, FrameModel, IKOptions, residuals, solve_lm
+from kinverify.ik.lm import wrappable
+from kinverify.model.kinematics import frame_poses
+from kinverify.model.spec import ArmSpec
+from kinverify.model.transforms import make_transform, rpy_to_matrix
+from kinverify.tracking.quintic import Plan, through_waypoints
 
 IK_TOL = 1e-9  # m and rad: a candidate counts as a solution within this residual
 EXTRA_STARTS = 8  # random-start solves besides the one from the previous configuration
@@ -111,7 +111,7 @@ def default_frame(spec: ArmSpec) -> str:
 
 def ik_model(spec: ArmSpec, backend: str | None = None, frame: str | None = None) -> FrameModel:
     """The IK view of ``frame`` on ``backend`` (``pinocchio-urdf`` when available, else ``analytic``)."""
-    from ..backends import ModelSources, available_backends, build_backend
+    from kinverify.backends import ModelSources, available_backends, build_backend
 
     registry = available_backends()
     name = backend or ("pinocchio-urdf" if registry["pinocchio-urdf"].available else "analytic")
@@ -237,16 +237,16 @@ def end_of_motion_index(run) -> int:
     return min(len(run.q) - 1, int(round(run.motion_end / run.plan.dt)))
 
 
-def track_waypoints(spec: ArmSpec, urdf: str, cplan: CartesianPlan, hold_s: float, controllers):
+def track_waypoints(spec: ArmSpec, urdf: str, cplan: CartesianPlan, hold_s: float, controllers, options=None):
     """Execute a multi-segment Cartesian plan under each controller: the same checks and
     section table as :func:`~.suite.track` (which plans one segment), without figures."""
-    from .quintic import hold
-    from .suite import Trajectory, track
+    from kinverify.tracking.quintic import hold
+    from kinverify.tracking.track import Trajectory, track
 
     motion = cplan.plan(0.001)
     trajectory = Trajectory(cplan.q_start, cplan.choices[-1].q, motion.duration, hold_s)
-    result = track(spec, urdf, trajectory, controllers, plots=False, render=False, plan=hold(motion, hold_s))
-    result.section["title"] = "Trajectory tracking through Cartesian waypoints"
-    result.section["summary"] = (f"{len(cplan.choices)} waypoints for {cplan.frame} solved by IK ({cplan.backend}), "
+    result = track(spec, urdf, trajectory, controllers, plots=False, render=False, plan=hold(motion, hold_s), options=options)
+    result.section.title = "Trajectory tracking through Cartesian waypoints"
+    result.section.summary = (f"{len(cplan.choices)} waypoints for {cplan.frame} solved by IK ({cplan.backend}), "
                                  f"quintic segments of {', '.join(f'{d:g}' for d in cplan.durations)} s, then a {hold_s:g} s hold")
     return result

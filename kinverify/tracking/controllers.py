@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
-from ..generate import generate_mjcf
-from ..spec import ArmSpec
-from .models import PinocchioDynamics
-from .quintic import Plan
-from .seed import SeedPID, seed_mjcf
+from kinverify.errors import InputError
+from kinverify.generate import generate_mjcf
+from kinverify.model.spec import ArmSpec
+from kinverify.tracking.models import PinocchioDynamics
+from kinverify.tracking.quintic import Plan
+from kinverify.tracking.seed import SeedPID, seed_mjcf
 
 CONTROLLERS = ("computed-torque", "pd+gravity", "position", "seed-pid")
 OMEGA = {"computed-torque": 50.0, "pd+gravity": 30.0, "position": 30.0}  # closed-loop bandwidth [rad/s]

@@ -13,10 +13,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from ..spec import ArmSpec
-from .controllers import make_controller
-from .models import MujocoDynamics, PinocchioDynamics
-from .quintic import Plan
+from kinverify.model.spec import ArmSpec
+from kinverify.tracking.controllers import make_controller
+from kinverify.tracking.models import MujocoDynamics, PinocchioDynamics
+from kinverify.tracking.quintic import Plan
 
 SPEED_LIMIT = 1e4  # rad/s or m/s: a state this fast has blown up
 

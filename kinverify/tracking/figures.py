@@ -17,7 +17,9 @@ import sys
 
 import numpy as np
 
-from .execute import Run
+from kinverify.suites.base import Figure
+
+from kinverify.tracking.execute import Run
 
 MAX_POINTS = 400  # per curve, to keep the SVG small
 
@@ -54,8 +56,8 @@ def joint_plot(run: Run, joint_names) -> dict:
     fig.suptitle(f"{run.controller}: joint angles and speeds")
     data = _svg(fig)
     plt.close(fig)
-    return {"title": f"Joint angles and speeds under {run.controller}", "mime": "image/svg+xml", "data": data,
-            "caption": "executed (solid) vs planned (dashed) joint angles, and executed joint speeds"}
+    return Figure(f"Joint angles and speeds under {run.controller}", "image/svg+xml", data,
+                  "executed (solid) vs planned (dashed) joint angles, and executed joint speeds")
 
 
 def error_plot(runs: list[Run]) -> dict:
@@ -76,8 +78,8 @@ def error_plot(runs: list[Run]) -> dict:
     ax.legend(fontsize=7)
     data = _svg(fig)
     plt.close(fig)
-    return {"title": "Tracking error over time", "mime": "image/svg+xml", "data": data,
-            "caption": "joint error norm per controller (log scale); grey line: end of motion"}
+    return Figure("Tracking error over time", "image/svg+xml", data,
+                  "joint error norm per controller (log scale); grey line: end of motion")
 
 
 FPS = 8.0  # frames per second of the animation (the run itself is simulated at 1 kHz)
@@ -139,7 +141,7 @@ def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) ->
     runs, clips = [r for r, c in zip(runs, clips) if len(c)], [c for c in clips if len(c)]
     if not runs:
         return [], "rendering unavailable: no finite executed states to show"
-    from ..mujoco_gl import render_in_child
+    from kinverify.mujoco_gl import render_in_child
 
     request = {"mjcf": mjcf, "qadr": [int(a) for a in qadr], "clips": [c.tolist() for c in clips],
                "fps": fps, "size": list(size)}
@@ -148,9 +150,9 @@ def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) ->
         return [], reason
     if len(gifs) != len(runs) or not all(g.startswith(b"GIF8") for g in gifs):
         return [], "rendering unavailable: the renderer returned no GIF"
-    return [{"title": f"Execution under {run.controller}", "mime": "image/gif", "data": base64.b64encode(gif).decode("ascii"),
-             "caption": f"MuJoCo offscreen rendering of the executed joint states, a frame every {1 / fps:.3g} s of "
-                        f"simulated time ({len(clip)} frames, {size[0]}×{size[1]} px, loops)"}
+    return [Figure(f"Execution under {run.controller}", "image/gif", base64.b64encode(gif).decode("ascii"),
+                   f"MuJoCo offscreen rendering of the executed joint states, a frame every {1 / fps:.3g} s of "
+                   f"simulated time ({len(clip)} frames, {size[0]}×{size[1]} px, loops)")
             for run, clip, gif in zip(runs, clips, gifs)], ""
 
 
@@ -161,7 +163,7 @@ def animation(run: Run, mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[d
 
 
 def _main() -> int:  # child process: JSON request on stdin, JSON list of base64 GIFs on stdout
-    from .. import mujoco_gl
+    from kinverify import mujoco_gl
 
     if mujoco_gl.IMPORT_ERROR:  # kinverify imported MuJoCo without GL (see mujoco_gl.py): say why, not what broke
         gl = os.environ.get("MUJOCO_GL", "")

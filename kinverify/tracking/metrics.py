@@ -11,9 +11,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..kinematics import frame_poses
-from ..spec import ArmSpec
-from .execute import Run
+from kinverify.model.kinematics import frame_poses
+from kinverify.model.spec import ArmSpec
+from kinverify.tracking.execute import Run
 
 SETTLE_BAND = 1e-3  # rad: settled once ||e|| stays below this
 RESIDUAL_DELAY = 0.2  # s after the end of the motion from which the residual speed is measured

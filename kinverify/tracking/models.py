@@ -5,7 +5,11 @@
   from the MJCF) and reported as such. Pinocchio 4's ``crba``/``rnea``/``aba`` include
   ``model.armature``; none of them applies ``model.damping`` (read from the URDF's
   ``<dynamics damping>``), which is added here as the passive force ``-D·q̇``.
-- :class:`MujocoDynamics`: MuJoCo on the generated **MJCF**.
+- :class:`MujocoDynamics`: MuJoCo on the generated **MJCF**. With ``rigid=True`` (what the
+  dynamics comparison uses) MuJoCo computes rigid-body dynamics plus joint damping only: its
+  constraints (contacts, joint limits, ``frictionloss``, equalities), springs and actuators are
+  disabled, because Pinocchio models none of them and ``mj_inverse``/``mj_forward`` would
+  otherwise include their forces. Coulomb friction is then compared as a parameter.
 
 Native conventions: Pinocchio's ``q``/``v`` follow ``joint.idx_q``/``idx_v``; MuJoCo's follow
 ``jnt_qposadr``/``jnt_dofadr``. Both are permuted to the spec's joint order here.
@@ -17,7 +21,7 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from ..errors import BackendError, UnknownNameError
+from kinverify.errors import BackendError, UnknownNameError
 
 
 class PinocchioDynamics:
@@ -82,13 +86,19 @@ class PinocchioDynamics:
         return np.asarray(q) + dt * v1, v1
 
 
+RIGID_BODY_DISABLED = ("mjDSBL_CONSTRAINT", "mjDSBL_SPRING", "mjDSBL_ACTUATION")
+
+
 class MujocoDynamics:
-    def __init__(self, mjcf: str, joint_names) -> None:
+    def __init__(self, mjcf: str, joint_names, rigid: bool = False) -> None:
         try:
             self.model = mujoco.MjModel.from_xml_string(mjcf)
         except ValueError as err:
             raise BackendError("mujoco", f"cannot load MJCF: {str(err).strip().splitlines()[0]}") from None
         m = self.model
+        if rigid:
+            for flag in RIGID_BODY_DISABLED:
+                m.opt.disableflags |= int(getattr(mujoco.mjtDisableBit, flag))
         ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joint_names]
         if min(ids) < 0:
             raise BackendError("mujoco", f"MJCF lacks joint {joint_names[ids.index(min(ids))]!r}")
@@ -140,3 +150,15 @@ class MujocoDynamics:
         self.data.qacc[self.vadr] = a
         mujoco.mj_inverse(self.model, self.data)
         return self.data.qfrc_inverse[self.vadr].copy()
+
+    def forward(self, q, v, tau) -> np.ndarray:
+        """``mj_forward``'s continuous-time acceleration under joint forces ``tau`` (as
+        ``qfrc_applied``) and the passive damping force."""
+        d = self.data
+        d.qfrc_applied[:] = 0.0
+        d.qfrc_applied[self.vadr] = tau
+        try:
+            self._set(q, v)
+            return d.qacc[self.vadr].copy()
+        finally:
+            d.qfrc_applied[:] = 0.0

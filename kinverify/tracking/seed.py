@@ -15,10 +15,10 @@ import math
 
 import numpy as np
 
-from ..spec import ArmSpec
-from ..generate._fmt import attr, nums
-from ..generate.mjcf import geom_shape_attributes
-from ..transforms import matrix_to_quat, rpy_to_matrix
+from kinverify.model.spec import ArmSpec
+from kinverify.generate._fmt import attr, nums
+from kinverify.generate.mjcf import geom_shape_attributes
+from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
 
 SEED_PID = {"kp": 2.0, "ki": 0.1, "kd": 0.5}
 

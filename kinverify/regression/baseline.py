@@ -1,0 +1,261 @@
+"""Baselines: what a model computed once, saved so a later version can be checked against it.
+
+A baseline file holds a fixed seeded sample set (edge configurations first, then uniform draws
+inside the limits), the *records* computed at those configurations, the spec it was saved from
+(canonical form, so changes can be explained parameter by parameter), sha256 fingerprints of
+the spec and of the generated URDF and MJCF, and the library versions.
+
+Records are ``{"property", "frame", "sample", "value"}``: ``value`` is a number or nested list
+(metres, radians, world-aligned Jacobians ``[linear; angular]``) for configuration
+``q[sample]``. Families of records come from ``QUANTITIES``: kinematics (FK of every frame and
+its Jacobian, analytic backend), IK results for fixed targets and dynamics (mass matrix and
+gravity torques per joint, Pinocchio on the generated URDF; see
+:mod:`kinverify.baseline_quantities`). Another property is one function ``(spec, q) -> records``
+appended to ``QUANTITIES`` plus its tolerances in ``BASELINE_TOLERANCES`` (and a metric in
+``METRICS`` if the Euclidean norm of the difference is not the right one). A quantity that
+needs inputs fixed at save time (IK targets in the world) also has ``prepare(spec, q) -> data``:
+the data is stored under ``fixed[name]`` and passed back as ``compute(spec, q, data)``.
+
+Format version 2 added ``fixed`` and the ``ik`` and ``dynamics`` records; version 1 files are
+still read and checked (their FK and Jacobian records; the check says what they lack).
+
+The file is JSON with sorted keys, one configuration or record per line and floats at full
+precision (``repr``), so ``git diff`` of two baselines is readable and re-reading is exact.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from kinverify.model.canonical import sha256_text, spec_fingerprint, spec_to_canonical
+from kinverify.errors import InputError
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.kinematics import frame_poses, geometric_jacobians
+from kinverify.report.writer import write_atomic
+from kinverify.pipeline.sampling import spec_samples
+from kinverify.regression.quantities import dynamics_records, ik_fixed, ik_parse, ik_records
+from kinverify.model.spec import ArmSpec
+from kinverify.model.transforms import geodesic_distance
+from kinverify.suites.registry import properties
+from kinverify.versions import library_versions
+
+FORMAT = "kinverify-baseline"
+FORMAT_VERSION = 2  # 2: "fixed" (IK targets), ik.* and dynamics.* records
+DEFAULT_SAMPLES = 30  # uniform configurations, after the edge configurations
+DEFAULT_SEED = 0
+REQUIRED_KEYS = ("model", "spec", "fingerprints", "versions", "joint_names", "frames", "q", "records")
+
+Record = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A family of baseline records: ``compute(spec, q) -> [record, ...]``, or with ``prepare``
+    ``compute(spec, q, prepare(spec, q_at_save_time))``."""
+
+    name: str
+    compute: Callable[..., list[Record]]
+    prepare: Callable[[ArmSpec, np.ndarray], Any] | None = None
+
+
+def kinematics_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
+    """FK (position, rotation matrix) and Jacobian (linear, angular rows) of every frame."""
+    poses = frame_poses(spec, q)
+    jac = geometric_jacobians(spec, poses)
+    out: list[Record] = []
+    for prop, values in (("fk.position", poses[..., :3, 3]), ("fk.rotation", poses[..., :3, :3]),
+                         ("jacobian.linear", jac[..., :3, :]), ("jacobian.angular", jac[..., 3:, :])):
+        for f, frame in enumerate(spec.frame_names):
+            for s in range(len(q)):
+                out.append({"property": prop, "frame": frame, "sample": s, "value": values[s, f].tolist()})
+    return out
+
+
+QUANTITIES: list[Quantity] = [
+    Quantity("kinematics", kinematics_records),
+    Quantity("ik", ik_records, prepare=ik_fixed),
+    Quantity("dynamics", dynamics_records),
+]
+
+@dataclass(frozen=True)
+class Tolerance:
+    """How far a recorded quantity may move between two versions of a model, in ``unit``."""
+
+    value: float
+    unit: str
+
+
+RECORDED = ("fk.position", "fk.rotation", "jacobian.linear", "jacobian.angular", "dynamics.mass_matrix", "dynamics.gravity")
+BASELINE_TOLERANCES: dict[str, Tolerance] = {
+    # the verify tolerances of the registry for what both record
+    **{name: Tolerance(p.tolerance, p.unit) for name, p in properties().items() if name in RECORDED},
+    # the solver stops at 1e-12 m / rad of pose error, so its solution is settled far below 1e-8
+    "ik.q": Tolerance(1e-8, "rad"),
+    "ik.error": Tolerance(1e-9, "m, rad"),
+}
+
+
+def _geodesic(old, new) -> float:
+    return float(geodesic_distance(np.asarray(old, float)[None], np.asarray(new, float)[None])[0])
+
+
+METRICS: dict[str, Callable[[Any, Any], float]] = {"fk.rotation": _geodesic}
+
+
+def record_delta(prop: str, old, new) -> float:
+    """Size of the change of one record's value: the property's metric, else the Euclidean
+    (Frobenius) norm of the difference; ``inf`` when the shapes differ."""
+    a, b = np.asarray(old, float), np.asarray(new, float)
+    if a.shape != b.shape:
+        return float("inf")
+    if prop in METRICS:
+        return METRICS[prop](a, b)
+    return float(np.linalg.norm(a - b))
+
+
+def prepare_fixed(spec: ArmSpec, q: np.ndarray) -> dict[str, Any]:
+    """The save-time inputs of the quantities that have a ``prepare``."""
+    return {qt.name: qt.prepare(spec, q) for qt in QUANTITIES if qt.prepare is not None}
+
+
+def compute_records(spec: ArmSpec, q: np.ndarray, fixed: dict[str, Any] | None = None) -> list[Record]:
+    """Every quantity's records at ``q``. ``fixed``: the baseline's save-time inputs (default: made
+    now from ``spec``); a quantity with ``prepare`` whose input is not in ``fixed`` is skipped."""
+    fixed = prepare_fixed(spec, q) if fixed is None else fixed
+    out: list[Record] = []
+    for quantity in QUANTITIES:
+        if quantity.prepare is None:
+            out += quantity.compute(spec, q)
+        elif quantity.name in fixed:
+            out += quantity.compute(spec, q, fixed[quantity.name])
+    return out
+
+
+def build_baseline(spec: ArmSpec, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> dict[str, Any]:
+    """The baseline data of ``spec``: samples, records, spec, fingerprints, versions."""
+    if samples < 0:
+        raise InputError(f"--samples must be >= 0, got {samples}")
+    q = spec_samples(spec, samples, seed)
+    fixed = prepare_fixed(spec, q)
+    return {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "model": spec.name,
+        "seed": seed,
+        "samples": samples,
+        "joint_names": list(spec.joint_names),
+        "frames": list(spec.frame_names),
+        "spec": spec_to_canonical(spec),
+        "fingerprints": fingerprints(spec),
+        "versions": library_versions(),
+        "quantities": [qt.name for qt in QUANTITIES],
+        "q": q.tolist(),
+        "fixed": fixed,
+        "records": compute_records(spec, q, fixed),
+    }
+
+
+def fingerprints(spec: ArmSpec) -> dict[str, str]:
+    return {"spec": spec_fingerprint(spec), "urdf": sha256_text(generate_urdf(spec)),
+            "mjcf": sha256_text(generate_mjcf(spec))}
+
+
+def dumps_baseline(data: dict[str, Any]) -> str:
+    """Valid JSON, keys sorted, one configuration / record / quantity's fixed inputs per line, other
+    values indented."""
+    parts = []
+    for key in sorted(data):
+        value = data[key]
+        if key in ("q", "records"):
+            lines = ",\n".join("  " + json.dumps(v, sort_keys=True, allow_nan=False) for v in value)
+            text = "[\n" + lines + "\n ]" if value else "[]"
+        elif key == "fixed":  # one line per quantity's save-time inputs
+            lines = ",\n".join(f"  {json.dumps(k)}: " + json.dumps(value[k], sort_keys=True, allow_nan=False)
+                                for k in sorted(value))
+            text = "{\n" + lines + "\n }" if value else "{}"
+        else:
+            text = json.dumps(value, sort_keys=True, indent=1, allow_nan=False).replace("\n", "\n ")
+        parts.append(f" {json.dumps(key)}: {text}")
+    return "{\n" + ",\n".join(parts) + "\n}\n"
+
+
+def read_baseline(path, model: str | None = None) -> dict[str, Any]:
+    """Load and validate a baseline file; one-line :class:`InputError` when it is unreadable,
+    corrupt or truncated, not a baseline, from a newer format, or (given ``model``) from
+    another model."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as err:
+        raise InputError(f"{path}: cannot read baseline: {err.strerror or err}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a kinverify baseline (not UTF-8 text)") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise InputError(f"{path}: corrupt or truncated baseline JSON ({err.msg}: line {err.lineno} column {err.colno})") from None
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise InputError(f"{path}: not a kinverify baseline (no \"format\": \"{FORMAT}\")")
+    version = data.get("format_version")
+    if not isinstance(version, int) or isinstance(version, bool):
+        raise InputError(f"{path}: malformed baseline: format_version must be an integer, got {version!r}")
+    if version > FORMAT_VERSION:
+        raise InputError(f"{path}: baseline format version {version} is newer than this kinverify reads "
+                         f"({FORMAT_VERSION}); upgrade kinverify")
+    missing = [k for k in REQUIRED_KEYS if k not in data]
+    if missing:
+        raise InputError(f"{path}: malformed baseline: missing {', '.join(missing)}")
+    if model is not None and data["model"] != model:
+        raise InputError(f"{path}: baseline is for model {data['model']!r}, not {model!r}")
+    _validate_body(path, data)
+    return data
+
+
+def _validate_body(path, data: dict[str, Any]) -> None:
+    try:
+        q = np.asarray(data["q"], dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: malformed baseline: q is not a table of numbers") from None
+    if q.ndim != 2 or q.shape[1] != len(data["joint_names"]):
+        raise InputError(f"{path}: malformed baseline: q must have one column per joint")
+    fixed = data.get("fixed", {})
+    if not isinstance(fixed, dict):
+        raise InputError(f"{path}: malformed baseline: fixed must be an object")
+    if "ik" in fixed:
+        try:
+            ik_parse(fixed["ik"], len(q))
+        except InputError as err:
+            raise InputError(f"{path}: {err}") from None
+    if not isinstance(data["records"], list):
+        raise InputError(f"{path}: malformed baseline: records must be a list")
+    for i, rec in enumerate(data["records"]):
+        if (not isinstance(rec, dict) or not {"property", "frame", "sample", "value"} <= rec.keys()
+                or not isinstance(rec["sample"], int) or not 0 <= rec["sample"] < len(q)):
+            raise InputError(f"{path}: malformed baseline: records[{i}] is not a record of a stored sample")
+        try:
+            value = np.asarray(rec["value"], dtype=float)
+        except (TypeError, ValueError):
+            value = None
+        if value is None or value.dtype != float:
+            raise InputError(f"{path}: malformed baseline: records[{i}].value is not a number or table of numbers")
+
+
+def save_baseline(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
+    """Write the baseline of ``spec`` to ``path`` atomically. An existing file is replaced only
+    if it is a readable baseline of the same model (anything else: InputError, file untouched)."""
+    if Path(path).exists():
+        try:
+            read_baseline(path, model=spec.name)
+        except InputError as err:
+            raise InputError(f"refusing to overwrite: {err}") from None
+    return write_atomic(path, dumps_baseline(build_baseline(spec, samples, seed)))
+
+
+def save(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
+    """Alias of :func:`save_baseline`."""
+    return save_baseline(spec, path, samples, seed)
+

@@ -1,0 +1,87 @@
+"""The verify pipeline: sources -> backends -> samples -> suites -> :class:`VerifyResult`.
+
+Suites are listed in :mod:`kinverify.suites.registry`; each gets the :class:`VerifyContext`
+and returns checks, findings and a report section. A suite that raises an unexpected exception
+is kinverify's own bug: it is recorded as an internal error (verdict ``error``), and the other
+suites still run, so what was computed is still reported.
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from datetime import datetime, timezone
+from typing import Any, Callable
+
+from kinverify.backends import ModelSources, build_backends
+from kinverify.errors import InputError, KinverifyError
+from kinverify.model.spec import ArmSpec
+from kinverify.pipeline.sampling import Samples
+from kinverify.results import VerifyResult
+from kinverify.suites.base import SuiteResult, VerifyContext, VerifyOptions
+from kinverify.suites.registry import SUITES
+from kinverify.versions import library_versions
+
+__all__ = ["VerifyContext", "VerifyOptions", "SuiteResult", "model_info", "verify", "verify_spec"]
+
+def model_info(sources: ModelSources) -> dict[str, Any]:
+    """Joint table, link masses and the model texts, for the report."""
+    info: dict[str, Any] = {"urdf": sources.urdf or "", "mjcf": sources.mjcf or ""}
+    info["joints"] = [
+        {"name": n, "type": "revolute" if r else "prismatic", "lower": lo, "upper": up}
+        for n, r, lo, up in zip(sources.joint_names, sources.revolute, sources.lower, sources.upper)
+    ]
+    if sources.spec is not None:
+        for row, joint in zip(info["joints"], sources.spec.joints):
+            row["axis"] = list(joint.axis)
+        links = [sources.spec.base_link] + [j.link for j in sources.spec.joints]
+        info["links"] = [{"name": l.name, "mass": l.inertial.mass, "com": list(l.inertial.com)} for l in links]
+    return info
+
+
+def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_backends=(), source: str = "",
+           command: str = "", progress: Callable[[str], None] | None = None) -> VerifyResult:
+    """Run every registered suite on ``sources`` and return the results."""
+    options = options or VerifyOptions()
+    if options.samples < 0:
+        raise InputError(f"--samples must be >= 0, got {options.samples}")
+    started, t0 = datetime.now(timezone.utc), time.perf_counter()
+    backends = {b.name: b for b in build_backends(sources, options.backends)}
+    for b in extra_backends:
+        backends[b.name] = b
+    if options.reference not in backends:
+        raise InputError(f"reference backend {options.reference!r} is not among {', '.join(backends)}")
+    q = Samples(sources.lower, sources.upper, sources.revolute, options.samples, options.seed)
+    ctx = VerifyContext(sources, backends, q, options)
+    checks, sections, findings, timings, internal = [], {}, [], {}, []
+    for suite_cls in SUITES:
+        if options.suites is not None and suite_cls.name not in options.suites:
+            continue
+        if progress:
+            progress(suite_cls.name)
+        t_suite = time.perf_counter()
+        try:
+            result = suite_cls().run(ctx)
+        except (KinverifyError, KeyboardInterrupt):
+            raise
+        except Exception as err:  # our own bug: say so, keep what the other suites compute
+            where = traceback.extract_tb(err.__traceback__)[-1]
+            internal.append(f"suite {suite_cls.name}: {type(err).__name__}: {err} "
+                            f"({where.filename.rsplit('/', 1)[-1]}:{where.lineno})")
+            result = SuiteResult()
+        timings[suite_cls.name] = time.perf_counter() - t_suite
+        checks += result.checks
+        findings += result.findings
+        if result.section is not None:
+            sections[suite_cls.name] = result.section
+    return VerifyResult(
+        model=sources.name, source=source, seed=options.seed, samples=len(q), joint_names=list(sources.joint_names),
+        frames=list(sources.frames), backends=list(backends), checks=checks, versions=library_versions(),
+        command=command, started=started.isoformat(timespec="seconds"), duration_s=time.perf_counter() - t0,
+        lower=list(sources.lower), upper=list(sources.upper), sections=sections, model_info=model_info(sources),
+        findings=findings, timings=timings, internal_errors=internal,
+    )
+
+
+def verify_spec(spec: ArmSpec, options: VerifyOptions | None = None, **kwargs) -> VerifyResult:
+    return verify(ModelSources.from_spec(spec), options, **kwargs)
