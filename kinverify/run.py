@@ -8,6 +8,7 @@ suites still run, so what was computed is still reported.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 import traceback
 from datetime import datetime, timezone
@@ -49,8 +50,13 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
     backends = {b.name: b for b in build_backends(sources, options.backends)}
     for b in extra_backends:
         backends[b.name] = b
+    notes = []
     if options.reference not in backends:
-        raise InputError(f"reference backend {options.reference!r} is not among {', '.join(backends)}")
+        if not options.backends or options.reference != VerifyOptions.reference:
+            raise InputError(f"reference backend {options.reference!r} is not among {', '.join(backends)}")
+        # --backends without the default reference: compare against the first one given
+        options = dataclasses.replace(options, reference=next(iter(backends)))
+        notes.append(f"reference backend: {options.reference} (the first of --backends; analytic was not selected)")
     q = Samples(sources.lower, sources.upper, sources.revolute, options.samples, options.seed)
     ctx = VerifyContext(sources, backends, q, options)
     checks, sections, findings, timings, internal = [], {}, [], {}, []
@@ -79,7 +85,7 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
         frames=list(sources.frames), backends=list(backends), checks=checks, versions=library_versions(),
         command=command, started=started.isoformat(timespec="seconds"), duration_s=time.perf_counter() - t0,
         lower=list(sources.lower), upper=list(sources.upper), sections=sections, model_info=model_info(sources),
-        findings=findings, timings=timings, internal_errors=internal,
+        findings=findings, timings=timings, internal_errors=internal, notes=notes,
     )
 
 

@@ -75,12 +75,40 @@ class Arm3ClosedForm:
 
     def solve(self, target) -> ClosedFormResult:
         branches = self.all_branches(target)
-        # Near the straight elbow acos loses precision (~1e-16/|q3| rad), so a branch that lies on
-        # a limit can come out ~1e-11 beyond it: accept 1e-9 rad, then clip into the limits.
-        inside = np.all((branches >= self.lower - LIMIT_SLACK) & (branches <= self.upper + LIMIT_SLACK), axis=1)
+        # A branch that lies on a limit can come out beyond it by the precision the target's
+        # floats determine it to (see pitch_precision): accept that much, clip into the limits, then
+        # solve the other pitch joint exactly for the clipped value (clipping alone would move the
+        # tool by reach × the clipped amount).
+        slack = np.array([LIMIT_SLACK, *[LIMIT_SLACK + self.pitch_precision(target)] * 2])
+        inside = np.all((branches >= self.lower - slack) & (branches <= self.upper + slack), axis=1)
         if inside.any():
-            return ClosedFormResult(True, np.clip(branches[inside], self.lower, self.upper), 0.0)
+            return ClosedFormResult(True, np.array([self._onto_limits(b, target) for b in branches[inside]]), 0.0)
         return ClosedFormResult(False, np.empty((0, 3)), self.closest_distance(target))
+
+    def pitch_precision(self, target) -> float:
+        """How precisely [rad] the pitch angles are determined by ``target`` given as floats.
+
+        The elbow angle follows from the shoulder-target distance ``s``; near the straight elbow
+        ``(l2 + l3) − s ≈ l2·l3·q3² / (2(l2 + l3))``, so a rounding ``δs`` of ``s`` moves q3 by up to
+        ``√(2(l2 + l3)·δs / (l2·l3))`` (about 3e-7 rad for arm3: the singularity, not the code)."""
+        d = np.asarray(target, float) - self.shoulder
+        scale = max(float(np.abs(target).max()), float(np.abs(self.shoulder).max()), self.l2 + self.l3)
+        ds = 8 * np.finfo(float).eps * scale  # rounding of target − shoulder and of the hypotenuse
+        return math.sqrt(2 * (self.l2 + self.l3) * ds / (self.l2 * self.l3)) if np.linalg.norm(d) > 0 else 0.0
+
+    def _onto_limits(self, branch: np.ndarray, target) -> np.ndarray:
+        q = np.clip(branch, self.lower, self.upper)
+        r, h = self._planar(q[0], target)
+        if q[1] != branch[1]:  # shoulder on its limit: aim the forearm from the elbow at the target
+            q[2] = _wrap(math.atan2(r - self.l2 * math.sin(q[1]), h - self.l2 * math.cos(q[1])) - q[1])
+        elif q[2] != branch[2]:  # elbow on its limit: aim the shoulder for that elbow angle
+            q[1] = _wrap(math.atan2(r, h) - math.atan2(self.l3 * math.sin(q[2]), self.l2 + self.l3 * math.cos(q[2])))
+        return np.clip(q, self.lower, self.upper)
+
+    def _planar(self, q1: float, target) -> tuple[float, float]:
+        """The target in the arm's plane at yaw ``q1``: signed reach along the yaw direction, height."""
+        d = np.asarray(target, float) - self.shoulder
+        return float(d[0] * math.cos(q1) + d[1] * math.sin(q1)), float(d[2])
 
     def closest_distance(self, target, grid: int = 361) -> float:
         """Closest approach [m] to ``target`` over the limits: a (q2, q3) grid with q1 aimed at the

@@ -45,6 +45,10 @@ class IKSuite(Suite):
         """The solver the suite measures (one place, so it can be swapped)."""
         return solve_lm(model, targets, lower, upper, position_only, options)
 
+    def closed_form(self, sources, frame: str):
+        """The closed-form solver the numeric solutions are compared with (arm3-shaped specs), or None."""
+        return _closed_form(sources, frame)
+
     def run(self, ctx: VerifyContext) -> SuiteResult:
         return ik_suite(self, ctx)
 
@@ -61,7 +65,7 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     lower, upper = np.asarray(src.lower), np.asarray(src.upper)
     q_gen, targets = reachable_targets(ctx.backends[opts.reference], frame, lower, upper, n, opts.seed + 4)
     solvers = [b for b in ctx.backends.values() if b.jacobian_method == "analytic"]
-    closed = _closed_form(src, frame)
+    closed = suite.closed_form(src, frame)
     checks, rows, failures, plotted = [], [], [], []
     ik_opts = IKOptions(seed=opts.seed)
     for backend in solvers:

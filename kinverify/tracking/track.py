@@ -85,7 +85,7 @@ def validate_target(spec: ArmSpec, q1, duration: float) -> np.ndarray:
     return q1
 
 
-def _plan_check(spec: ArmSpec, plan, options: VerifyOptions | None) -> Check:
+def plan_check(spec: ArmSpec, plan, options: VerifyOptions | None) -> Check:
     vmax = [j.limits.velocity for j in spec.joints]
     problems = plan_violations(plan, spec.lower, spec.upper, vmax)
     excess = max(0.0, float(np.max(plan.q - spec.upper)), float(np.max(spec.lower - plan.q)),
@@ -95,7 +95,7 @@ def _plan_check(spec: ArmSpec, plan, options: VerifyOptions | None) -> Check:
                              unit=f"{unit} or {unit}/s", note="; ".join(problems) or "inside joint and speed limits")
 
 
-def _check(spec: ArmSpec, run: Run, m: Metrics, options: VerifyOptions | None) -> Check:
+def run_check(spec: ArmSpec, run: Run, m: Metrics, options: VerifyOptions | None) -> Check:
     err = np.linalg.norm(run.plan.q[: len(run.q)] - run.q, axis=1)
     worst = (run.q[int(np.argmax(err))] if len(err) else run.plan.q[0])
     c = CRITERIA[run.controller]
@@ -126,7 +126,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
     checked = list(controllers) if checked is None else list(checked)
     if plan is None:
         plan = hold(quintic(trajectory.q0, trajectory.q1, trajectory.duration, 0.001), trajectory.hold)
-    checks = [_plan_check(spec, plan, options)]
+    checks = [plan_check(spec, plan, options)]
     runs, metrics = [], []
     for name in controllers:
         run = execute(spec, urdf, plan, name, trajectory.duration)
@@ -134,7 +134,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
         runs.append(run)
         metrics.append(m)
         if name in checked:
-            checks.append(_check(spec, run, m, options))
+            checks.append(run_check(spec, run, m, options))
     rows = [[m.controller, "yes" if m.passed else "no", _fmt(m.rms_error), _fmt(m.max_error), _fmt(m.final_error),
              _fmt(m.ee_path_deviation), _fmt(m.overshoot), _fmt(m.settling_time), _fmt(m.residual_speed), _fmt(m.final_speed),
              _fmt(m.error_energy), _fmt(m.max_effort), f"{100 * m.saturation:.3g}", m.reason or ("checked" if m.controller in checked else "")]

@@ -15,7 +15,6 @@ from kinverify.model.specfile import load_spec
 from tests.paths import MODELS
 
 
-
 def generated_pair(model: str = "panda") -> tuple[str, str]:
     spec = load_spec(MODELS / f"{model}.toml")
     return generate_urdf(spec), generate_mjcf(spec)
@@ -88,6 +87,26 @@ def type_change(urdf, mjcf):
     return urdf, _joint_attr(mjcf, "panda_joint7", "type", lambda t: "slide")
 
 
+def _urdf_link_mass(urdf: str, link: str, fn) -> str:
+    return _sub_once(rf'(<link name="{link}">.*?<mass value=")([^"]*)(")', lambda m: m[1] + repr(fn(float(m[2]))) + m[3], urdf)
+
+
+def heavier_urdf_link(urdf, mjcf):
+    """The URDF's panda_link4 is 20 % heavier (its inertia tensor unchanged)."""
+    return _urdf_link_mass(urdf, "panda_link4", lambda m: 1.2 * m), mjcf
+
+
+def upper_limit_further(urdf, mjcf):
+    """The URDF lets panda_joint2 go 0.2 rad further up."""
+    return _sub_once(r'(<joint name="panda_joint2".*?<limit [^>]*upper=")([^"]*)(")',
+                     lambda m: m[1] + repr(float(m[2]) + 0.2) + m[3], urdf), mjcf
+
+
+def friction_added(urdf, mjcf):
+    """The MJCF gives panda_joint5 0.3 N·m of Coulomb friction (frictionloss) the URDF lacks."""
+    return urdf, _joint_attr(mjcf, "panda_joint5", "frictionloss", lambda v: "0.3")
+
+
 # mutation, expected finding kind, joint/link/frame it must name (URDF names)
 MUTATIONS = [
     (base_rotation, "base_transform", None),
@@ -99,4 +118,7 @@ MUTATIONS = [
     (rounded_rpy, "rounding", "panda_joint3"),
     (zero_offset, "zero_offset", "panda_joint4"),
     (type_change, "type_difference", "panda_joint7"),
+    (heavier_urdf_link, "mass_difference", "panda_link4"),
+    (upper_limit_further, "limit_difference", "panda_joint2"),
+    (friction_added, "friction_difference", "panda_joint5"),
 ]

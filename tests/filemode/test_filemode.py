@@ -70,6 +70,15 @@ def test_each_mutation_is_detected_and_named(tmp_path, mutate, kind, name):
         assert {f.values["bound"] for f in hits} == {"lower", "upper"}
 
 
+@pytest.mark.parametrize("mutate,kind,name", [m for m in MUTATIONS if m[1] not in ("rounding",)], ids=[m[0].__name__ for m in MUTATIONS if m[1] != "rounding"])
+def test_a_real_difference_fails_the_verdict_with_an_error_finding_naming_it(tmp_path, mutate, kind, name):
+    result = verify_files(*write_pair(tmp_path, *mutate(*generated_pair("panda"))), FAST)
+    assert result.verdict == "fail" and result.exit_code == 1
+    hits = [f for f in result.findings if f.kind == kind and f.severity == "error"]
+    assert hits, [(f.kind, f.severity) for f in result.findings]
+    assert name is None or any(f.subject == name for f in hits), hits
+
+
 @pytest.mark.parametrize("mutate", [m[0] for m in MUTATIONS if m[1] in ("axis_sign_flip", "axis_position", "rounding", "zero_offset")])
 def test_kinematic_mutations_fail_the_verdict_where_the_chain_starts_to_differ(tmp_path, mutate):
     result = verify_files(*write_pair(tmp_path, *mutate(*generated_pair("panda"))), FAST)

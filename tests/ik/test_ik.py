@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import example, assume, given, settings
 from hypothesis import strategies as st
 
 from kinverify import load_spec
@@ -78,6 +78,9 @@ def test_pinocchio_solver_full_pose_on_random_specs(spec, data):
 
 @settings(max_examples=60, deadline=None)
 @given(kst.configurations(ARM3))
+@example(np.array([-math.pi, -math.pi / 2, -2.0 ** -23]))  # shoulder on its limit, elbow nearly straight
+@example(np.array([math.pi, math.pi / 2, 2.0 ** -26]))
+@example(np.array([0.0, -math.pi / 2, math.radians(135)]))  # both pitch joints on limits
 def test_arm3_closed_form_branches_reproduce_the_target(q):
     closed = Arm3ClosedForm.from_spec(ARM3)
     target = frame_poses(ARM3, q)[0, -1, :3, 3]
@@ -90,6 +93,24 @@ def test_arm3_closed_form_branches_reproduce_the_target(q):
     if rho > 1e-6:  # off the yaw axis the generating configuration is one of the branches
         d = np.abs(np.angle(np.exp(1j * (res.solutions - q)))).max(axis=1)
         assert d.min() < 1e-6
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.sampled_from([-math.pi, math.pi, 0.7]), st.sampled_from([-math.pi / 2, math.pi / 2, -0.4]),
+       st.sampled_from([-1.0, 1.0]), st.floats(10, 60))
+def test_arm3_closed_form_near_the_straight_elbow_on_the_limits(q1, q2, sign, k):
+    """A nearly straight elbow on a joint limit: the target is reachable, every branch returned
+    reaches it to 1e-12 m, and the generating configuration is a branch within the precision the
+    target's floats determine the pitch angles to (the singularity's conditioning)."""
+    closed = Arm3ClosedForm.from_spec(ARM3)
+    q = np.array([q1, q2, sign * 2.0 ** -k])
+    target = frame_poses(ARM3, q)[0, -1, :3, 3]
+    res = closed.solve(target)
+    assert res.reachable
+    assert ((res.solutions >= ARM3.lower) & (res.solutions <= ARM3.upper)).all()
+    assert np.abs(frame_poses(ARM3, res.solutions)[:, -1, :3, 3] - target).max() < 1e-12
+    d = np.abs(np.angle(np.exp(1j * (res.solutions - q)))).max(axis=1)
+    assert d.min() <= closed.pitch_precision(target) + 1e-9
 
 
 def test_arm3_closed_form_returns_every_branch():

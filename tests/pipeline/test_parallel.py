@@ -12,6 +12,13 @@ from kinverify.model.specfile import load_spec
 from kinverify.run import VerifyOptions, verify_spec
 
 HAS_DASK = importlib.util.find_spec("dask") is not None and importlib.util.find_spec("distributed") is not None
+# Only the kinematics suite runs its chunks through the executors; the others would add minutes
+# and compare nothing an executor touches.
+CHUNKED = ["kinematics"]
+
+
+def options(**kw) -> VerifyOptions:
+    return VerifyOptions(samples=400, chunk=90, fd_samples=30, suites=CHUNKED, **kw)
 
 
 def _numbers(result):
@@ -24,14 +31,14 @@ def sequential():
     out = {}
     for model in ("arm3", "scara"):
         spec = load_spec(f"models/{model}.toml")
-        out[model] = (spec, verify_spec(spec, VerifyOptions(samples=400, chunk=90, fd_samples=30)))
+        out[model] = (spec, verify_spec(spec, options()))
     return out
 
 
 @pytest.mark.parametrize("model", ["arm3", "scara"])
 def test_jobs_2_identical_to_jobs_1(sequential, model):
     spec, one = sequential[model]
-    two = verify_spec(spec, VerifyOptions(samples=400, chunk=90, fd_samples=30, jobs=2))
+    two = verify_spec(spec, options(jobs=2))
     assert len(one.checks) > 0 and one.checks[0].samples > 0
     assert _numbers(two) == _numbers(one)
 
@@ -39,7 +46,7 @@ def test_jobs_2_identical_to_jobs_1(sequential, model):
 def test_progress_reports_every_configuration_in_order(sequential):
     spec, one = sequential["arm3"]
     seen = []
-    result = verify_spec(spec, VerifyOptions(samples=400, chunk=90, fd_samples=30, jobs=2,
+    result = verify_spec(spec, options(jobs=2,
                                              on_progress=lambda done, total: seen.append((done, total))))
     total = one.samples
     assert seen[-1] == (total, total)
@@ -50,7 +57,7 @@ def test_progress_reports_every_configuration_in_order(sequential):
 @pytest.mark.skipif(not HAS_DASK, reason="dask.distributed not installed (pip install 'kinverify[dask]')")
 def test_dask_local_cluster_identical(sequential):
     spec, one = sequential["arm3"]
-    via_dask = verify_spec(spec, VerifyOptions(samples=400, chunk=90, fd_samples=30, jobs=2, executor="dask"))
+    via_dask = verify_spec(spec, options(jobs=2, executor="dask"))
     assert _numbers(via_dask) == _numbers(one)
 
 
@@ -61,14 +68,14 @@ def test_dask_existing_scheduler_identical(sequential):
     spec, one = sequential["scara"]
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
                       silence_logs=40) as cluster:
-        remote = verify_spec(spec, VerifyOptions(samples=400, chunk=90, fd_samples=30, executor="dask",
+        remote = verify_spec(spec, options(executor="dask",
                                                  scheduler=cluster.scheduler_address))
     assert _numbers(remote) == _numbers(one)
 
 
 def test_slow_backend_capped_with_a_note(sequential):
     spec, _ = sequential["arm3"]
-    r = verify_spec(spec, VerifyOptions(samples=400, chunk=90, fd_samples=30, slow_samples=150))
+    r = verify_spec(spec, options(slow_samples=150))
     n = r.samples
     for c in r.checks:
         if c.backends == ("analytic", "yourdfpy") and c.property.startswith("fk."):

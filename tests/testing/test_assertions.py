@@ -138,3 +138,24 @@ def test_yourdfpy_is_evaluated_fresh_at_each_configuration():
     wrong = build_backend("yourdfpy", ModelSources.from_spec(longer_link2(ARM3)))
     with pytest.raises(AssertionError, match="fk.position disagrees at frame 'link3'.*analytic vs yourdfpy"):
         assert_fk_agree([reference, wrong], q)
+
+
+@pytest.mark.parametrize("position, rotation", [(1e-6, 0.0), (0.0, 1e-6)])
+def test_each_fk_tolerance_governs_its_own_measure(position, rotation):
+    """A frame off by 1e-6 m (or turned by 1e-6 rad) fails under a tight tolerance for that
+    measure whatever the other one is, and passes when only the other one is tight."""
+    from tests.suites.probes import Perturbed, analytic
+
+    backends = [analytic(), Perturbed(position=position, rotation=rotation)]
+    q = np.array([[0.1, 0.2, 0.3], [0.4, -0.5, 1.2]])
+    prop = "fk.position" if position else "fk.rotation"
+    tight, loose = 1e-9, 1e-3
+    with pytest.raises(AssertionError, match=f"{prop} disagrees at frame 'link2'"):
+        if position:
+            assert_fk_agree(backends, q, position_tol=tight, rotation_tol=loose)
+        else:
+            assert_fk_agree(backends, q, position_tol=loose, rotation_tol=tight)
+    if position:
+        assert_fk_agree(backends, q, position_tol=loose, rotation_tol=tight)
+    else:
+        assert_fk_agree(backends, q, position_tol=tight, rotation_tol=loose)
