@@ -37,7 +37,7 @@ class PinocchioBackend(EvaluatingBackend):
         for frame in self.frames:
             if not model.existFrame(frame):
                 raise UnknownNameError("frame", frame, frame_names)
-        self._frame_ids = [model.getFrameId(f) for f in self.frames]
+        self._frame_ids = [frame_id(model, f) for f in self.frames]
         self._neutral = pin.neutral(model)
 
     @classmethod
@@ -105,3 +105,16 @@ class PinocchioBackend(EvaluatingBackend):
                 for f, fid in frames:
                     pk[f] = oMf[fid].homogeneous
         return Evaluation(self.name, self.frames, poses, jac)
+
+
+# A URDF may name a link and a joint alike (both become frames): a link (BODY frame) first, then
+# an operational frame, then a joint frame.
+FRAME_TYPES = (pin.FrameType.BODY, pin.FrameType.OP_FRAME, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT)
+
+
+def frame_id(model: "pin.Model", name: str) -> int:
+    """The id of frame ``name``, looked up with its type (Pinocchio 4 refuses an ambiguous name)."""
+    for kind in FRAME_TYPES:
+        if model.existFrame(name, kind):
+            return model.getFrameId(name, kind)
+    return model.getFrameId(name)

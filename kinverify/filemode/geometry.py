@@ -71,3 +71,66 @@ def rpy_string(rot: np.ndarray) -> list[float]:
     from kinverify.model.transforms import matrix_to_rpy
 
     return [float(v) for v in matrix_to_rpy(rot)]
+
+
+def kabsch(p_src: np.ndarray, p_dst: np.ndarray, w_p: np.ndarray | None = None, d_src: np.ndarray | None = None,
+           d_dst: np.ndarray | None = None, w_d: np.ndarray | None = None) -> np.ndarray:
+    """The rigid transform T (4x4) minimising Σ w_p |T p_src − p_dst|² + Σ w_d |R d_src − d_dst|²
+    over points ``(N, 3)`` and unit directions ``(M, 3)`` (directions constrain the rotation only)."""
+    w_p = np.ones(len(p_src)) if w_p is None else np.asarray(w_p, dtype=float)
+    if len(p_src):
+        cs = (w_p[:, None] * p_src).sum(axis=0) / w_p.sum()
+        cd = (w_p[:, None] * p_dst).sum(axis=0) / w_p.sum()
+        h = (w_p[:, None] * (p_src - cs)).T @ (p_dst - cd)
+    else:
+        cs = cd = np.zeros(3)
+        h = np.zeros((3, 3))
+    if d_src is not None and len(d_src):
+        w_d = np.ones(len(d_src)) if w_d is None else np.asarray(w_d, dtype=float)
+        h = h + (w_d[:, None] * d_src).T @ d_dst
+    u, _, vt = np.linalg.svd(h)
+    d = np.diag([1.0, 1.0, np.sign(np.linalg.det(vt.T @ u.T)) or 1.0])
+    rot = vt.T @ d @ u.T
+    t = np.eye(4)
+    t[:3, :3], t[:3, 3] = rot, cd - rot @ cs
+    return t
+
+
+def project_on_line(x: np.ndarray, point: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Closest points on the line ``point + s·axis`` to ``x`` (batched over leading axes)."""
+    d = x - point
+    return point + np.sum(d * axis, axis=-1, keepdims=True) * axis
+
+
+def foot_on_line(p1, a1, p2, a2) -> np.ndarray:
+    """The point of line 2 closest to line 1 (the foot of their common perpendicular); for
+    parallel lines, where line 2 crosses the plane through ``p1`` normal to ``a1``."""
+    n = np.cross(a1, a2)
+    d = np.asarray(p2) - np.asarray(p1)
+    nn = float(np.dot(n, n))
+    if nn < 1e-12:
+        return np.asarray(p2) - np.dot(d, a1) / np.dot(a2, a1) * np.asarray(a2)
+    t = np.dot(np.cross(d, a1), n) / nn  # p2 + t·a2 is the foot on line 2
+    return np.asarray(p2) + t * np.asarray(a2)
+
+
+def reach(desc: ModelDesc) -> dict[str, float]:
+    """Per frame, the length of its chain from the base at q = 0 (joint anchor to joint anchor,
+    then to the frame): the largest distance a rotation error upstream can move it by."""
+    anchors = {j.name: j.anchor for j in desc.joints}
+    parent = {j.name: j.parent for j in desc.joints}
+    length: dict[str | None, float] = {None: 0.0}
+
+    def chain(joint: str | None) -> float:
+        if joint not in length:
+            up = parent.get(joint)
+            start = anchors[up] if up is not None else np.zeros(3)
+            length[joint] = chain(up) + float(np.linalg.norm(anchors[joint] - start))
+        return length[joint]
+
+    out = {}
+    for name, pose in desc.frames.items():
+        owner = desc.frame_owner.get(name)
+        start = anchors[owner] if owner is not None else np.zeros(3)
+        out[name] = chain(owner) + float(np.linalg.norm(pose[:3, 3] - start))
+    return out
