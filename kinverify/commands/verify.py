@@ -22,6 +22,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--mjcf", help="file mode: an existing MJCF")
     p.add_argument("--frames", nargs="*", default=[], metavar="URDF_FRAME=MJCF_FRAME", help="file mode: frame pairs to compare")
     p.add_argument("--joints", nargs="*", default=[], metavar="URDF_JOINT=MJCF_JOINT", help="file mode: joint pairs")
+    p.add_argument("--accept", metavar="FILE", help="file mode: reviewed accepted differences (TOML; default: "
+                   "kinverify-accepted.toml beside the URDF when present); accepted findings pass, new or changed ones fail")
+    p.add_argument("--write-accepted", metavar="FILE", help="file mode: write this run's error findings to FILE as accepted "
+                   "differences, to review (see docs/file-mode.md)")
     p.add_argument("--samples", type=_count, default=1000, help="uniform random configurations (default 1000), plus edge configurations")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--backends", help="comma-separated backend names (default: all available)")
@@ -113,10 +117,13 @@ def run(args) -> int:
         from kinverify.filemode import verify_files  # file mode (issue 7)
 
         with console.status("verifying files..."):
-            result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command)
+            result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command,
+                                  accept=args.accept, write_accepted=args.write_accepted)
     else:
         if not args.model:
             raise InputError("give a spec MODEL (models/*.toml) or --urdf and --mjcf")
+        if args.accept or args.write_accepted:
+            raise InputError("--accept and --write-accepted are for file mode (--urdf and --mjcf)")
         from kinverify.report.progress import VerifyProgress
         from kinverify.model.specfile import load_spec
         from kinverify.run import verify_spec

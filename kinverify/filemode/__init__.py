@@ -28,7 +28,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     from kinverify.filemode import build, parts
     from kinverify.filemode.context import FileModeInfo
     from kinverify.filemode.crosscheck import cross_check, top_level_pose
-    from kinverify.filemode.diagnose import alignment_findings, convention_findings, finding
+    from kinverify.filemode.diagnose import alignment_findings, convention_findings, finding, length_units
     from kinverify.filemode.geometry import reach
     from kinverify.filemode.match import match
     from kinverify.filemode.precision import floors, mjcf_precision, urdf_precision
@@ -48,14 +48,10 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     al, poses = build.run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal)
     poses_u, poses_m = build.zero_poses(poses, al)
     info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), poses_u, poses_m,
-                        frozenset(options.tolerances))
+                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original))
 
-    def tol(frame: str) -> tuple[float, float]:
-        pos, rot = fl.frame(frame)
-        scale = max(1.0, float(np.abs(poses_u[frame][:3, 3]).max())) if frame in poses_u else 1.0
-        return 1e-9 * scale + 2 * pos, 1e-9 + 2 * rot
-
-    twins, new_pairs = parts.frame_twins(info, tol)
+    tol = info.tol
+    twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: parts.frame_twins(info, tol), ([], []))
     matching.frames += new_pairs
     build.add_frames(al, new_pairs)
     compared = [a for a, _, _ in matching.frames]
@@ -63,15 +59,19 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
         findings.append(finding("floating_base", f"the MJCF's free base ({', '.join(free)}) is held at the identity pose, where "
                                 "the URDF's root link is: both bases at the same pose (the MJCF's initial base pose is the free "
                                 "joint's starting value, not a property of the robot)", {"file": "MJCF", "bodies": free}))
-    findings += alignment_findings(u, m, matching, al, compared, tol)
-    findings += convention_findings(al, {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}, tol)
+    kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
+    units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
+    info.inertials_explained_by = units[0].kind if units else ""
+    findings += units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol)
+                                  + convention_findings(al, kinds, tol), [])
     findings += twins
     backends = build.build_backends(info, urdf_text, mjcf_text, wanted, tol, findings)
     worst = max([tol(f) for f in compared] or [(1e-9, 1e-9)])
-    backends, parser, parser_rows = cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text),
-                                                build.rebuild_mjcf)
+    backends, parser, parser_rows = _guarded(
+        internal, "parser cross-check",
+        lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text), build.rebuild_mjcf), (backends, [], []))
     findings += parser
-    findings += _couplings(u, m, matching)
+    findings += _guarded(internal, "couplings", lambda: _couplings(u, m, matching), [])
     ref = next((n for n in ("pinocchio-urdf", "mujoco-urdf", "yourdfpy") if n in backends), None)
     other = next((n for n in ("mujoco", "pinocchio-mjcf") if n in backends), None)
     if ref is None or other is None:
@@ -84,6 +84,27 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     return dict(urdf=U, mjcf=M, urdf_text=urdf_text, mjcf_text=mjcf_text, info=info, matching=matching, alignment=al,
                 backends=backends, reference=ref, findings=findings, notes=notes, parser_rows=parser_rows,
                 internal=internal, lower=lower, upper=upper, revolute=revolute)
+
+
+def mjcf_angle_unit(mjcf_text: str) -> str:
+    """The MJCF's ``<compiler angle>``: "degree" (MuJoCo's default) or "radian"."""
+    import xml.etree.ElementTree as ET
+
+    compiler = ET.fromstring(mjcf_text).find("compiler")
+    return "degree" if compiler is None else compiler.get("angle", "degree")
+
+
+def _guarded(internal: list, what: str, fn, default):
+    """``fn()``, or ``default`` with an internal error recorded when it fails (kinverify's bug)."""
+    from kinverify.errors import KinverifyError
+
+    try:
+        return fn()
+    except (KinverifyError, KeyboardInterrupt):
+        raise
+    except Exception as err:
+        internal.append(f"file mode, {what}: {type(err).__name__}: {err}")
+        return default
 
 
 def _couplings(u, m, matching) -> list:
@@ -128,7 +149,10 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     t0 = time.perf_counter()
     options = options or VerifyOptions()
     entries = acc.load(accept) if accept else (acc.load(p) if (p := acc.default_path(urdf)) else [])
-    diag = diagnose_files(urdf, mjcf, options, frames, joints)
+    internal: list[str] = []
+    diag = _guarded(internal, "reading the files", lambda: diagnose_files(urdf, mjcf, options, frames, joints), None)
+    if diag is None:
+        return _failed(urdf, mjcf, options, internal, command)
     info, U, M = diag["info"], diag["urdf"], diag["mjcf"]
     al, matching = info.alignment, info.matching
     name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
@@ -143,6 +167,19 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     result.internal_errors = diag["internal"] + result.internal_errors
     from kinverify.filemode.finish import finish
 
-    finish(result, diag, sources, opts, "dynamics" in selected, entries, write_accepted, urdf)
+    _guarded(result.internal_errors, "findings",
+             lambda: finish(result, diag, sources, opts, "dynamics" in selected, entries, write_accepted, urdf), None)
     result.duration_s = time.perf_counter() - t0
     return result
+
+
+def _failed(urdf: str, mjcf: str, options, internal: list[str], command: str):
+    """The result of a run kinverify itself could not complete (verdict ``error``, exit 3)."""
+    from pathlib import Path
+
+    from kinverify.results import VerifyResult
+    from kinverify.versions import library_versions
+
+    return VerifyResult(model=f"{Path(urdf).stem}-vs-{Path(mjcf).stem}", source=f"{urdf} + {mjcf}", seed=options.seed,
+                        samples=0, joint_names=[], frames=[], backends=[], checks=[], versions=library_versions(),
+                        command=command, internal_errors=internal, model_info={"files": {"urdf": urdf, "mjcf": mjcf}})

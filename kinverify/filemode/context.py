@@ -31,6 +31,9 @@ class FileModeInfo:
     user_tolerances: frozenset = frozenset()  # properties set with --tolerance: no floor applies
     file_mode: bool = True
     notes: list[str] = field(default_factory=list)
+    inertials_explained_by: str = ""  # a finding that explains every inertial difference (a length unit)
+    inertial_results: list = field(default_factory=list)  # the rigid bodies compared (set by the inertia suite)
+    mjcf_angle: str = "radian"  # the MJCF's <compiler angle>
 
     @property
     def joint_pairs(self) -> list[tuple[str, str]]:
@@ -39,6 +42,14 @@ class FileModeInfo:
     @property
     def frame_pairs(self) -> list[tuple[str, str]]:
         return [(a, b) for a, b, _ in self.matching.frames]
+
+    def tol(self, frame: str) -> tuple[float, float]:
+        """(position m, rotation rad) two readings of ``frame`` may differ by: double precision
+        at its distance from the origin, plus twice the floor of the written precision."""
+        pos, rot = self.floors.frame(frame)
+        pose = self.poses_u.get(frame)
+        scale = max(1.0, float(np.abs(pose[:3, 3]).max())) if pose is not None else 1.0
+        return 1e-9 * scale + 2 * pos, 1e-9 + 2 * rot
 
     def floor(self, prop: str, value: float) -> float:
         """``value`` (a floor) unless the user set this property's tolerance."""

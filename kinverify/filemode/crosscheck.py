@@ -46,8 +46,8 @@ def top_level_pose(mjcf_text: str) -> np.ndarray | None:
 def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose: np.ndarray | None, rebuild):
     """Compare each secondary library with the reference reading of the same file.
 
-    ``backends``: name -> aligned backend; ``tol``: (position, rotation) tolerance; ``rebuild(name,
-    left)``: the aligned backend of ``name`` with another left transform. Returns (the backends to
+    ``backends``: name -> aligned backend; ``tol``: (position, rotation) tolerance; ``rebuild(backend,
+    left)``: that aligned backend with another left transform. Returns (the backends to
     compare between the files, findings, table rows)."""
     findings, rows, keep = [], [], dict(backends)
     ptol, rtol = tol
@@ -67,7 +67,7 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                 continue
             values = {"file": side, "backends": [loaded[0], name], "position_m": float(pos.max()), "rotation_rad": float(rot.max())}
             if name == "pinocchio-mjcf" and top_pose is not None:
-                fixed = rebuild(name, invert_transform(t_base) @ top_pose)
+                fixed = rebuild(backends[name], invert_transform(t_base) @ top_pose)
                 cpos, crot = pose_errors(p0, fixed.poses(q)[:, [i for i, _ in common]])
                 if cpos.max() <= ptol and crot.max() <= rtol:
                     keep[name] = fixed

@@ -28,7 +28,7 @@ SEVERITY = {
     # kinematics
     "base_transform": "error", "zero_offset": "error", "axis_sign_flip": "error", "axis_direction": "error",
     "axis_position": "error", "type_difference": "error", "frame_offset": "error", "disagreement_starts": "error",
-    "coupling_difference": "error", "extra_parts": "error", "length_units": "error",
+    "coupling_difference": "error", "extra_parts": "error", "length_units": "error", "mass_units": "error",
     # limits, inertials, joint dynamics
     "limit_difference": "error", "limit_units": "error", "effort_difference": "error",
     "mass_difference": "error", "com_difference": "error", "inertia_difference": "error", "inertia_rotated": "error",
@@ -84,8 +84,9 @@ def _downstream(u: ModelDesc, joint: str) -> list[str]:
 
 def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Alignment, compared: list[str], tol) -> list[Finding]:
     """One finding per thing alignment solved: the world transform, each zero offset and sign
-    flip, each axis that still differs, each frame convention, the joint-name mapping.
-    ``compared``: the URDF frames the kinematics checks compare (what each finding explains);
+    flip (the checks compare after them), each axis that still differs (``values["frames"]``: the
+    compared frames whose failing checks it explains), the joint-name mapping.
+    ``compared``: the URDF frames the kinematics checks compare;
     ``tol(frame)``: (position, rotation) tolerance there."""
     out = []
     t = al.T
@@ -97,36 +98,48 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
                            f"fitted over {len(al.frames)} frames and {len(al.joints)} axes, residual {al.residual[0]:.2g} m, "
                            f"{al.residual[1]:.2g} rad", {"T_mjcf_from_urdf": t.tolist(), "xyz": xyz, "rpy": rpy,
                            "translation_m": dist, "rotation_rad": ang, "residual_m": al.residual[0],
-                           "residual_rad": al.residual[1], "frames": compared},
+                           "residual_rad": al.residual[1]},
                            magnitude=max(dist, ang), unit="m|rad"))
+    differs: set[str] = set()
     for j in al.joints:
         names = {"joint": j.urdf, "mjcf_joint": j.mjcf}
         frames = [f for f in _downstream(u, j.urdf) if f in compared]
         if j.sign < 0:
             out.append(finding("axis_sign_flip", f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
                                "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else ""),
-                               {"sign": -1, "frames": frames}, magnitude=1, unit="", **names))
+                               {"sign": -1, "moves": frames}, magnitude=1, unit="", **names))
         if j.offset:
             unit = "rad" if j.type == "revolute" else "m"
             deg = f" ({math.degrees(j.offset):.4g}°)" if j.type == "revolute" else ""
             out.append(finding("zero_offset", f"joint {j.urdf}/{j.mjcf}: zero offset of {j.offset:.6g} {unit}{deg}: at the same q "
                                f"the MJCF's joint sits {j.offset:.6g} {unit} further (q_mjcf = {'−' if j.sign < 0 else ''}q_urdf "
                                f"{'+' if j.offset >= 0 else '−'} {abs(j.offset):.6g})",
-                               {"offset": j.offset, "unit": unit, "frames": frames}, magnitude=abs(j.offset), unit=unit, **names))
+                               {"offset": j.offset, "unit": unit, "moves": frames}, magnitude=abs(j.offset), unit=unit, **names))
         uj, mj = u.joint(j.urdf), m.joint(j.mjcf)
+        upstream = uj.parent
+        while upstream is not None and upstream not in differs:
+            upstream = u.joint(upstream).parent
+        if upstream is not None:  # moved by a joint that differs: said there, once
+            differs.add(j.urdf)
+            continue
+        after = " (and everything it moves with it)" if any(f != uj.child for f in frames) else ""
         if uj.type != mj.type:
+            differs.add(j.urdf)
             out.append(finding("type_difference", f"joint {j.urdf}/{j.mjcf}: {uj.type} in the URDF, {mj.type} in the MJCF",
                                {"urdf": uj.type, "mjcf": mj.type, "frames": frames}, **names))
             continue
         angle, distance = al.axis_errors.get(j.urdf, (0.0, 0.0))
         ptol, rtol = tol(uj.child)
         if angle > rtol:
+            differs.add(j.urdf)
             out.append(finding("axis_direction", f"joint {j.urdf}/{j.mjcf}: the axes differ by {angle:.4g} rad "
-                               f"({math.degrees(angle):.4g}°) after alignment", {"angle_rad": angle, "frames": frames},
+                               f"({math.degrees(angle):.4g}°) after alignment{after}", {"angle_rad": angle, "frames": frames},
                                magnitude=angle, unit="rad", **names))
         elif distance > ptol:
+            differs.add(j.urdf)
             out.append(finding("axis_position", f"joint {j.urdf}/{j.mjcf}: the axis lines are {distance:.4g} m apart after "
-                               "alignment", {"distance_m": distance, "frames": frames}, magnitude=distance, unit="m", **names))
+                               f"alignment{after}", {"distance_m": distance, "frames": frames}, magnitude=distance, unit="m",
+                               **names))
     renamed = [(a, b, how) for a, b, how in matching.joints if a != b]
     if renamed:
         hows = sorted({how for _, _, how in renamed})
@@ -163,3 +176,37 @@ def convention_findings(al: Alignment, kinds: dict[str, str], tol) -> list[Findi
                                "that constant", values, magnitude=angle if angle > rtol else shift,
                                unit="rad" if angle > rtol else "m", **names))
     return out
+
+
+UNIT_FACTORS = {"length": {1000.0: "millimetres as metres", 100.0: "centimetres as metres", 0.0254: "inches as metres",
+                            25.4: "inches as millimetres"},
+                "mass": {1000.0: "grams as kilograms", 0.45359237: "pounds as kilograms"}}
+
+
+def unit_factor(ratio: float, quantity: str) -> str | None:
+    """A name for ``ratio`` (the MJCF's value over the URDF's) when it is a units mistake."""
+    for factor, name in UNIT_FACTORS[quantity].items():
+        if abs(ratio / factor - 1) < 1e-3:
+            return f"×{ratio:.6g} ({name} in the MJCF?)"
+        if abs(ratio * factor - 1) < 1e-3:
+            return f"×{ratio:.6g} ({name} in the URDF?)"
+    return None
+
+
+def length_units(u: ModelDesc, m: ModelDesc, matching: Matching, compared: list[str]) -> list[Finding]:
+    """The MJCF's lengths a constant multiple of the URDF's (a units mistake): one finding."""
+    lu = lm = 0.0
+    for a, b, _ in matching.joints:
+        ju, jm = u.joint(a), m.joint(b)
+        if ju.parent is not None and m.joint(b).parent is not None:
+            lu += float(np.linalg.norm(u.frames[ju.child][:3, 3] - u.frames[u.joint(ju.parent).child][:3, 3]))
+            lm += float(np.linalg.norm(m.frames[jm.child][:3, 3] - m.frames[m.joint(jm.parent).child][:3, 3]))
+    if lu <= 1e-9 or lm <= 1e-9 or abs(lm / lu - 1) < 1e-2:
+        return []
+    name = unit_factor(lm / lu, "length")
+    if name is None:
+        return []
+    return [finding("length_units", f"the MJCF's lengths are the URDF's {name}: every link is {lm / lu:.6g} times as long",
+                    {"ratio": lm / lu, "frames": compared, "checks": [[p, "rigid bodies"] for p in
+                                                                     ("inertia.mass", "inertia.com", "inertia.tensor")]},
+                    magnitude=lm / lu, unit="")]

@@ -63,6 +63,7 @@ class Group:
     urdf: list[Part]
     mjcf: list[Part]
     fixed_base_root: bool  # welded to the world of a fixed-base robot: no effect on its motion
+    local: bool = False  # compared in its own link frame (a joint upstream places it differently)
 
     def total(self, side: str, twins_only: bool = False) -> Inertial:
         parts = self.urdf if side == "urdf" else self.mjcf
@@ -200,6 +201,28 @@ class GroupResult:
         return value / self.tol[k] if self.tol[k] > 0 else (math.inf if value > 0 else 0.0)
 
 
+def _local(grps: list[Group], info) -> None:
+    """A rigid body whose frame the kinematics already place differently (a joint upstream
+    differs) is compared in its own link frame: its inertial is not blamed for where it sits."""
+    from kinverify.filemode.context import aligned_poses
+    from kinverify.model.transforms import invert_transform
+
+    fits = {f.urdf: f for f in info.alignment.frames}
+    pm = aligned_poses(info.alignment, {k: v for k, v in info.poses_m.items()})
+    for g in grps:
+        fit = fits.get(g.urdf_link)
+        if fit is None or g.mjcf_link not in pm or g.urdf_link not in info.poses_u:
+            continue
+        ptol, rtol = info.tol(g.urdf_link)
+        if fit.residual_position <= ptol and fit.residual_rotation <= rtol:
+            continue
+        e = info.poses_u[g.urdf_link] @ invert_transform(pm[g.mjcf_link])
+        for p in g.mjcf:
+            p.com = e[:3, :3] @ p.com + e[:3, 3]
+            p.inertia = e[:3, :3] @ p.inertia @ e[:3, :3].T
+        g.local = True
+
+
 def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
     """Every rigid body of both files compared (see the module docstring); ``defaults``: the
     mass, CoM and tensor tolerances in effect (the written precision may raise them)."""
@@ -209,6 +232,8 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
                   aligned_poses(info.alignment, info.poses_m) if info.file_mode else info.poses_m, info.floating)
     fl = info.floors
     out = []
+    if info.file_mode:
+        _local(grps, info)
     for g in grps:
         a, b = g.total("urdf"), g.total("mjcf")
         frames = [p.name for p in g.urdf]
@@ -238,3 +263,13 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
         result.tensors = describe_tensors(a.inertia, b.inertia, frame, tensor_tol)
         out.append(result)
     return out
+
+
+def uniform_mass_ratio(results) -> float | None:
+    """The MJCF's mass over the URDF's when it is one and the same (not 1) for every rigid body
+    with mass in both files: a units mistake, not many differences."""
+    massive = [r for r in results if r.urdf.mass > 0 and r.mjcf.mass > 0 and not r.group.fixed_base_root]
+    ratios = [r.mjcf.mass / r.urdf.mass for r in massive]
+    if len(massive) < 2 or not all(abs(x / ratios[0] - 1) < 1e-6 for x in ratios) or abs(ratios[0] - 1) < 1e-2:
+        return None
+    return ratios[0]

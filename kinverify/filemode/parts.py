@@ -92,7 +92,11 @@ def _lumped(results) -> list:
 
 
 def _world(results, tol_mass: float) -> list:
+    from kinverify.filemode.inertials import uniform_mass_ratio
+
     out = []
+    if uniform_mass_ratio(results) is not None:
+        return out  # a units mistake, said once by the inertia suite
     for r in results:
         if not r.group.fixed_base_root or r.status in ("agree", "rounding"):
             continue
@@ -117,8 +121,10 @@ def total_mass_finding(info, findings: list, tol: float):
     mu, mm = info.u.total_mass, info.m.total_mass
     if abs(mu - mm) <= max(tol, info.floors.relative * max(mu, mm)):
         return None
-    causes = [f for f in findings if f.kind in ("extra_parts", "mass_difference", "world_parts", "base_inertial_difference",
-                                                 "lumped_links")]
+    causes = [f for f in findings if f.kind in ("extra_parts", "mass_difference", "mass_units", "world_parts",
+                                                 "base_inertial_difference")]
+    if causes and all(f.kind == "world_parts" for f in causes):
+        return None  # bodies welded to the world, already said
     return finding("total_mass", f"total mass {mu:.6g} kg (URDF), {mm:.6g} kg (MJCF): {mm - mu:+.6g} kg"
                    + (", from " + "; ".join(f"{f.kind} ({f.label})" for f in causes) if causes else ""),
                    {"urdf": mu, "mjcf": mm, "difference_kg": mm - mu, "causes": [f.kind for f in causes]},

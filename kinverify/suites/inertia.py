@@ -54,6 +54,7 @@ class InertiaSuite(Suite):
                 f"; tolerance raised to the written precision ({worst.tol[k]:.2g})" if raised else "")
             check = self.value_check(ctx.options, prop, "rigid bodies", ("urdf", "mjcf"), error, note=note, samples=len(moving))
             checks.append(dataclasses.replace(check, tolerance=worst.tol[k], passed=within(error, worst.tol[k])))
+        info.inertial_results = results
         findings = body_findings(moving, info) if info.file_mode else []
         section = Section(self.title, f"{len(results)} rigid bodies; total mass {info.u.total_mass:.6g} kg (URDF), "
                           f"{info.m.total_mass:.6g} kg (MJCF); {sum(c.passed for c in checks)} of {len(checks)} checks pass.")
@@ -102,6 +103,11 @@ def body_findings(results, info) -> list[Finding]:
     from kinverify.filemode.inertials import rounded_side
 
     out: list[Finding] = []
+    if info.inertials_explained_by:
+        return out
+    units = _mass_units(results, info)
+    if units is not None:
+        return [units]
     signature: dict[tuple, list] = {}
     for r in results:
         if r.status != "differs":
@@ -139,3 +145,19 @@ def body_findings(results, info) -> list[Finding]:
                             "inertia_kgm2": max(r.diff.tensor for r in rounded)},
                            magnitude=max(r.diff.mass for r in rounded), unit="kg", prop="inertia.mass"))
     return out
+
+
+def _mass_units(results, info) -> Finding | None:
+    """Every body's mass a constant multiple of the other file's (grams as kilograms): one finding."""
+    from kinverify.filemode.diagnose import finding, unit_factor
+    from kinverify.filemode.inertials import uniform_mass_ratio
+
+    ratio = uniform_mass_ratio(info.inertial_results or results)
+    name = unit_factor(ratio, "mass") if ratio is not None else None
+    if name is None:
+        return None
+    massive = [r for r in results if r.urdf.mass > 0 and r.mjcf.mass > 0 and not r.group.fixed_base_root]
+    return finding("mass_units", f"the MJCF's masses are the URDF's {name} on all {len(massive)} rigid bodies",
+                   {"ratio": ratio, "urdf": [r.urdf.mass for r in massive], "mjcf": [r.mjcf.mass for r in massive],
+                    "checks": [[p, "rigid bodies"] for p in PROPS]}, magnitude=ratio, unit="", prop="inertia.mass",
+                   link=[r.group.urdf_link for r in massive], mjcf_link=[r.group.mjcf_link for r in massive])

@@ -154,10 +154,18 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
                            magnitude=math.inf, unit="rad", prop="limits.position",
                            joint=[r["joint"] for r in group], mjcf_joint=[r["mjcf"] for r in group]))
     if degrees:
-        big = "MJCF" if abs(degrees[0]["upper"][1]) > abs(degrees[0]["upper"][0]) else "URDF"
-        out.append(finding("limit_units", f"the {big}'s limits of {len(degrees)} joints are the other file's in degrees, read as "
-                           f"radians (ratio 180/π): " + ", ".join(r["label"] for r in degrees),
-                           {"file": big, "urdf": [[r["lower"][0], r["upper"][0]] for r in degrees],
+        big = "MJCF" if max(abs(x) for r in degrees for x in (r["lower"][1], r["upper"][1]) if math.isfinite(x)) > \
+            max(abs(x) for r in degrees for x in (r["lower"][0], r["upper"][0]) if math.isfinite(x)) else "URDF"
+        how = {("URDF", "degree"): "the MJCF's ranges are written in radians, but without <compiler angle=\"radian\"> "
+                                   "MuJoCo reads them in degrees",
+               ("URDF", "radian"): "the URDF's limits are written in degrees (URDF limits are radians)",
+               ("MJCF", "radian"): "the MJCF's ranges are written in degrees, but <compiler angle=\"radian\"> makes "
+                                   "MuJoCo read them in radians"}.get((big, info.mjcf_angle),
+                                                                       "one file's limits are the other's in degrees")
+        out.append(finding("limit_units", f"{how}: {len(degrees)} joints' limits differ by the factor 180/π: "
+                           + ", ".join(r["label"] for r in degrees),
+                           {"file": "MJCF" if "MJCF" in how.split(" ")[1] else big,
+                            "urdf": [[r["lower"][0], r["upper"][0]] for r in degrees],
                             "mjcf": [[r["lower"][1], r["upper"][1]] for r in degrees], "checks": [["limits.position", "joints"]]},
                            magnitude=max(r["limits.position"] for r in degrees), unit="rad", prop="limits.position",
                            joint=[r["joint"] for r in degrees], mjcf_joint=[r["mjcf"] for r in degrees]))
