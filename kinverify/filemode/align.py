@@ -275,18 +275,19 @@ class Aligner:
             if angles:
                 theta = _consensus(angles, weights)
                 return theta if self._turns_onto(used, theta, am, pm, ptol) else 0.0
-            if group is points and dirs:  # intersecting axes: the next axes' directions (sign-free)
-                found = []
-                for dm, du in dirs:
-                    vm, vu = _planar(dm, am), _planar(du, am)
-                    if np.linalg.norm(vm) > 1e-6 and np.linalg.norm(vu) > 1e-6:
-                        th = math.atan2(float(am @ np.cross(vm, vu)), float(vm @ vu))
-                        found.append(min((th, _wrap(th + math.pi)), key=abs))
-                if found:
-                    theta = _consensus(found, [1.0] * len(found))
-                    turned = [axis_angle_to_matrix(am, np.array([theta]))[0] @ dm for dm, _ in dirs]
-                    ok = all(min(np.linalg.norm(x - du), np.linalg.norm(x + du)) <= rtol for x, (_, du) in zip(turned, dirs))
-                    return theta if ok else 0.0
+        # everything it moves is on its axis: the next axes' directions, whose sign is the next
+        # joints' own convention, so the smaller of the two turns
+        found = []
+        for dm, du in dirs:
+            vm, vu = _planar(dm, am), _planar(du, am)
+            if np.linalg.norm(vm) > 1e-6 and np.linalg.norm(vu) > 1e-6:
+                th = math.atan2(float(am @ np.cross(vm, vu)), float(vm @ vu))
+                found.append(min((th, _wrap(th + math.pi)), key=abs))
+        if found:
+            theta = _consensus(found, [1.0] * len(found))
+            turned = [axis_angle_to_matrix(am, np.array([theta]))[0] @ dm for dm, _ in dirs]
+            ok = all(min(np.linalg.norm(x - du), np.linalg.norm(x + du)) <= rtol for x, (_, du) in zip(turned, dirs))
+            return theta if ok else 0.0
         return 0.0
 
     @staticmethod

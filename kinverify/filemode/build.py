@@ -139,9 +139,12 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
                 if len(keep) < len(frames_m):
                     missing = [frames_m[i] for i in range(len(frames_m)) if i not in keep]
                     info.notes.append(f"{name} has no frame for {', '.join(missing)} (compared on the other frames)")
-        except KinverifyError as err:
+        except Exception as err:  # a library refusing a real file is a finding, whatever it raises
+            if isinstance(err, KeyboardInterrupt):
+                raise
             side = "URDF" if name in URDF_SIDE else "MJCF"
-            findings.append(finding("parser_refused", f"{name} refuses the {side}: {err}", {"file": side, "backend": name}))
+            findings.append(finding("parser_refused", f"{name} refuses the {side}: {_last_line(err)}",
+                                    {"file": side, "backend": name}))
     return out
 
 

@@ -60,7 +60,14 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
         for name in loaded[1:]:
             common = [(i, ref.frames.index(f)) for i, f in enumerate(backends[name].frames) if f in ref.frames]
             p0 = p_ref[:, [j for _, j in common]]
-            p1 = backends[name].poses(q)[:, [i for i, _ in common]]
+            try:
+                p1 = backends[name].poses(q)[:, [i for i, _ in common]]
+            except Exception as err:  # the library fails on this file: a finding, not a crash
+                keep.pop(name)
+                findings.append(finding("parser_refused", f"{name} cannot evaluate the {side}: "
+                                        f"{str(err).strip().splitlines()[-1] if str(err).strip() else type(err).__name__}",
+                                        {"file": side, "backend": name}))
+                continue
             pos, rot = pose_errors(p0, p1)
             rows.append([side, f"{loaded[0]} vs {name}", float(pos.max()), float(rot.max())])
             if pos.max() <= ptol and rot.max() <= rtol:

@@ -46,6 +46,7 @@ class BodyInertial:
     name: str = ""  # URDF link / MJCF body; also the name of its frame
     com_local: np.ndarray = field(default_factory=lambda: np.zeros(3))  # in the body's frame
     inertia_local: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about the CoM, body axes
+    snapped: float = 0.0  # MuJoCo: angle [rad] of principal axes it aligned with the body frame (body_sameframe)
 
 
 @dataclass(frozen=True)
@@ -308,9 +309,19 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
         ine_w = rot_i @ np.diag(m.body_inertia[b]) @ rot_i.T
         com_l = rot_b.T @ (np.array(d.xipos[b]) - d.xpos[b])
         bodies.append(BodyInertial(body_owner(b), float(m.body_mass[b]), np.array(d.xipos[b]), ine_w, m.body(b).name,
-                                   com_l, rot_b.T @ ine_w @ rot_b))
+                                   com_l, rot_b.T @ ine_w @ rot_b, _snapped(m, b)))
     return ModelDesc("mjcf", "mujoco", joints, frames, owner, depth, bodies, skipped, kind, _mjcf_couplings(m, movable),
                      np.array(m.opt.gravity, dtype=float))
+
+
+def _snapped(m, b: int) -> float:
+    """The rotation [rad] of a body's principal axes that MuJoCo's compiler dropped, treating them
+    as aligned with the body frame (``body_sameframe``) because it was below about 1e-6 rad."""
+    import mujoco
+
+    aligned = (int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY), int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT))
+    vec = float(np.linalg.norm(m.body_iquat[b][1:]))
+    return 2.0 * float(np.arcsin(min(1.0, vec))) if int(m.body_sameframe[b]) in aligned and vec > 0 else 0.0
 
 
 def _pose(pos, mat) -> np.ndarray:

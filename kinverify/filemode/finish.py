@@ -25,8 +25,11 @@ def _tol(opts, name: str) -> float:
 
 
 def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
-    groups = {r.group.key: r.mjcf for r in results if r.status in ("differs", "explained") and not r.group.fixed_base_root}
-    subs = [f"the MJCF's inertial of {r.label}" for r in results if r.group.key in groups]
+    snapped = {r.group.key for r in results if any(p.snapped for p in r.group.mjcf)}
+    groups = {r.group.key: r.mjcf for r in results
+              if (r.status in ("differs", "explained") or r.group.key in snapped) and not r.group.fixed_base_root}
+    subs = [f"the MJCF's inertial of {r.label}" + (" (MuJoCo aligned its principal axes with the body frame)"
+                                                   if r.group.key in snapped else "") for r in results if r.group.key in groups]
     subs += [f"the MJCF's damping of {', '.join(sorted(damping_joints))}"] if damping_joints else []
     suite = FileDynamicsSuite(info, groups, damping_joints, subs)
     q = Samples(sources.lower, sources.upper, sources.revolute, max(opts.samples, 1), opts.seed)

@@ -53,6 +53,7 @@ class Part:
     com: np.ndarray
     inertia: np.ndarray
     twin: str | None  # the other file's body in the same role, None when it has none
+    snapped: float = 0.0  # MuJoCo dropped this rotation of its principal axes [rad] (see describe)
 
 
 @dataclass
@@ -131,7 +132,7 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
         com, inertia = place(body, poses_m.get(body.name))
         twin = twin_m.get(body.name)
         twin = twin if twin is not None and u.body(twin) is not None else None
-        out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin))
+        out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped))
     return [g for g in out.values() if g.urdf or g.mjcf]
 
 
@@ -245,12 +246,14 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
         mass_tol = max(defaults[0], info.floor("inertia.mass", fl.relative * big))
         com_tol = max(defaults[1], com_floor)
         norm = max(float(np.abs(np.linalg.eigvalsh(a.inertia)).max()), float(np.abs(np.linalg.eigvalsh(b.inertia)).max()))
+        snapped = sum(2 * p.snapped * float(np.ptp(np.linalg.eigvalsh(p.inertia))) for p in g.mjcf)
         tensor_tol = max(defaults[2], info.floor("inertia.tensor", (fl.relative + 2 * (fl.inertial_angle + rot_floor)) * norm
-                                                + 2 * big * (lever + fl.com) * com_floor))
+                                                + 2 * big * (lever + fl.com) * com_floor), defaults[2] + snapped)
         diff = difference(a, b)
         tol = (mass_tol, com_tol, tensor_tol)
         if diff.within(*tol):
-            status = "rounding" if not diff.within(*defaults) and info.file_mode else "agree"
+            exact = (defaults[0], defaults[1], defaults[2] + snapped)
+            status = "rounding" if not diff.within(*exact) and info.file_mode else "agree"
             result = GroupResult(g, a, b, diff, tol, status)
         else:
             without = None

@@ -9,8 +9,8 @@ tolerance to this floor (never above a tolerance the user sets with ``--toleranc
 reported as information, and a difference above the written precision still fails.
 
 Kinematics, per frame: each rounded rotation on the frame's path from the base (a URDF joint's
-``rpy`` or ``axis``, an MJCF body's ``quat``...) is off by at most 2 × its quantum (quaternion
-components off by q/2 each turn it by up to 2q), each rounded position by √3/2 × its quantum, and
+``rpy`` or ``axis``, an MJCF body's ``quat``...) is off by at most 4 × its components' rounding
+(quaternion components off by b each turn it by up to 4b), each rounded position by √3 × it, and
 a rotation error moves a point ``r`` metres further out by ``r`` times it. Masses, inertias, centres
 of mass, inertial orientations and joint limits: the coarsest rounding of each file.
 """
@@ -21,8 +21,6 @@ import math
 import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
-
-from kinverify.filemode.rounding import nice_constant
 
 LONG = 5  # significant digits from which a number is taken as computed, then rounded
 _NUMBER = re.compile(r"^[+-]?(\d*)\.?(\d*)(?:[eE]([+-]?\d+))?$")
@@ -42,8 +40,9 @@ def quantum(text: str) -> tuple[float, int] | None:
 
 
 def rounding_of(word: str, scale: float = 1.0, angle: bool = False) -> float:
-    """The rounding quantum of one written number (0: taken as exact); ``scale`` converts it to
-    radians or metres."""
+    """How far one written number may be from the value it stands for, in radians or metres
+    (``scale`` converts it): half its last digit when it has many digits, the exact distance to a
+    multiple of π/12 it rounds (``1.571``, ``0.785``), 0 for a number taken as exact."""
     found = quantum(word)
     if found is None:
         return 0.0
@@ -54,16 +53,20 @@ def rounding_of(word: str, scale: float = 1.0, angle: bool = False) -> float:
         return 0.0
     if value == 0:
         return 0.0
-    if digits >= LONG or (angle and scale == 1.0 and nice_constant(value, word, min_decimals=2) is not None):
-        return q * scale
-    return 0.0
+    if angle and scale == 1.0 and "." in word and 2 <= len(word.split(".")[1].split("e")[0]) <= 8:
+        k = round(value / (math.pi / 12))
+        exact = k * math.pi / 12
+        if k and 1e-12 < abs(value - exact) <= q / 2:
+            return abs(value - exact)
+    return q / 2 * scale if digits >= LONG else 0.0
 
 
 @dataclass
 class Precision:
     """A file's written precision: per frame, the rotation [rad] and position [m] its path's
-    rounding may account for (no lever arm); per category the coarsest rounding found
-    (``relative`` to the value for masses and inertias, absolute otherwise); an example of each."""
+    rounding may account for (no lever arm); per category the largest rounding error a number
+    may carry (``relative`` to the value for masses and inertias, absolute otherwise); an example
+    of each."""
 
     file: str
     frames: dict[str, tuple[float, float]] = field(default_factory=dict)
@@ -98,17 +101,18 @@ def _words(value: str | None) -> list[str]:
     return (value or "").split()
 
 
-def _element(pose_words, position_words, scale_angle=1.0, angle_flags=None) -> tuple[float, float, str]:
-    """(rotation bound, position bound, coarsest word) of one transform as written."""
+def _element(pose_words, position_words, scale_angle=1.0) -> tuple[float, float, str]:
+    """(rotation bound, position bound, coarsest word) of one transform as written: components
+    each off by up to b turn a quaternion by up to 4b; a position is off by up to √3·b."""
     rot, pos, word = 0.0, 0.0, ""
     for w in pose_words:
-        q = rounding_of(w, scale_angle, angle=True)
-        if 2 * q > rot:
-            rot, word = 2 * q, w
+        b = rounding_of(w, scale_angle, angle=True)
+        if 4 * b > rot:
+            rot, word = 4 * b, w
     for w in position_words:
-        q = rounding_of(w)
-        if math.sqrt(3) / 2 * q > pos:
-            pos = math.sqrt(3) / 2 * q
+        b = rounding_of(w)
+        if math.sqrt(3) * b > pos:
+            pos = math.sqrt(3) * b
             word = word or w
     return rot, pos, word
 
@@ -275,5 +279,5 @@ def floors(a: Precision, b: Precision, pairs, reach: dict[str, float], dof: int)
         rb, pb = b.frames.get(fb, (0.0, 0.0))
         rot = ra + rb
         frames[fa] = (pa + pb + rot * reach.get(fa, 0.0), rot)
-    return Floors(frames, dof, max(reach.values(), default=0.0), (a.limit + b.limit) / 2,
-                  (a.relative + b.relative) / 2, (a.com + b.com) / 2, 2 * (a.inertial_angle + b.inertial_angle))
+    return Floors(frames, dof, max(reach.values(), default=0.0), a.limit + b.limit, a.relative + b.relative,
+                  a.com + b.com, 4 * (a.inertial_angle + b.inertial_angle))

@@ -26,10 +26,10 @@ def rounded_from(x: float, y: float) -> dict | None:
     return None
 
 
-def nice_constant(value: float, text: str, min_decimals: int = 3) -> tuple[tuple[float, str], int] | None:
+def nice_constant(value: float, text: str) -> tuple[tuple[float, str], int] | None:
     """The constant ``text`` (as written, ``value``) rounds, with the number of decimals, or None."""
     decimals = len(text.split(".")[1]) if "." in text and "e" not in text.lower() else 0
-    if decimals < min_decimals or decimals > 8 or value == 0:
+    if decimals < 3 or decimals > 8 or value == 0:
         return None
     candidates = list(_NICE) + [(math.radians(d), f"{d}°") for d in range(-360, 361) if d]
     for exact, label in candidates:
