@@ -14,8 +14,6 @@ from __future__ import annotations
 import dataclasses
 import time
 
-import numpy as np
-
 __all__ = ["verify_files", "diagnose_files", "FILE_SUITES"]
 
 FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics")

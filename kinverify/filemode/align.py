@@ -28,124 +28,17 @@ Frames whose pose then differs by a constant (a frame convention: e.g. a finger 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from kinverify.filemode.describe import Coupling, ModelDesc
-from kinverify.filemode.geometry import foot_on_line, kabsch, project_on_line
+from kinverify.filemode.alignment import Alignment, FrameFit, JointMap, PairPoses
+from kinverify.filemode.geometry import consensus, foot_on_line, kabsch, planar, project_on_line, rotation_between, wrap
 from kinverify.filemode.match import Matching
+from kinverify.filemode.model import ModelDesc
 from kinverify.filemode.precision import Floors
 from kinverify.model.transforms import axis_angle_to_matrix, geodesic_distance, invert_transform
 
 TOL = 1e-9  # m and rad: agreement of exact double-precision readings
-FIT_SAMPLES = 24  # configurations (besides q = 0) the fit and the residuals use
-OFFSET_SPREAD = 1e-6  # rad or m: features that agree on a zero offset to within this
-
-
-@dataclass
-class JointMap:
-    urdf: str
-    mjcf: str
-    type: str
-    sign: int = 1
-    offset: float = 0.0
-
-
-@dataclass
-class FrameFit:
-    """One matched frame after alignment: max over the fit's configurations of the position and
-    rotation error with ``T`` and the joint map applied, and after removing a constant offset ``C``
-    (``pose_urdf = T⁻¹ · pose_mjcf · C``)."""
-
-    urdf: str
-    mjcf: str
-    why: str
-    position: float
-    rotation: float
-    constant: np.ndarray
-    residual_position: float
-    residual_rotation: float
-    in_fit: bool
-
-
-@dataclass
-class Alignment:
-    T: np.ndarray  # T_mjcf_from_urdf (4x4)
-    joints: list[JointMap]  # URDF chain order
-    couplings: dict[str, Coupling]  # URDF follower -> coupling (URDF names)
-    independent: list[str]
-    frames: list[FrameFit] = field(default_factory=list)
-    axis_errors: dict[str, tuple[float, float]] = field(default_factory=dict)  # joint -> (angle rad, line distance m)
-    residual: tuple[float, float] = (0.0, 0.0)  # fit residual (m, rad) over the features kept
-    candidate: str = ""
-    unexplained: int = 0
-
-    def joint(self, urdf: str) -> JointMap:
-        return next(j for j in self.joints if j.urdf == urdf)
-
-    @property
-    def signs(self) -> np.ndarray:
-        return np.array([j.sign for j in self.joints], dtype=float)
-
-    @property
-    def offsets(self) -> np.ndarray:
-        return np.array([j.offset for j in self.joints], dtype=float)
-
-    def expand(self, q: np.ndarray) -> np.ndarray:
-        """Independent joint values (N, n_independent) -> every matched joint (N, n), URDF order."""
-        q = np.atleast_2d(np.asarray(q, dtype=float))
-        names = [j.urdf for j in self.joints]
-        full = np.zeros((q.shape[0], len(names)))
-        col = {n: i for i, n in enumerate(names)}
-        for k, name in enumerate(self.independent):
-            full[:, col[name]] = q[:, k]
-        for follower, c in self.couplings.items():
-            full[:, col[follower]] = c.multiplier * full[:, col[c.leader]] + c.offset
-        return full
-
-    def expansion(self) -> np.ndarray:
-        """d(every matched joint)/d(independent joints): (n, n_independent)."""
-        names = [j.urdf for j in self.joints]
-        e = np.zeros((len(names), len(self.independent)))
-        for k, name in enumerate(self.independent):
-            e[names.index(name), k] = 1.0
-        for follower, c in self.couplings.items():
-            e[names.index(follower)] = c.multiplier * e[names.index(c.leader)]
-        return e
-
-    def to_mjcf(self, q_full: np.ndarray) -> np.ndarray:
-        return q_full * self.signs + self.offsets
-
-    def frame_constant(self, urdf_frame: str) -> np.ndarray:
-        return next((f.constant for f in self.frames if f.urdf == urdf_frame), np.eye(4))
-
-
-class PairPoses:
-    """FK of both files' frames at configurations of the matched joints (each file's own names):
-    Pinocchio on the URDF, MuJoCo on the MJCF (joints in one file only held at zero, MJCF ones at
-    ``qpos0``, where MuJoCo places a joint with a ``ref``)."""
-
-    def __init__(self, u: ModelDesc, m: ModelDesc, matching: Matching, urdf_text: str, mjcf_text: str,
-                 urdf_library: str = "pinocchio") -> None:
-        from kinverify.backends.mujoco_ import MujocoBackend
-        from kinverify.backends.pinocchio_ import PinocchioBackend
-
-        self.u, self.m = u, m
-        self.ujoints = [a for a, _, _ in matching.joints]
-        self.mjoints = [b for _, b, _ in matching.joints]
-        self.uframes, self.mframes = list(u.frames), list(m.frames)
-        reader = PinocchioBackend if urdf_library == "pinocchio" else MujocoBackend
-        self.ub = reader.from_urdf(urdf_text, self.ujoints, self.uframes)
-        self.mb = MujocoBackend.from_mjcf(mjcf_text, self.mjoints, self.mframes)
-        self.ui = {f: i for i, f in enumerate(self.uframes)}
-        self.mi = {f: i for i, f in enumerate(self.mframes)}
-
-    def urdf(self, q_full: np.ndarray) -> np.ndarray:
-        return self.ub.poses(np.atleast_2d(q_full))
-
-    def mjcf(self, q_mjcf: np.ndarray) -> np.ndarray:
-        return self.mb.poses(np.atleast_2d(q_mjcf))
 
 
 def _line_local(desc: ModelDesc, joint: str) -> tuple[np.ndarray, np.ndarray]:
@@ -258,33 +151,33 @@ class Aligner:
         (shift) about its axis does."""
         points, dirs, extra = self._features(a, b, t, pu0, pm0, au, pu, am, pm)
         ptol, rtol = self.carried_tol(a)
-        if self.types[a] == "prismatic":
-            pairs = points + extra
-            shift = _consensus([float((xu - xm) @ am) for xm, xu in pairs], [1.0] * len(pairs), linear=True)
+        if self.types[a] == "prismatic":  # a next axis parallel to it says nothing about a shift along it
+            pairs = [pt for pt, (dm, _) in zip(points, dirs) if np.linalg.norm(np.cross(dm, am)) > 1e-6] + extra
+            shift = consensus([float((xu - xm) @ am) for xm, xu in pairs], [1.0] * len(pairs), linear=True)
             ok = all(np.linalg.norm(xm + shift * am - xu) <= ptol for xm, xu in pairs)
             return shift if ok else 0.0
         for group in (points, extra):
             angles, weights, used = [], [], []
             for xm, xu in group:
-                vm, vu = _planar(xm - pm, am), _planar(xu - pm, am)
+                vm, vu = planar(xm - pm, am), planar(xu - pm, am)
                 rm, ru = float(np.linalg.norm(vm)), float(np.linalg.norm(vu))
                 if min(rm, ru) > 1e-6 * self.scale and abs(rm - ru) <= ptol:
                     angles.append(math.atan2(float(am @ np.cross(vm, vu)), float(vm @ vu)))
                     weights.append(rm * ru)
                     used.append((xm, xu))
             if angles:
-                theta = _consensus(angles, weights)
+                theta = consensus(angles, weights)
                 return theta if self._turns_onto(used, theta, am, pm, ptol) else 0.0
         # everything it moves is on its axis: the next axes' directions, whose sign is the next
         # joints' own convention, so the smaller of the two turns
         found = []
         for dm, du in dirs:
-            vm, vu = _planar(dm, am), _planar(du, am)
+            vm, vu = planar(dm, am), planar(du, am)
             if np.linalg.norm(vm) > 1e-6 and np.linalg.norm(vu) > 1e-6:
                 th = math.atan2(float(am @ np.cross(vm, vu)), float(vm @ vu))
-                found.append(min((th, _wrap(th + math.pi)), key=abs))
+                found.append(min((th, wrap(th + math.pi)), key=abs))
         if found:
-            theta = _consensus(found, [1.0] * len(found))
+            theta = consensus(found, [1.0] * len(found))
             turned = [axis_angle_to_matrix(am, np.array([theta]))[0] @ dm for dm, _ in dirs]
             ok = all(min(np.linalg.norm(x - du), np.linalg.norm(x + du)) <= rtol for x, (_, du) in zip(turned, dirs))
             return theta if ok else 0.0
@@ -417,7 +310,7 @@ class Aligner:
             a, b = roots[0]
             (ua, up), (ma, mp) = self.line("u", a, self.pu[:1]), self.line("m", b, pm[:1])
             for sign in (1, -1):
-                rot = _rotation_between(ua[0], sign * ma[0])
+                rot = rotation_between(ua[0], sign * ma[0])
                 t = np.eye(4)
                 t[:3, :3] = rot
                 t[:3, 3] = mp[0] - rot @ up[0]
@@ -467,47 +360,6 @@ class Aligner:
                 best = Alignment(t, joints, self.matching.couplings, self.matching.independent, fits, axis_errors,
                                  residual, label, bad)
         return best
-
-
-def _planar(v: np.ndarray, axis: np.ndarray) -> np.ndarray:
-    return v - (v @ axis) * axis
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2 * math.pi) - math.pi
-
-
-def _consensus(values: list[float], weights: list[float], linear: bool = False) -> float:
-    """The value most features agree on (within OFFSET_SPREAD), weighted; 0 when they do not
-    agree on one value carrying at least half the weight."""
-    if not values:
-        return 0.0
-    diff = (lambda x, y: abs(x - y)) if linear else (lambda x, y: abs(_wrap(x - y)))
-    total = sum(weights)
-    best, support = 0.0, 0.0
-    for v in values:
-        group = [(x, w) for x, w in zip(values, weights) if diff(x, v) <= OFFSET_SPREAD]
-        s = sum(w for _, w in group)
-        if s > support:
-            support = s
-            ref = v
-            if linear:
-                best = sum(x * w for x, w in group) / s
-            else:
-                best = ref + sum(_wrap(x - ref) * w for x, w in group) / s
-    return best if support >= total / 2 else 0.0
-
-
-def _rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The smallest rotation taking unit vector a onto b."""
-    v = np.cross(a, b)
-    c = float(a @ b)
-    if np.linalg.norm(v) < 1e-12:
-        if c > 0:
-            return np.eye(3)
-        perp = np.cross(a, [1.0, 0, 0] if abs(a[0]) < 0.9 else [0, 1.0, 0])
-        return axis_angle_to_matrix(perp / np.linalg.norm(perp), np.array([math.pi]))[0]
-    return axis_angle_to_matrix(v / np.linalg.norm(v), np.array([math.atan2(np.linalg.norm(v), c)]))[0]
 
 
 def _is_identity(t: np.ndarray, scale: float) -> bool:

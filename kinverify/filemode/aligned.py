@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from kinverify.backends.base import BackendBase, Evaluation
-from kinverify.filemode.align import Alignment
+from kinverify.filemode.alignment import Alignment
 
 
 class AlignedBackend(BackendBase):

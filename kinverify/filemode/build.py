@@ -11,7 +11,8 @@ import numpy as np
 
 from kinverify.backends import available_backends
 from kinverify.errors import InputError, KinverifyError
-from kinverify.filemode.align import Alignment, FrameFit, JointMap, PairPoses, align
+from kinverify.filemode.align import align
+from kinverify.filemode.alignment import Alignment, FrameFit, JointMap, PairPoses
 from kinverify.filemode.aligned import AlignedBackend
 from kinverify.filemode.crosscheck import MJCF_SIDE, URDF_SIDE
 from kinverify.filemode.describe import ModelDesc, describe_mjcf, describe_urdf

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kinverify.filemode.align import Alignment, JointMap
+from kinverify.filemode.alignment import Alignment, JointMap
 from kinverify.filemode.describe import ModelDesc, describe_mjcf, describe_urdf
 from kinverify.filemode.match import Matching
 from kinverify.filemode.precision import Floors, Precision

@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from kinverify.filemode.align import Alignment
-from kinverify.filemode.describe import ModelDesc
+from kinverify.filemode.alignment import Alignment
+from kinverify.filemode.model import ModelDesc
 from kinverify.filemode.match import Matching
 from kinverify.model.transforms import geodesic_distance, matrix_to_rpy
 from kinverify.suites.base import Finding

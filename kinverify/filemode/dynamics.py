@@ -91,8 +91,9 @@ class FileDynamicsSuite(DynamicsSuite):
         m_names = [j.mjcf for j in al.joints]
         src = ctx.sources
         sources = ModelSources(src.name, tuple(u_names), src.frames, (), (), tuple(j.type == "revolute" for j in al.joints),
-                               None, lock_urdf_joints(src.urdf, info.matching.unmatched_urdf),
-                               lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf), tuple(m_names), src.mjcf_frames)
+                               None, lock_urdf_joints(src.urdf, info.matching.unmatched_urdf + info.u.held),
+                               lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf + info.m.held), tuple(m_names),
+                               src.mjcf_frames)
         n = int(ctx.options.extra.get("dynamics_samples", 100))
         return VerifyContext(sources, {}, al.expand(np.asarray(ctx.q[:n])), ctx.options)
 
@@ -100,7 +101,7 @@ class FileDynamicsSuite(DynamicsSuite):
         return super().run(self.context(ctx))
 
     def models(self, ctx: VerifyContext):
-        info, al = self.info, self.info.alignment
+        al = self.info.alignment
         mj = MujocoDynamics(ctx.sources.mjcf, ctx.sources.mjcf_joint_names, rigid=True)
         pin = PinocchioDynamics(ctx.sources.urdf, ctx.sources.joint_names, mj.armature)
         self._substitute_inertia(pin)

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from kinverify.model.transforms import geodesic_distance, invert_transform
-from kinverify.filemode.describe import ModelDesc
+from kinverify.model.transforms import axis_angle_to_matrix, geodesic_distance, invert_transform
+from kinverify.filemode.model import ModelDesc
 
 
 def apply(t: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -134,3 +136,44 @@ def reach(desc: ModelDesc) -> dict[str, float]:
         start = anchors[owner] if owner is not None else np.zeros(3)
         out[name] = chain(owner) + float(np.linalg.norm(pose[:3, 3] - start))
     return out
+
+
+def planar(v: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    return v - (v @ axis) * axis
+
+
+def wrap(angle: float) -> float:
+    return (angle + math.pi) % (2 * math.pi) - math.pi
+
+
+def consensus(values: list[float], weights: list[float], linear: bool = False, spread: float = 1e-6) -> float:
+    """The value most features agree on (within spread), weighted; 0 when they do not
+    agree on one value carrying at least half the weight."""
+    if not values:
+        return 0.0
+    diff = (lambda x, y: abs(x - y)) if linear else (lambda x, y: abs(wrap(x - y)))
+    total = sum(weights)
+    best, support = 0.0, 0.0
+    for v in values:
+        group = [(x, w) for x, w in zip(values, weights) if diff(x, v) <= spread]
+        s = sum(w for _, w in group)
+        if s > support:
+            support = s
+            ref = v
+            if linear:
+                best = sum(x * w for x, w in group) / s
+            else:
+                best = ref + sum(wrap(x - ref) * w for x, w in group) / s
+    return best if support >= total / 2 else 0.0
+
+
+def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The smallest rotation taking unit vector a onto b."""
+    v = np.cross(a, b)
+    c = float(a @ b)
+    if np.linalg.norm(v) < 1e-12:
+        if c > 0:
+            return np.eye(3)
+        perp = np.cross(a, [1.0, 0, 0] if abs(a[0]) < 0.9 else [0, 1.0, 0])
+        return axis_angle_to_matrix(perp / np.linalg.norm(perp), np.array([math.pi]))[0]
+    return axis_angle_to_matrix(v / np.linalg.norm(v), np.array([math.atan2(np.linalg.norm(v), c)]))[0]

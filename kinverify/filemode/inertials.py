@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kinverify.filemode.describe import BodyInertial, ModelDesc
+from kinverify.filemode.model import BodyInertial, ModelDesc
 
 ROOT = "(base)"
 

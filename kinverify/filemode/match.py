@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kinverify.errors import InputError, UnknownNameError
-from kinverify.filemode.describe import Coupling, ModelDesc
+from kinverify.filemode.model import Coupling, ModelDesc
 
 
 @dataclass

@@ -7,7 +7,8 @@ state, by editing the XML tree (never re-printing numbers):
   the world origin, as the URDF's root link is: both free bases at the same pose (the identity).
   MuJoCo's initial base pose (``qpos0``, the body's ``pos``/``quat``) is the free joint's initial
   value, not a property of the robot. Keyframes (whose ``qpos`` would no longer fit) go too;
-- joints present in one file only are locked at zero for the dynamics comparison (URDF: the
+- joints present in one file only, and joints with several coordinates (a URDF ``floating`` or
+  ``planar`` joint, an MJCF ``ball``), are locked at zero for the dynamics comparison (URDF: the
   joint becomes ``fixed``; MJCF: the joint and what refers to it are removed).
 """
 

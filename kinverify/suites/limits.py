@@ -206,7 +206,7 @@ def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
             side = "MJCF" if key[1] else "URDF"
             msg = (f"{len(group)} joints: the {side}'s actuators put no bound on the joint force ("
                    + "; ".join(f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'URDF'}" for r in group[:3])
-                   + ("; …" if len(group) > 3 else "") + f"), the other file limits it to "
+                   + ("; …" if len(group) > 3 else "") + "), the other file limits it to "
                    + ", ".join(f"{r['effort'][0 if side == 'MJCF' else 1]:g}" for r in group) + f" {unit}")
             out.append(finding("effort_difference", msg, values, magnitude=math.inf, unit=unit, prop="limits.effort", **names))
         else:
