@@ -58,6 +58,44 @@ def _carry(poses: np.ndarray, x: np.ndarray) -> np.ndarray:
     return poses[:, :3, :3] @ x + poses[:, :3, 3]
 
 
+def _gauss_newton(feats, t: np.ndarray, iterations: int = 4) -> np.ndarray:
+    """Refine T by Gauss-Newton on the features' errors, each scaled by its tolerance (a turn
+    that only a few rounded points pin down converges as accurately as one that exact axes do,
+    where a single weighted Kabsch fit would lose it in round-off). A turn the features leave free
+    stays as it is (the minimum-norm step)."""
+    from kinverify.model.transforms import skew
+
+    for _ in range(iterations):
+        rows, res = [], []
+        rot = t[:3, :3]
+        for _, kind, a, b, (ptol, rtol) in feats:
+            if kind == "point":
+                pt = _apply(t, a)
+                rows.append(np.concatenate([-skew(pt), np.broadcast_to(np.eye(3), pt.shape[:-1] + (3, 3))], axis=-1) / ptol)
+                res.append((pt - b) / ptol)
+                continue
+            (ua, up), (ma, mp) = a, b
+            pt, dt = _apply(t, up), ua @ rot.T
+            perp = np.eye(3) - ma[..., :, None] * ma[..., None, :]
+            jp = np.concatenate([-skew(pt), np.broadcast_to(np.eye(3), pt.shape[:-1] + (3, 3))], axis=-1)
+            rows.append(perp @ jp / ptol)
+            res.append(np.einsum("nij,nj->ni", perp, pt - mp) / ptol)
+            rows.append(np.concatenate([-skew(dt), np.zeros(dt.shape[:-1] + (3, 3))], axis=-1) / rtol)
+            res.append((dt - ma) / rtol)
+        j = np.concatenate([r.reshape(-1, 6) for r in rows])
+        e = np.concatenate([r.reshape(-1) for r in res])
+        a, g = j.T @ j, j.T @ e  # normal equations, scaled to unit diagonal (each iteration refines)
+        d = np.sqrt(np.maximum(np.diag(a), 1e-300))
+        step = np.linalg.lstsq(a / np.outer(d, d), -g / d, rcond=1e-14)[0] / d
+        if not np.all(np.isfinite(step)) or np.abs(step).max() < 1e-16:
+            break
+        dr = axis_angle_to_matrix(step[:3] / (np.linalg.norm(step[:3]) or 1.0), np.array([np.linalg.norm(step[:3])]))[0]
+        new = np.eye(4)
+        new[:3, :3], new[:3, 3] = dr @ rot, dr @ t[:3, 3] + step[3:]
+        t = new
+    return t
+
+
 class Aligner:
     def __init__(self, poses: PairPoses, matching: Matching, floors: Floors, samples: np.ndarray) -> None:
         self.p, self.matching, self.floors = poses, matching, floors
@@ -203,12 +241,7 @@ class Aligner:
             feats.append((a, "line", (signs[a] * ua, up), (ma, mp), self.tol(self.p.u.joint(a).child)))
         keep = list(range(len(feats)))
         while True:
-            for _ in range(4):  # lines: project on the other file's line under the current T
-                new = self._fit([feats[i] for i in keep], t)
-                moved = float(np.abs(new - t).max())
-                t = new
-                if moved < 1e-14:
-                    break
+            t = self._fit([feats[i] for i in keep], t)
             ratios = {i: self._residual(feats[i], t) for i in keep}
             worst = max(keep, key=lambda i: ratios[i], default=None)
             if worst is None or ratios[worst] <= 1.0 or len(keep) <= 2:
@@ -234,9 +267,16 @@ class Aligner:
                 wd.append(np.full(len(ua), rtol ** -2))
         if not src:
             return t
-        return kabsch(np.concatenate(src), np.concatenate(dst), np.concatenate(wp),
-                      np.concatenate(dsrc) if dsrc else None, np.concatenate(ddst) if ddst else None,
-                      np.concatenate(wd) if wd else None)
+        p, w = np.concatenate(src), np.concatenate(wp)
+        # turns the features leave free (all on one axis, all at one point) stay as they are: the
+        # current rotation's axes, weighted far below anything the features say
+        centre = (w[:, None] * p).sum(axis=0) / w.sum()
+        scale = float((w * np.sum((p - centre) ** 2, axis=1)).sum()) + float(sum(x.sum() for x in wd))
+        dsrc.append(np.eye(3))
+        ddst.append(t[:3, :3].T)
+        wd.append(np.full(3, 1e-10 * scale + 1e-300))
+        first = kabsch(p, np.concatenate(dst), w, np.concatenate(dsrc), np.concatenate(ddst), np.concatenate(wd))
+        return _gauss_newton(feats, first)
 
     @staticmethod
     def _residual(feat, t: np.ndarray) -> float:
