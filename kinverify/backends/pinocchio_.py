@@ -37,7 +37,7 @@ class PinocchioBackend(EvaluatingBackend):
         for frame in self.frames:
             if not model.existFrame(frame):
                 raise UnknownNameError("frame", frame, frame_names)
-        self._frame_ids = [model.getFrameId(f) for f in self.frames]
+        self._frame_ids = [frame_id(model, f) for f in self.frames]
         self._neutral = pin.neutral(model)
 
     @classmethod
@@ -67,14 +67,33 @@ class PinocchioBackend(EvaluatingBackend):
         full[:, self._idx_q] = q
         return full
 
-    def frame_pose_and_jacobian(self, q: np.ndarray, frame_index: int) -> tuple[np.ndarray, np.ndarray]:
-        """Pose (4, 4) and Jacobian (6, n) of ``frames[frame_index]`` at one configuration ``(n,)``:
-        the one-frame fast path iterative IK needs (``computeFrameJacobian`` also runs FK)."""
+    def frame_kinematics(self, frame_index: int):
+        """Per-configuration IK path for ``frames[frame_index]``: ``(fk, log3)`` with ``fk(q (n,)) ->
+        (R (3, 3), p (3,), J (6, n))`` from one ``computeFrameJacobian`` (which also places the
+        frame). R and p are live views of ``data.oMf`` (pinocchio returns it by reference): valid
+        until the next call."""
+        model, data, fid = self.model, self.data, self._frame_ids[frame_index]
+        cfj, lwa = pin.computeFrameJacobian, pin.LOCAL_WORLD_ALIGNED
+        placement = data.oMf[fid]
+        rot, pos = placement.rotation, placement.translation
+        idx_q, idx_v = np.array(self._idx_q), np.array(self._idx_v)
         full = self._neutral.copy()
-        full[self._idx_q] = q
-        fid = self._frame_ids[frame_index]
-        jac = pin.computeFrameJacobian(self.model, self.data, full, fid, pin.LOCAL_WORLD_ALIGNED)
-        return self.data.oMf[fid].homogeneous, np.reshape(jac, (6, -1))[:, self._idx_v]
+        direct = model.nv > 1 and (idx_q == np.arange(model.nq)).all() and (idx_v == np.arange(model.nv)).all()
+
+        def fk_direct(q):
+            return rot, pos, cfj(model, data, q, fid, lwa)
+
+        def fk_columns(q):
+            full[idx_q] = q
+            return rot, pos, np.reshape(cfj(model, data, full, fid, lwa), (6, -1))[:, idx_v]
+
+        fk = fk_direct if direct else fk_columns
+        fk(self._neutral[idx_q])
+        if not np.array_equal(pos, data.oMf[fid].translation):  # not by reference in this pin: fetch it
+            def fk(q, inner=fk):
+                jac = inner(q)[2]
+                return data.oMf[fid].rotation, data.oMf[fid].translation, jac
+        return fk, pin.log3
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         # Lean loop (issue 8): bound functions, results written straight into preallocated
@@ -105,3 +124,11 @@ class PinocchioBackend(EvaluatingBackend):
                 for f, fid in frames:
                     pk[f] = oMf[fid].homogeneous
         return Evaluation(self.name, self.frames, poses, jac)
+
+
+def frame_id(model: "pin.Model", name: str) -> int:
+    """The frame called ``name``, a body (link) first: a URDF may name a joint like a link, and
+    Pinocchio makes a frame for each."""
+    if model.existFrame(name, pin.FrameType.BODY):
+        return model.getFrameId(name, pin.FrameType.BODY)
+    return model.getFrameId(name)
