@@ -71,24 +71,28 @@ class PinocchioBackend(EvaluatingBackend):
         """Per-configuration IK path for ``frames[frame_index]``: ``(fk, log3)`` with ``fk(q (n,)) ->
         (R (3, 3), p (3,), J (6, n))`` from one ``computeFrameJacobian`` (which also places the
         frame). R and p are live views of ``data.oMf`` (pinocchio returns it by reference): valid
-        until the next call."""
-        model, data, fid = self.model, self.data, self._frame_ids[frame_index]
+        until the next call. Joints outside ``joint_names`` (e.g. a gripper) are locked at neutral
+        in a reduced model, so each call computes only the compared joints."""
+        model, fid = self.model, self._frame_ids[frame_index]
+        if self._idx_q != list(range(model.nq)) or self._idx_v != list(range(model.nv)):
+            keep = {model.getJointId(j) for j in self.joint_names}
+            model = pin.buildReducedModel(model, [i for i in range(1, model.njoints) if i not in keep], self._neutral)
+            fid = frame_id(model, self.frames[frame_index])
+            if [model.names[i] for i in range(1, model.njoints)] != list(self.joint_names) or model.nq != model.nv:
+                raise BackendError(self.name, "IK needs the compared joints in the model's order, one coordinate each")
+        data = model.createData()
         cfj, lwa = pin.computeFrameJacobian, pin.LOCAL_WORLD_ALIGNED
         placement = data.oMf[fid]
         rot, pos = placement.rotation, placement.translation
-        idx_q, idx_v = np.array(self._idx_q), np.array(self._idx_v)
-        full = self._neutral.copy()
-        direct = model.nv > 1 and (idx_q == np.arange(model.nq)).all() and (idx_v == np.arange(model.nv)).all()
 
-        def fk_direct(q):
+        def fk(q):
             return rot, pos, cfj(model, data, q, fid, lwa)
 
-        def fk_columns(q):
-            full[idx_q] = q
-            return rot, pos, np.reshape(cfj(model, data, full, fid, lwa), (6, -1))[:, idx_v]
-
-        fk = fk_direct if direct else fk_columns
-        fk(self._neutral[idx_q])
+        if model.nv == 1:  # computeFrameJacobian returns a (6,) vector then
+            def fk(q, inner=fk):
+                r, p, jac = inner(q)
+                return r, p, jac.reshape(6, 1)
+        fk(pin.neutral(model))
         if not np.array_equal(pos, data.oMf[fid].translation):  # not by reference in this pin: fetch it
             def fk(q, inner=fk):
                 jac = inner(q)[2]

@@ -45,8 +45,14 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
         return wrap_fix(x, y)[0] if (y != x).any() else y
 
     pool, pool_i = rng.uniform(lo_s, hi_s, (POOL, n)), 0
-    tp2, tr2, eye = opts.tol_pos ** 2, opts.tol_rot ** 2, np.eye(3 if position_only else 6)
+    tp2, tr2 = opts.tol_pos ** 2, opts.tol_rot ** 2
+    mu, w_n, clamp_below, max_eval = opts.mu, opts.w_n, opts.clamp_below, opts.max_evaluations
     sw, sr = opts.stall_window, opts.stall_ratio
+    m = 3 if position_only else 6
+    a, e = np.empty((m, m)), np.empty(m)
+    diagonal = a.reshape(-1)[::m + 1]  # views: λ is added in place, the error written in place
+    ep, er = e[:3], e[3:]
+    subtract, minimum, maximum = np.subtract, np.minimum, np.maximum
     out = {"q": np.empty((n_t, n)), "success": np.zeros(n_t, bool), "pos_error": np.empty(n_t), "rot_error": np.empty(n_t),
            "iterations": np.zeros(n_t, int), "restarts": np.zeros(n_t, int), "time_s": np.empty(n_t), "seed_q": np.empty((n_t, n))}
     clock = time.perf_counter
@@ -59,15 +65,15 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
         it = it_att = restarts = 0
         cap, ewin, best, ok = opts.first_attempt_iter, math.inf, (math.inf, q, q, math.inf, math.inf), False
         candidates = None
-        while it < opts.max_evaluations:
+        while it < max_eval:
             rot, pos, jac = fk(q)
-            ep = pt - pos
+            subtract(pt, pos, out=ep)
             pe2 = ep.dot(ep)
             if position_only:
-                e, re2, jac = ep, 0.0, jac[:3]
+                re2, jac = 0.0, jac[:3]
             else:
-                er = log3(rt.dot(rot.T))
-                e, re2 = np.concatenate((ep, er)), er.dot(er)
+                er[:] = log3(rt.dot(rot.T))
+                re2 = er.dot(er)
             it += 1
             it_att += 1
             if pe2 <= tp2 and re2 <= tr2:
@@ -93,22 +99,26 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
                     q, pool_i = pool[pool_i], pool_i + 1
                 seed, restarts, it_att, cap = q, restarts + 1, 0, opts.attempt_iter
                 continue
-            lam = opts.mu * energy + opts.w_n
-            y = solve(jac.dot(jac.T) + lam * eye, e)
-            x = q + y.dot(jac)
-            qn = np.minimum(np.maximum(x, lower), upper)
+            lam = mu * energy + w_n
+            jac.dot(jac.T, out=a)
+            diagonal += lam
+            x = q + solve(a, e).dot(jac)
+            qn = minimum(maximum(x, lower), upper)
             d = x - qn
-            if d.dot(d) > 0.0:
-                if d.dot(d) >= margin2:
+            dd = d.dot(d)
+            if dd > 0.0:
+                if dd >= margin2:
                     qn, wrapped = wrap_fix(x, qn)
                     d = np.where(wrapped, 0.0, d)
-                if energy < opts.clamp_below and d.dot(d) > 0.0:
+                    dd = d.dot(d)
+                if energy < clamp_below and dd > 0.0:
                     # joints pushed onto a limit stay there; the others take the rest of the error
                     free = d == 0.0
                     held = (qn - q) * ~free
                     jm = jac * free
-                    y = solve(jm.dot(jm.T) + lam * eye, e - jac.dot(held))
-                    qn = onto_limits(q + y.dot(jm) + held)
+                    jm.dot(jm.T, out=a)
+                    diagonal += lam
+                    qn = onto_limits(q + solve(a, e - jac.dot(held)).dot(jm) + held)
             q = qn
         out["time_s"][k] = clock() - t0
         _, out["q"][k], out["seed_q"][k], pe2, re2 = best
@@ -125,10 +135,11 @@ def _spd_solver(m: int):
             from eigenpy import LLT
 
             llt = LLT(m)
+            compute, llt_solve = llt.compute, llt.solve
 
             def solve(a, b):
-                llt.compute(a)
-                return llt.solve(b)
+                compute(a)
+                return llt_solve(b)
             return solve
         except ImportError:  # pragma: no cover - eigenpy ships with pin
             pass
