@@ -86,24 +86,35 @@ class SerialChain:
         return cls.from_joints(joints, tip, [j.name for j in spec.joints[:link]], np.arange(link), spec.dof)
 
     @classmethod
-    def from_urdf(cls, urdf_text: str, base: str, tip: str, source: str = "URDF") -> "SerialChain":
-        """The chain from link ``base`` to link ``tip`` of a URDF (revolute, continuous, prismatic
-        and fixed joints; names are looked up among links only, so a joint named like a link
-        cannot be taken for it). Untrusted text is parsed with defusedxml."""
+    def from_urdf(cls, urdf_text: str, base: str | None, tip: str, source: str = "URDF") -> "SerialChain":
+        """The chain from link ``base`` (None: the root link) to link ``tip`` of a URDF (revolute,
+        continuous, prismatic and fixed joints; names are looked up among links only, so a joint
+        named like a link cannot be taken for it). Untrusted text is parsed with defusedxml:
+        entities and external references are refused."""
+        import defusedxml
         import defusedxml.ElementTree as DET
 
         try:
             root = DET.fromstring(urdf_text.encode(), forbid_dtd=False, forbid_entities=True, forbid_external=True)
-        except Exception as err:  # ParseError or defusedxml's refusals
-            raise InputError(f"{source}: not a readable URDF: {err}") from None
+        except defusedxml.DefusedXmlException as err:
+            raise InputError(f"{source}: unsafe XML refused ({type(err).__name__}: entities and external references "
+                             "are not read)") from None
+        except Exception as err:  # ParseError
+            raise InputError(f"{source}: not XML: {err}") from None
+        if root.tag != "robot":
+            raise InputError(f"{source}: not a URDF (root element <{root.tag}>, expected <robot>)")
         return cls.from_urdf_root(root, base, tip, source)
 
     @classmethod
-    def from_urdf_root(cls, root, base: str, tip: str, source: str = "URDF") -> "SerialChain":
+    def from_urdf_root(cls, root, base: str | None, tip: str, source: str = "URDF") -> "SerialChain":
+        if base is None:
+            base = root_link(root, source)
         links = [link.get("name") for link in root.findall("link")]
+        joints = {j.get("name") for j in root.findall("joint")}
         for which, name in (("--base", base), ("--tip", tip)):
             if name not in links:
-                raise UnknownNameError(f"link ({source} {which})", name, links)
+                raise InputError(f"{which}: {source} has no link {name!r}" + (" (a joint has that name)" if name in joints else "")
+                                 + f"; links: {', '.join(links)}")
         by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
         path, link = [], tip
         while link != base:
@@ -204,6 +215,15 @@ class SerialChain:
         out[:, :3, 3] = p.T
         out[:, 3, 3] = 1.0
         return out
+
+
+def root_link(root, source: str = "URDF") -> str:
+    """The URDF's one link that is no joint's child."""
+    children = {j.find("child").get("link") for j in root.findall("joint") if j.find("child") is not None}
+    roots = [link.get("name") for link in root.findall("link") if link.get("name") not in children]
+    if len(roots) != 1:
+        raise InputError(f"{source} has {len(roots)} root links ({', '.join(roots[:5])}); give --base LINK")
+    return roots[0]
 
 
 def _z_to_axis(axis) -> np.ndarray:
