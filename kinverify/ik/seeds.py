@@ -13,12 +13,14 @@ from __future__ import annotations
 import numpy as np
 
 MAX_RADIUS = 2  # cells: how far the search for a cell's candidates grows
+MAX_CELLS = 20_000  # grid cells at most (memory, build time)
 
 
 class SeedTable:
     """``fk_soa(qT (n, N)) -> (S (3, 3, N), p (3, N), ...)`` (e.g. :meth:`SerialChain.fk_jac_soa`
     with ``jacobian=False``); ``lower``/``upper`` ``(n,)`` finite sampling bounds [rad | m].
-    Memory: cells × ``k`` × (13 + n) floats (~28 MB for the Panda with the defaults)."""
+    The grid has at most ``MAX_CELLS`` cells (``cell`` grows for long arms); memory: samples ×
+    (13 + n) floats + cells × ``k`` indices (~3 MB for the Panda with the defaults)."""
 
     def __init__(self, fk_soa, lower, upper, samples: int = 5_000, cell: float = 0.1, k: int = 32,
                  w_rot: float = 0.2, seed: int = 1) -> None:
@@ -30,16 +32,17 @@ class SeedTable:
             rot9.append(s.transpose(2, 1, 0).reshape(-1, 9))  # row-major R per sample
             pos.append(p.T)
         rot9, pos = np.concatenate(rot9), np.concatenate(pos)
-        self.cell, self.k, self.w = float(cell), int(k), float(w_rot)
+        extent = pos.max(0) - pos.min(0) + cell
+        cell = max(float(cell), float(np.prod(extent) / MAX_CELLS) ** (1 / 3))
+        self.cell, self.k, self.w = cell, int(k), float(w_rot)
         self.origin = pos.min(0) - 0.5 * cell
         self.dims = np.floor((pos.max(0) + 0.5 * cell - self.origin) / cell).astype(int) + 1
-        table = self._nearest_per_cell(pos)
+        self.table = self._nearest_per_cell(pos)  # (cells, k) sample indices
         w2 = self.w ** 2
         # feature · [R_t | p_t] (the top 3×4 block of a target, row-major) = w² R_c:R_t + p_c·p_t
-        feat = np.concatenate([w2 * rot9.reshape(-1, 3, 3), pos[:, :, None]], axis=2).reshape(-1, 12)
-        self.features = feat[table]  # (cells, k, 12)
-        self.norms = (np.einsum("ij,ij->i", pos, pos) + w2 * np.einsum("ij,ij->i", rot9, rot9))[table]  # (cells, k)
-        self.q = qs[table]  # (cells, k, n)
+        self.features = np.concatenate([w2 * rot9.reshape(-1, 3, 3), pos[:, :, None]], axis=2).reshape(-1, 12)
+        self.norms = np.einsum("ij,ij->i", pos, pos) + w2 * np.einsum("ij,ij->i", rot9, rot9)
+        self.q = qs  # (samples, n)
         self._o, self._d = [float(x) for x in self.origin], [int(x) for x in self.dims]
 
     def _nearest_per_cell(self, pos: np.ndarray) -> np.ndarray:
@@ -96,10 +99,10 @@ class SeedTable:
         """Seeds ``(m, n)``: for each target ``(m, 4, 4)`` its ``rank``-th best candidate (``rank``
         an int or ``(m,)``; ranks beyond ``k`` give the last)."""
         m = len(targets)
-        c = self.cells(targets[:, :3, 3])
-        d = self.norms[c] - 2.0 * np.einsum("mkj,mj->mk", self.features[c], targets[:, :3, :].reshape(m, 12))
+        idx = self.table[self.cells(targets[:, :3, 3])]  # (m, k)
+        d = self.norms[idx] - 2.0 * np.einsum("mkj,mj->mk", self.features[idx], targets[:, :3, :].reshape(m, 12))
         r = np.minimum(np.broadcast_to(rank, (m,)), self.k - 1)
-        return self.q[c, np.argsort(d, axis=1)[np.arange(m), r]]
+        return self.q[idx[np.arange(m), np.argsort(d, axis=1)[np.arange(m), r]]]
 
     def ranked(self, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One target ``(4, 4)`` -> (candidates ``(k, n)``, their order best first): the per-target
@@ -108,5 +111,5 @@ class SeedTable:
         ix = min(max(int((target[0, 3] - o[0]) / cell), 0), d[0] - 1)
         iy = min(max(int((target[1, 3] - o[1]) / cell), 0), d[1] - 1)
         iz = min(max(int((target[2, 3] - o[2]) / cell), 0), d[2] - 1)
-        c = (ix * d[1] + iy) * d[2] + iz
-        return self.q[c], (self.norms[c] - 2.0 * self.features[c].dot(target[:3].reshape(12))).argsort()
+        idx = self.table[(ix * d[1] + iy) * d[2] + iz]
+        return self.q[idx], (self.norms[idx] - 2.0 * self.features[idx].dot(target[:3].reshape(12))).argsort()
