@@ -124,3 +124,26 @@ def test_a_spec_and_a_urdf_together_or_neither_is_refused(files, capsys):
     assert main(["ik", "--target", "0", "0", "1"]) == 2
     assert main(["ik", "--urdf", str(d / "panda.urdf"), "--target", "0", "0", "1"]) == 2  # no --tip
     assert capsys.readouterr().err.count("kinverify: error:") == 3
+
+
+def test_help_and_ik_on_a_urdf_load_no_heavy_library(files, tmp_path):
+    """Start-up: ``kinverify --help`` and ``kinverify ik --urdf`` (batched numpy) import neither
+    MuJoCo (even with MUJOCO_GL asking for GL), Pinocchio, yourdfpy nor matplotlib."""
+    import os
+    import subprocess
+    import sys
+
+    from tests.paths import ROOT
+
+    d = files[0]
+    heavy = ("mujoco", "pinocchio", "yourdfpy", "trimesh", "matplotlib")
+    code = ("import sys, contextlib, io; from kinverify.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    try: rc = main(sys.argv[1:])\n"
+            "    except SystemExit as e: rc = e.code\n"
+            f"print(rc, [m for m in {heavy!r} if m in sys.modules])")
+    env = {**os.environ, "MUJOCO_GL": "egl", "PYTHONPATH": str(ROOT)}
+    for argv in (["--help"], _args(d, "--targets", str(d / "targets.npy"), "--json", str(tmp_path / "o.json"))):
+        out = subprocess.run([sys.executable, "-c", code, *argv], env=env, capture_output=True, text=True, timeout=120)
+        assert out.returncode == 0, out.stderr[-2000:]
+        assert out.stdout.split("\n")[-2] == "0 []", out.stdout
