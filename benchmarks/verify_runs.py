@@ -27,6 +27,10 @@ def cpu_now() -> float:
     return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
 
 
+def temp_folder() -> str:
+    return tempfile.mkdtemp(prefix="kinverify-bench-")
+
+
 def export_tree(ref: str, repo: Path, folder: str) -> Path:
     """``git archive REF`` unpacked into ``folder`` (the repository's working trees are not touched)."""
     out = Path(folder) / ref.replace("/", "_")
@@ -88,7 +92,3 @@ def _drive(out: str, argv: list[str]) -> None:
 if __name__ == "__main__":
     sep = sys.argv.index("--")
     _drive(sys.argv[1], sys.argv[sep + 1:])
-
-
-def temp_folder() -> str:
-    return tempfile.mkdtemp(prefix="kinverify-bench-")
