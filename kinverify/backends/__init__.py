@@ -17,7 +17,7 @@ from kinverify.backends.function import FunctionBackend
 from kinverify.backends.sources import ModelSources
 
 __all__ = ["Backend", "BackendBase", "BackendInfo", "Evaluation", "FunctionBackend", "ModelSources",
-           "available_backends", "build_backend", "build_backends", "finite_difference_jacobians"]
+           "available_backends", "backend_info", "build_backend", "build_backends", "finite_difference_jacobians"]
 
 
 @dataclass(frozen=True)
@@ -55,24 +55,28 @@ _ENTRIES = (
 )
 
 
-@lru_cache(maxsize=1)
+@lru_cache(maxsize=None)
+def backend_info(name: str) -> BackendInfo:
+    """One registered backend, importing its library only (``available`` False where that fails)."""
+    entry = next((e for e in _ENTRIES if e[0] == name), None)
+    if entry is None:
+        raise UnknownNameError("backend", name, [e[0] for e in _ENTRIES])
+    name, module, cls, source, library = entry
+    try:
+        importlib.import_module(module, __name__)
+        return BackendInfo(name, module, cls, source, library, True)
+    except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
+        return BackendInfo(name, module, cls, source, library, False, f"cannot import: {err}")
+
+
 def available_backends() -> dict[str, BackendInfo]:
     """Every registered backend, with ``available`` False where its library fails to import."""
-    out = {}
-    for name, module, cls, source, library in _ENTRIES:
-        try:
-            importlib.import_module(module, __name__)
-            out[name] = BackendInfo(name, module, cls, source, library, True)
-        except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
-            out[name] = BackendInfo(name, module, cls, source, library, False, f"cannot import: {err}")
-    return out
+    return {e[0]: backend_info(e[0]) for e in _ENTRIES}
 
 
 def build_backend(name: str, sources: ModelSources) -> Backend:
-    registry = available_backends()
-    if name not in registry:
-        raise UnknownNameError("backend", name, list(registry))
-    return registry[name].build(sources)
+    """Build one backend (importing only its library)."""
+    return backend_info(name).build(sources)
 
 
 def default_backend_names(sources: ModelSources) -> list[str]:

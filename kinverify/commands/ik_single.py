@@ -1,7 +1,8 @@
 """``kinverify ik MODEL --target X Y Z [--rpy R P Y]``: one target on a spec, its solutions, their
 residual and the backends whose FK confirms them (see :mod:`kinverify.commands.ik`).
 
-The solve starts once the solver backend is loaded; the confirming backends are loaded after it.
+The solve starts once the solver backend's library is loaded; the confirming backends' libraries
+(MuJoCo, yourdfpy: seconds of imports) are loaded after it.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ ALL_STARTS = 32  # random starts for --all-solutions
 def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
     import numpy as np
 
-    from kinverify.backends import ModelSources, available_backends, build_backend, build_backends
+    from kinverify.backends import ModelSources, backend_info, build_backend, build_backends
     from kinverify.errors import InputError, UnknownNameError
     from kinverify.ik import Arm3ClosedForm, FrameModel, IKOptions, residuals, solve_lm
     from kinverify.model.specfile import load_spec
@@ -24,10 +25,8 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
     frame = args.frame or sources.frames[-1]
     if frame not in sources.frames:
         raise UnknownNameError("frame", frame, sources.frames)
-    registry = available_backends()
-    name = args.backend or ("pinocchio-urdf" if registry["pinocchio-urdf"].available else "analytic")
-    if name not in registry:
-        raise UnknownNameError("backend", name, list(registry))
+    # only the solver's library is imported before the solve; the confirming backends load after it
+    name = args.backend or ("pinocchio-urdf" if backend_info("pinocchio-urdf").available else "analytic")
     solver = build_backend(name, sources)
     if not solver.jacobian_method:
         raise InputError(f"backend {name!r} has no Jacobian; choose one of: analytic, pinocchio-urdf, pinocchio-mjcf, mujoco")
