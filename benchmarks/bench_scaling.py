@@ -14,6 +14,7 @@ also times REF (``git archive``) on the sizes that take it under ``--timeout`` s
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 from datetime import datetime, timezone
@@ -56,6 +57,7 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=600, help="--baseline: stop growing n once a run takes longer (s)")
     ap.add_argument("--plot", default=str(ROOT / "benchmarks" / "results" / "scaling.svg"))
     ap.add_argument("--markdown")
+    ap.add_argument("--json", help="also write every run's measurements to this file")
     args = ap.parse_args(argv)
     folder = temp_folder()
     ns = [int(x) for x in args.joints.split(",")]
@@ -81,6 +83,8 @@ def main(argv=None) -> int:
     print("\n".join(lines))
     if args.markdown:
         Path(args.markdown).write_text("\n".join(lines) + "\n")
+    if args.json:
+        Path(args.json).write_text(json.dumps({"load": load, "samples": args.samples, "results": results}, indent=1))
     plot(results, args.plot)
     print(f"plot: {args.plot}")
     return 0
@@ -111,6 +115,7 @@ def table(results: dict, args, load) -> list[str]:
 
 def plot(results: dict, path: str) -> None:
     import matplotlib
+    import matplotlib.ticker
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -130,6 +135,9 @@ def plot(results: dict, path: str) -> None:
         ax.plot(ns, base * (ns / n0) ** 2, ":", color="grey", label="∝ n² from the smallest")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    sizes = sorted({n for done in results.values() for n in done})
+    ax.set_xticks(sizes, [str(n) for n in sizes])
+    ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     ax.set_xlabel("joints n")
     ax.set_ylabel("seconds")
     ax.set_title("kinverify verify on serial chains (default options)")

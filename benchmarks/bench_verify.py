@@ -14,6 +14,7 @@ the rounds.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 from datetime import datetime, timezone
@@ -34,6 +35,7 @@ def main(argv=None) -> int:
     ap.add_argument("--model", default="models/panda.toml")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--markdown", help="also write the table to this file")
+    ap.add_argument("--json", help="also write every run's measurements to this file")
     args = ap.parse_args(argv)
     folder = temp_folder()
     trees = {args.baseline: export_tree(args.baseline, ROOT, folder), "this checkout": ROOT}
@@ -51,6 +53,8 @@ def main(argv=None) -> int:
     print("\n".join(lines))
     if args.markdown:
         Path(args.markdown).write_text("\n".join(lines) + "\n")
+    if args.json:
+        Path(args.json).write_text(json.dumps({"load": load, "model": args.model, "runs": runs}, indent=1))
     return 0
 
 

@@ -36,7 +36,7 @@ def add_parser(sub):
     p.add_argument("--initial", metavar="FILE.npy", help="with --targets: N×n initial guesses in chain joint order "
                    "(default: uniform random inside the limits)")
     p.add_argument("--position-only", action="store_true", help="with --targets: reach the positions only")
-    p.add_argument("--tol-pos", default="1e-6", metavar="M", help="solved within this position error (default 1e-6 m)")
+    p.add_argument("--tol-pos", default="1e-6", metavar="M", help="solved (and confirmed) within this position error (default 1e-6 m)")
     p.add_argument("--tol-rot", default="1e-6", metavar="RAD", help="and this rotation error (default 1e-6 rad)")
     p.add_argument("--per-target", action="store_true", help="with --targets: solve one target at a time on Pinocchio, each "
                    "timed alone (default: all at once in numpy, time = batch time / N)")

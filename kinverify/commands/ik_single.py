@@ -47,7 +47,8 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
             closed = Arm3ClosedForm.from_spec(spec, frame if frame in spec.tool_names else None)
         except InputError:
             closed = None
-    ok = sol.solved(CONFIRM_TOL, CONFIRM_TOL)
+    tol_pos, tol_rot = getattr(args, "tol_pos", CONFIRM_TOL), getattr(args, "tol_rot", CONFIRM_TOL)
+    ok = sol.solved(tol_pos, tol_rot)
     if not ok.any():
         k = int(np.argmin(sol.pos_error + sol.rot_error))
         print(f"unreachable: not solved within the budget ({int(sol.restarts[k]) + 1} starts); closest approach "
@@ -67,7 +68,8 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
         for other in others:
             p = other.evaluate(q[None], with_jacobians=False).poses[:, other.frames.index(frame)]
             e_pos, e_rot = residuals(p, target[None], position_only or not other.has_rotation)
-            (confirmed if max(e_pos[0], e_rot[0]) <= CONFIRM_TOL else disagree).append(f"{other.name} ({max(e_pos[0], e_rot[0]):.1e})")
+            agrees = e_pos[0] <= tol_pos and e_rot[0] <= tol_rot
+            (confirmed if agrees else disagree).append(f"{other.name} ({max(e_pos[0], e_rot[0]):.1e})")
         print(f"  confirmed by: {', '.join(confirmed) or 'none'}" + (f"; DISAGREE: {', '.join(disagree)}" if disagree else ""))
         all_confirmed &= not disagree
     if closed is not None and args.all_solutions:
