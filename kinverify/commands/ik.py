@@ -33,8 +33,8 @@ def add_parser(sub):
     p.add_argument("--target", nargs="+", metavar="X", help="one target position X Y Z [m]")
     p.add_argument("--rpy", nargs="+", metavar="R", help="its orientation roll pitch yaw [rad] (URDF fixed-axis XYZ)")
     p.add_argument("--targets", metavar="FILE.npy", help="N×4×4 poses of the tip in the base frame [m], solved together")
-    p.add_argument("--initial", metavar="FILE.npy", help="with --targets: N×n initial guesses in chain joint order "
-                   "(default: uniform random inside the limits)")
+    p.add_argument("--initial", metavar="FILE.npy", help="with --targets: N×n initial guesses in chain joint order, where "
+                   "each first attempt starts (default: the stored configuration whose tip pose is nearest the target)")
     p.add_argument("--position-only", action="store_true", help="with --targets: reach the positions only")
     p.add_argument("--tol-pos", default="1e-6", metavar="M", help="solved (and confirmed) within this position error (default 1e-6 m)")
     p.add_argument("--tol-rot", default="1e-6", metavar="RAD", help="and this rotation error (default 1e-6 rad)")
@@ -128,7 +128,8 @@ def _batch(args) -> int:
     n = len(joints)
     q0 = load_initial(args.initial, len(targets), n) if args.initial else None
     outside = 0 if q0 is None else int(np.any((q0 < lower) | (q0 > upper), axis=1).sum())
-    opts = IKOptions(tol_pos=args.tol_pos, tol_rot=args.tol_rot, seed=args.seed)
+    # without initial guesses the first attempt starts from the best stored configuration (nearer than a random one)
+    opts = IKOptions(tol_pos=args.tol_pos, tol_rot=args.tol_rot, seed=args.seed, start="given" if args.initial else "seeded")
     sol = solve_lm(model, targets, lower, upper, position_only, opts, q0=q0, batch=not args.per_target)
     data = results_json(sol, joints, lower, upper, args.tol_pos, args.tol_rot, kinverify=__version__,
                         command="kinverify " + " ".join(getattr(args, "argv", [])), model=where,

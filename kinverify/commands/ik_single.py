@@ -37,7 +37,9 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
         model.seed_model = FrameModel(build_backend("analytic", sources), frame, sources.revolute)
     lower, upper = np.asarray(sources.lower), np.asarray(sources.upper)
     starts = ALL_STARTS if args.all_solutions else 1
-    sol = solve_lm(model, np.repeat(target[None], starts, axis=0), lower, upper, position_only, IKOptions(seed=args.seed))
+    # one solution: start from the best stored configuration; every solution: 32 different random starts
+    opts = IKOptions(seed=args.seed, start="given" if args.all_solutions else "seeded")
+    sol = solve_lm(model, np.repeat(target[None], starts, axis=0), lower, upper, position_only, opts)
     kind = "position" if position_only else "pose"
     print(f"{spec.name}: {kind} target for {frame}: xyz = {_fmt(xyz)} m" + (f", rpy = {_fmt(rpy)} rad" if rpy else "")
           + f"; solver lm on {name}")

@@ -53,9 +53,9 @@ def solve_rows(fk, targets, q0, lower, upper, wrap, position_only: bool, opts, s
         out = rng.uniform(limits.lo_s, limits.hi_s, (len(tg), n))
         pert = (rank >= opts.perturb_after) & (rank % 2 == 1) if opts.perturb_sigma > 0 else np.zeros(len(tg), bool)
         if seeds is not None:
-            use = (rank < seeds.k) & ~pert
+            use = (rank + skip[tg] < seeds.k) & ~pert
             if use.any():
-                out[use] = seeds.query(targets[tg[use]], rank[use])
+                out[use] = seeds.query(targets[tg[use]], rank[use] + skip[tg[use]])
         if pert.any():
             noisy = q_out[tg[pert]] + opts.perturb_sigma * rng.standard_normal((int(pert.sum()), n))
             out[pert] = limits.wrapclip(noisy.T)[0].T
@@ -63,6 +63,18 @@ def solve_rows(fk, targets, q0, lower, upper, wrap, position_only: bool, opts, s
 
     own = np.arange(n_t)
     qT = limits.wrapclip(np.ascontiguousarray(q0.T))[0]
+    skip = np.zeros(n_t, int)  # 1 where the first attempt started from the best seed: restarts take the next ones
+    if opts.start == "seeded" and seeds is not None:  # start from the best seed where it is nearer than q0
+        both = np.concatenate([qT, np.ascontiguousarray(seeds.query(targets, 0).T)], axis=1)
+        s, p, _ = fk(both)
+        ep = np.concatenate([pt_all, pt_all], axis=1) - p
+        energy = (ep * ep).sum(0)
+        if not position_only:
+            two = [np.concatenate([x, x], axis=-1) for x in (rts_all, b1_all, b2_all)]
+            energy += (_rotation_error(s, *two) ** 2).sum(0)
+        skip = (energy[n_t:] < energy[:n_t]).astype(int)
+        qT = np.where(skip.astype(bool), both[:, n_t:], qT)
+        it_out += 2
     row = _Rows(own=own, q=qT, seed=qT.copy(), cap=np.full(n_t, opts.first_attempt_iter),
                 it=np.zeros(n_t, int), ewin=np.full(n_t, np.inf), pt=pt_all, rts=rts_all, b1=b1_all, b2=b2_all)
     while row.own.size:

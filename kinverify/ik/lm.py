@@ -12,8 +12,9 @@ its rotation part's norm is the geodesic angle, so the stop test ``‖e_p‖ ≤
   back inside (the same pose; always possible when the range spans 2π), else it is clipped; once
   ``E < clamp_below``, clipped joints are held at the limit and the step is re-solved for the
   others (one active-set pass).
-- **Restarts**: the first attempt starts at the caller's ``q0`` and gets ``first_attempt_iter``
-  iterations, later ones ``attempt_iter``; an attempt also ends when its error has not halved over
+- **Restarts**: the first attempt starts at the caller's ``q0`` (``start="seeded"``: at whichever of
+  ``q0`` and the target's best stored seed is nearer the target, two evaluations to decide) and
+  gets ``first_attempt_iter`` iterations, later ones ``attempt_iter``; an attempt also ends when its error has not halved over
   ``stall_window`` iterations. Restarts start from the target's best candidates in a
   :class:`SeedTable` (tip poses near the target), then every other one from the best iterate plus
   noise (``perturb_sigma`` rad), then uniform random. A target gets at most ``max_evaluations``
@@ -54,6 +55,7 @@ class IKOptions:
     perturb_sigma: float = 0.1  # rad: noise on the best iterate for every other late restart...
     perturb_after: int = 6  # ...from this restart on
     seed_samples: int = 5_000  # configurations in the seed table (0: random restarts only)
+    start: str = "given"  # first attempt: "given" from q0; "seeded" from the better of q0 and the best stored seed
 
 
 @dataclass
@@ -97,8 +99,11 @@ def solve_lm(model: FrameModel, targets, lower, upper, position_only: bool = Fal
     b = len(targets)
     lo_s, hi_s = np.where(np.isfinite(lower), lower, -np.pi), np.where(np.isfinite(upper), upper, np.pi)
     q0 = rng.uniform(lo_s, hi_s, (b, len(lower))) if q0 is None else np.asarray(q0, float).reshape(b, -1)
+    if opts.start not in ("given", "seeded"):
+        raise ValueError(f"IKOptions.start must be 'given' or 'seeded', got {opts.start!r}")
     batch = model.batched if batch is None else batch
-    seeds, build_s = model.seed_table(lo_s, hi_s, position_only, opts.seed_samples) if b and opts.max_restarts else (None, 0.0)
+    wanted = b and (opts.max_restarts or opts.start == "seeded")
+    seeds, build_s = model.seed_table(lo_s, hi_s, position_only, opts.seed_samples) if wanted else (None, 0.0)
     wrap = np.asarray(model.revolute, bool)
     if batch:
         from kinverify.ik.batch import solve_rows

@@ -45,6 +45,13 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
         return wrap_fix(x, y)[0] if (y != x).any() else y
 
     pool, pool_i = rng.uniform(lo_s, hi_s, (POOL, n)), 0
+    seeded = opts.start == "seeded" and seeds is not None
+
+    def energy_at(q, rt, pt):
+        rot, pos, _ = fk(q)
+        d = pt - pos
+        return d.dot(d) + (0.0 if position_only else float(np.sum(log3(rt.dot(rot.T)) ** 2)))
+
     tp2, tr2 = opts.tol_pos ** 2, opts.tol_rot ** 2
     mu, w_n, clamp_below, max_eval = opts.mu, opts.w_n, opts.clamp_below, opts.max_evaluations
     sw, sr = opts.stall_window, opts.stall_ratio
@@ -62,9 +69,15 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
         target = np.ascontiguousarray(targets[k])
         rt, pt = target[:3, :3].copy(), target[:3, 3].copy()
         q = seed = onto_limits(q0[k])
-        it = it_att = restarts = 0
+        it = it_att = restarts = skip = 0
         cap, ewin, best, ok = opts.first_attempt_iter, math.inf, (math.inf, q, q, math.inf, math.inf), False
         candidates = None
+        if seeded:  # start from the best stored seed when it is nearer the target than q0
+            candidates, order = seeds.ranked(target)
+            if energy_at(candidates[order[0]], rt, pt) < energy_at(q, rt, pt):
+                q = seed = candidates[order[0]]
+                skip = 1  # restarts take the seeds after it
+            it = 2
         while it < max_eval:
             rot, pos, jac = fk(q)
             subtract(pt, pos, out=ep)
@@ -89,10 +102,10 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
                     break
                 if opts.perturb_sigma > 0 and restarts >= opts.perturb_after and restarts % 2 == 1:
                     q = onto_limits(best[1] + opts.perturb_sigma * rng.standard_normal(n))
-                elif seeds is not None and restarts < seeds.k:
+                elif seeds is not None and restarts + skip < seeds.k:
                     if candidates is None:
                         candidates, order = seeds.ranked(target)
-                    q = candidates[order[restarts]]
+                    q = candidates[order[restarts + skip]]
                 else:
                     if pool_i == POOL:
                         pool, pool_i = rng.uniform(lo_s, hi_s, (POOL, n)), 0

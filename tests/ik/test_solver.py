@@ -183,3 +183,30 @@ def test_fk_ik_fk_through_a_chain_read_from_the_generated_urdf(spec, seed, data)
     pin = PinocchioBackend.from_urdf(urdf, chain.names, [frame])
     pos, rot = residuals(pin.poses(sol.q)[:, 0], targets, position_only)
     assert (pos < TOL).all() and (rot < TOL).all()
+
+
+@pytest.mark.parametrize("batch", [True, False])
+def test_a_seeded_start_takes_the_nearer_of_the_guess_and_the_best_stored_seed(batch):
+    spec = spec_from_dict(PANDA_LIKE)
+    sources = ModelSources.from_spec(spec)
+    model = FrameModel(build_backend("analytic", sources), "tool", sources.revolute)
+    q_true = np.random.default_rng(11).uniform(spec.lower, spec.upper, (30, spec.dof))
+    targets = model.poses(q_true)
+    # the guess is the answer: kept (two evaluations to compare, one to see it is solved)
+    sol = solve_lm(model, targets, spec.lower, spec.upper, False, IKOptions(start="seeded"), q0=q_true, batch=batch)
+    assert (sol.iterations == 3).all() and (sol.restarts == 0).all()
+    np.testing.assert_allclose(sol.q, q_true, atol=1e-12)
+    # a guess far from every target: the first attempt starts at the target's best seed when that is nearer
+    far = np.clip(q_true + 2.0, spec.lower, spec.upper)
+    opts = IKOptions(start="seeded", max_restarts=0)
+    sol = solve_lm(model, targets, spec.lower, spec.upper, False, opts, q0=far, batch=batch)
+    table, _ = model.seed_table(spec.lower, spec.upper, False, opts.seed_samples)
+    best = table.query(targets, 0)
+
+    def energy(q):
+        pos, rot = residuals(model.poses(q), targets, False)
+        return pos ** 2 + rot ** 2
+    nearer = energy(best) < energy(far)
+    assert nearer.mean() > 0.5
+    np.testing.assert_array_equal(sol.seed_q[nearer], best[nearer])
+    np.testing.assert_array_equal(sol.seed_q[~nearer], far[~nearer])
