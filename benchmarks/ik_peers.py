@@ -1,6 +1,8 @@
 """The IK comparison's problem, judge and solvers: kinverify's and its peers' (TRAC-IK through
 ``pytracik``, Robotics Toolbox ``ik_LM``/``ik_NR``, ``ikpy``), each behind one call
-``run(targets (N, 4, 4), q0 (N, n)) -> (q (N, n), NaN rows = no answer; seconds per target (N,))``.
+``run(targets (N, 4, 4), q0 (N, n)) -> (q (N, n), NaN rows = no answer; seconds per target (N,);
+CPU seconds per target (N,))``: the process CPU time (all its threads) leaves out the time the
+scheduler gave other processes, so it shows a solver's own cost on a loaded machine.
 
 Peers come from the ``bench`` extra (``pip install -e .[bench]``); one that cannot be imported
 or set up is skipped with one line saying why. Every solver gets the same targets and initial
@@ -73,15 +75,15 @@ class Judge:
 
 
 def timed_loop(fn, targets, q0):
-    """``fn(k, target, q0) -> q | None`` called per target under ``perf_counter``."""
-    out, times = np.full(q0.shape, np.nan), np.empty(len(q0))
+    """``fn(k, target, q0) -> q | None`` called per target under ``perf_counter`` and ``process_time``."""
+    out, times, cpu = np.full(q0.shape, np.nan), np.empty(len(q0)), np.empty(len(q0))
     for k in range(len(q0)):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         q = fn(k, targets[k], q0[k])
-        times[k] = time.perf_counter() - t0
+        times[k], cpu[k] = time.perf_counter() - t0, time.process_time() - c0
         if q is not None:
             out[k] = q
-    return out, times
+    return out, times, cpu
 
 
 # --- kinverify ---------------------------------------------------------------------------------
@@ -107,7 +109,7 @@ def kinverify_solvers(p: Problem, pos_tol: float, rot_tols) -> list:
                                         (f"kinverify, batched (numpy, batch time / N), {how}{asked}", chain_model, True)):
                 def run(targets, q0, model=model, batch=batch, opts=opts):
                     sol = solve_lm(model, targets, p.lower, p.upper, False, opts, q0=q0, batch=batch)
-                    return sol.q, sol.time_s
+                    return sol.q, sol.time_s, sol.extra["cpu_s"]
                 out.append((label, run, {"batched": batch}))
     return out
 

@@ -24,7 +24,8 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
     ``fk(q (n,)) -> (R (3, 3), p (3,), J (6, n))``: tip rotation, position [m] and world-aligned
     Jacobian (may be views valid until the next call); ``log3(M (3, 3)) -> (3,)`` the rotation
     vector. Other arguments as :func:`kinverify.ik.batch.solve_rows`; ``opts.time_budget`` is per
-    target. Returns the per-target arrays of :class:`IKSolutions`, ``time_s`` included.
+    target. Returns the per-target arrays of :class:`IKSolutions`, ``time_s`` included, and
+    ``cpu_s`` (process CPU time per target: the wall time minus what other processes took).
     """
     n_t, n = q0.shape
     solve = _spd_solver(3 if position_only else 6)
@@ -61,10 +62,11 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
     ep, er = e[:3], e[3:]
     subtract, minimum, maximum = np.subtract, np.minimum, np.maximum
     out = {"q": np.empty((n_t, n)), "success": np.zeros(n_t, bool), "pos_error": np.empty(n_t), "rot_error": np.empty(n_t),
-           "iterations": np.zeros(n_t, int), "restarts": np.zeros(n_t, int), "time_s": np.empty(n_t), "seed_q": np.empty((n_t, n))}
-    clock = time.perf_counter
+           "iterations": np.zeros(n_t, int), "restarts": np.zeros(n_t, int), "time_s": np.empty(n_t), "seed_q": np.empty((n_t, n)),
+           "cpu_s": np.empty(n_t)}
+    clock, cpu = time.perf_counter, time.process_time
     for k in range(n_t):
-        t0 = clock()
+        t0, c0 = clock(), cpu()
         deadline = t0 + opts.time_budget
         target = np.ascontiguousarray(targets[k])
         rt, pt = target[:3, :3].copy(), target[:3, 3].copy()
@@ -133,7 +135,7 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
                     diagonal += lam
                     qn = onto_limits(q + solve(a, e - jac.dot(held)).dot(jm) + held)
             q = qn
-        out["time_s"][k] = clock() - t0
+        out["time_s"][k], out["cpu_s"][k] = clock() - t0, cpu() - c0
         _, out["q"][k], out["seed_q"][k], pe2, re2 = best
         out["success"][k], out["pos_error"][k], out["rot_error"][k] = ok, math.sqrt(pe2), math.sqrt(re2)
         out["iterations"][k], out["restarts"][k] = it, restarts
