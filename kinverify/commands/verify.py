@@ -35,6 +35,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "or GOAL (repeatable); by default only agreement between the models does")
     p.add_argument("--report", help="HTML report path (default reports/<model>.html)")
     p.add_argument("--json", help="JSON results path (default reports/<model>.json)")
+    p.add_argument("--junit", metavar="PATH", help="also write JUnit XML: one test case per property and backend pair "
+                   "(and per file-mode finding), for CI systems")
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
     # performance and scale (issue 8)
     p.add_argument("--jobs", type=_count, default=1, help="worker processes for the chunks (default 1); results are identical for any N")
@@ -132,7 +134,13 @@ def run(args) -> int:
         print_result(result, console)
     json_path = write_json(result, args.json or f"reports/{result.model}.json")
     html_path = write_html(result, args.report or f"reports/{result.model}.html")
-    console.print(f"report: {html_path}  json: {json_path}")
+    outputs = f"report: {html_path}  json: {json_path}"
+    if args.junit:
+        from kinverify.report.junit import junit_xml
+        from kinverify.report.writer import write_atomic
+
+        outputs += f"  junit: {write_atomic(args.junit, junit_xml(result))}"
+    console.print(outputs)
     for err in result.internal_errors:
         console.print(f"[bold red]internal error[/] (a kinverify bug, not a property of the model; please report it "
                       f"with the JSON): {err}")
