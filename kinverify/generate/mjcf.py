@@ -65,6 +65,25 @@ def _actuator(joint, kind: str, gains: dict | None) -> str:
             f'ctrlrange="{nums([lim.lower, lim.upper])}" forcerange="{nums([-lim.effort, lim.effort])}"/>')
 
 
+def _child_bodies(spec: ArmSpec, link: int, indent: str) -> list[str]:
+    """The bodies of the joints hanging from link ``link`` (0 = base), nested as the tree is."""
+    out = []
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+        if parent != link:
+            continue
+        kind = "hinge" if joint.type == "revolute" else "slide"
+        lim = joint.limits
+        out += [
+            f"{indent}<body name={attr(joint.link.name)} {_placement(joint.origin.xyz, joint.origin.rpy)}>",
+            f'{indent}  <joint name={attr(joint.name)} type="{kind}" axis="{nums(joint.axis)}" range="{nums([lim.lower, lim.upper])}" '
+            f'damping="{nums([joint.damping])}" frictionloss="{nums([joint.friction])}" armature="{nums([joint.armature])}"/>',
+        ]
+        out += _body_contents(spec, joint.link, i + 1, indent + "  ")
+        out += _child_bodies(spec, i + 1, indent + "  ")
+        out.append(f"{indent}</body>")
+    return out
+
+
 def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict | None = None,
                   target=None) -> str:
     """The MJCF of ``spec`` as text; the same arguments always give the same bytes.
@@ -102,21 +121,8 @@ def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict 
         '      <inertial pos="0 0 0" mass="1" diaginertia="0.001 0.001 0.001"/>',
         f"      <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
     ]
-    indent = " " * 8
-    out += _body_contents(spec, spec.base_link, 0, indent)
-    for i, joint in enumerate(spec.joints):
-        kind = "hinge" if joint.type == "revolute" else "slide"
-        lim = joint.limits
-        out += [
-            f"{indent}<body name={attr(joint.link.name)} {_placement(joint.origin.xyz, joint.origin.rpy)}>",
-            f'{indent}  <joint name={attr(joint.name)} type="{kind}" axis="{nums(joint.axis)}" range="{nums([lim.lower, lim.upper])}" '
-            f'damping="{nums([joint.damping])}" frictionloss="{nums([joint.friction])}" armature="{nums([joint.armature])}"/>',
-        ]
-        indent += "  "
-        out += _body_contents(spec, joint.link, i + 1, indent)
-    for _ in spec.joints:
-        indent = indent[:-2]
-        out.append(f"{indent}</body>")
+    out += _body_contents(spec, spec.base_link, 0, " " * 8)
+    out += _child_bodies(spec, 0, " " * 8)
     out += ["      </body>", "    </body>", "  </worldbody>", "  <actuator>"]
     out += [f"    {_actuator(j, actuators, position_gains)}" for j in spec.joints]
     out += ["  </actuator>", "  <sensor>"]

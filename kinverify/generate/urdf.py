@@ -53,8 +53,8 @@ def generate_urdf(spec: ArmSpec) -> str:
            '  <joint name="world_to_base" type="fixed">', '    <parent link="world"/>',
            f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(spec.base_origin)}", "  </joint>"]
     out += _link(spec.base_link, 0)
-    parent = spec.base_link.name
-    for i, joint in enumerate(spec.joints):
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+        parent = spec.link_names[parent]
         lim = joint.limits
         out += [
             f"  <joint name={attr(joint.name)} type={attr(joint.type)}>",
@@ -67,7 +67,6 @@ def generate_urdf(spec: ArmSpec) -> str:
             "  </joint>",
         ]
         out += _link(joint.link, i + 1)
-        parent = joint.link.name
     for tool in spec.tools:
         out += [
             f'  <joint name={attr(tool.name + "_mount")} type="fixed">',

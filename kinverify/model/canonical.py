@@ -51,7 +51,7 @@ def _link(d) -> Link:
 
 def _joint(d) -> Joint:
     joint = Joint(d["name"], d["type"], _origin(d["origin"]), tuple(d["axis"]), Limits(**d["limits"]), _link(d["link"]),
-                  d.get("damping", 0.0), d.get("friction", 0.0), d.get("armature", 0.0))
+                  d.get("damping", 0.0), d.get("friction", 0.0), d.get("armature", 0.0), d.get("parent"))
     stored = tuple(float(x) for x in d["axis"])
     if abs(math.fsum(x * x for x in stored) - 1.0) < 1e-12:
         # The stored axis was normalised already; normalising again could change its last bit.

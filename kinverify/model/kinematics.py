@@ -83,13 +83,10 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
     n_cfg = q.shape[0]
     if out is None:
         out = np.empty((n_cfg, spec.dof + 1, 4, 4))
-    cur = np.empty((n_cfg, 4, 4))
-    cur[:] = spec.base_origin.transform
-    out[:, 0] = cur
-    nxt = np.empty_like(cur)
+    out[:, 0] = spec.base_origin.transform
     basis = np.empty((n_cfg, 3))
     basis[:, 0] = 1.0
-    for i, (joint, coef) in enumerate(zip(spec.joints, _coefficients(spec))):
+    for i, (joint, coef, parent) in enumerate(zip(spec.joints, _coefficients(spec), spec.parent_indices)):
         if joint.type == "revolute":
             np.sin(q[:, i], out=basis[:, 1])
             np.cos(q[:, i], out=basis[:, 2])
@@ -97,9 +94,7 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
         else:
             basis[:, 1] = q[:, i]
             local = basis[:, :2] @ coef
-        np.matmul(cur, local.reshape(n_cfg, 4, 4), out=nxt)
-        out[:, i + 1] = nxt
-        cur, nxt = nxt, cur
+        np.matmul(out[:, parent], local.reshape(n_cfg, 4, 4), out=out[:, i + 1])  # the parent link: any earlier one
     return out
 
 
@@ -132,7 +127,8 @@ def geometric_jacobians(spec: ArmSpec, poses: np.ndarray) -> np.ndarray:
 
     Joint i moves link i+1 whose frame origin lies on the joint axis, so the axis in the world is
     ``R_link · axis`` through ``p_link``. Revolute column: ``[z × (p_frame − p_joint); z]``;
-    prismatic: ``[z; 0]``. Columns of joints that are not ancestors of the frame are zero.
+    prismatic: ``[z; 0]``. Columns of joints that are not on the path from the base to the
+    frame (another branch of a tree, or further out) are zero.
     """
     n = spec.dof
     joint_links = poses[:, 1 : n + 1]
@@ -145,7 +141,7 @@ def geometric_jacobians(spec: ArmSpec, poses: np.ndarray) -> np.ndarray:
     revolute = np.array([j.type == "revolute" for j in spec.joints])
     linear = np.where(revolute[None, None, :, None], np.cross(zb, lever), zb)
     angular = np.where(revolute[None, None, :, None], zb, 0.0)
-    ancestor = np.arange(n)[None, :] < frame_link_indices(spec)[:, None]  # (F, n)
+    ancestor = spec.ancestors()[frame_link_indices(spec)]  # (F, n): does joint i move frame f?
     jac = np.concatenate([linear, angular], axis=-1) * ancestor[None, :, :, None]
     return np.swapaxes(jac, -1, -2)
 

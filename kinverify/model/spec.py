@@ -170,7 +170,9 @@ class Limits:
 class Joint:
     """A 1-DOF joint and the link it moves. ``axis`` is in the joint (= child link) frame and is
     normalised on construction. ``damping`` [N·m·s/rad], ``friction`` (Coulomb, N·m) and
-    ``armature`` (rotor inertia, kg·m²) are joint-space parameters."""
+    ``armature`` (rotor inertia, kg·m²) are joint-space parameters. ``parent``: the link the
+    joint hangs from (``None``: the previous joint's link, or the base for the first joint), so
+    joints can form a tree (two fingers on one hand, two arms on one torso)."""
 
     name: str
     type: str
@@ -181,9 +183,12 @@ class Joint:
     damping: float = 0.0
     friction: float = 0.0
     armature: float = 0.0
+    parent: str | None = None
 
     def __post_init__(self) -> None:
         _name(self.name, "name")
+        if self.parent is not None:
+            _name(self.parent, "parent")
         if self.type not in JOINT_TYPES:
             raise SpecError("type", f"unknown joint type {self.type!r}; expected one of {', '.join(JOINT_TYPES)}")
         axis = np.asarray(_vector(self.axis, 3, "axis"))
@@ -229,7 +234,8 @@ class DHTable:
 
 @dataclass(frozen=True)
 class ArmSpec:
-    """A serial arm: a fixed base link placed in the world, then joints in order, then tools.
+    """An arm: a fixed base link placed in the world, then joints in order (each hanging from the
+    base or from an earlier joint's link: a serial chain or a tree), then tools.
 
     Frame names (``frame_names``): the base link, every joint's link, every tool.
     """
@@ -263,6 +269,13 @@ class ArmSpec:
                 raise SpecError(path, f"duplicate name {name!r} (also used by {seen[name]})")
             seen[name] = path
         links = self.link_names
+        for i, joint in enumerate(self.joints):
+            if joint.parent is not None and joint.parent not in links[: i + 1]:
+                where = "a later joint's link" if joint.parent in links else "unknown link"
+                raise SpecError(f"joints[{i}].parent", f"{where} {joint.parent!r}: a joint hangs from the base or an "
+                                f"earlier joint's link ({', '.join(links[: i + 1])})")
+        if self.dh is not None and not self.is_serial:
+            raise SpecError("dh", "a DH table describes a serial chain: joints with a parent are not allowed")
         for i, tool in enumerate(self.tools):
             if tool.parent not in links:
                 raise SpecError(f"tools[{i}].parent", f"unknown link {tool.parent!r}; available links: {', '.join(links)}")
@@ -302,6 +315,26 @@ class ArmSpec:
     def link_index(self, name: str) -> int:
         """0 for the base link, i + 1 for ``joints[i].link``."""
         return self.link_names.index(name)
+
+    @property
+    def parent_indices(self) -> tuple[int, ...]:
+        """For each joint, the index of the link it hangs from (0 = base, i + 1 = ``joints[i].link``)."""
+        names = self.link_names
+        return tuple(i if j.parent is None else names.index(j.parent) for i, j in enumerate(self.joints))
+
+    @property
+    def is_serial(self) -> bool:
+        return all(p == i for i, p in enumerate(self.parent_indices))
+
+    def ancestors(self) -> np.ndarray:
+        """``(n + 1, n)`` bool: ``[k, i]`` is True when joint ``i`` moves link ``k`` (is on the path
+        from the base to it)."""
+        parents = self.parent_indices
+        out = np.zeros((self.dof + 1, self.dof), dtype=bool)
+        for i, p in enumerate(parents):
+            out[i + 1] = out[p]
+            out[i + 1, i] = True
+        return out
 
 
 def _readonly(values) -> np.ndarray:

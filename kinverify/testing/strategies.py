@@ -78,8 +78,9 @@ def _limits(draw, joint_type: str) -> dict:
 
 
 @st.composite
-def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool = True) -> dict:
-    """The TOML structure of a random valid serial arm (1-8 joints by default)."""
+def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False) -> dict:
+    """The TOML structure of a random valid arm (1-8 joints by default): a serial chain, or with
+    ``trees`` a tree in which each joint may hang from the base or any earlier joint's link."""
     n = draw(st.integers(min_joints, max_joints))
     joints = []
     for i in range(n):
@@ -93,6 +94,8 @@ def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool =
             "limits": draw(_limits(jtype)),
             "link": {"name": f"l{i + 1}", "mass": draw(_floats(0.1, 5.0))},
         }
+        if trees and i > 0 and draw(st.booleans()):
+            joint["parent"] = draw(st.sampled_from(["base"] + [f"l{k}" for k in range(1, i + 1)]))
         joints.append(joint)
     tools = [{"name": "tool", "parent": f"l{n}", "xyz": draw(tool_offsets()), "rpy": draw(tool_rotations())}]
     if draw(st.booleans()):
@@ -100,15 +103,16 @@ def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool =
         tools.append({"name": "aux", "parent": f"l{parent}", "xyz": draw(tool_offsets())})
     return {
         "name": "random_arm",
-        "base": {"xyz": draw(vectors(-0.5, 0.5)), "rpy": draw(angles_rpy())},
+        "base": {"xyz": draw(vectors(-0.5, 0.5)), "rpy": draw(angles_rpy()), "link": {"name": "base"}},
         "joints": joints,
         "tools": tools,
     }
 
 
-def arm_specs(min_joints: int = 1, max_joints: int = 8, prismatic: bool = True) -> st.SearchStrategy[ArmSpec]:
-    """Random valid :class:`ArmSpec` (random joint types, axes, origins, limits, tools)."""
-    return spec_dicts(min_joints, max_joints, prismatic).map(spec_from_dict)
+def arm_specs(min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False) -> st.SearchStrategy[ArmSpec]:
+    """Random valid :class:`ArmSpec` (random joint types, axes, origins, limits, tools; with
+    ``trees``, branching chains)."""
+    return spec_dicts(min_joints, max_joints, prismatic, trees).map(spec_from_dict)
 
 
 def _edges(lo: float, hi: float, revolute: bool) -> list[float]:

@@ -14,6 +14,7 @@ from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.backends.yourdfpy_ import YourdfpyBackend
 from kinverify.errors import KinverifyError, UnknownNameError
 from kinverify.pipeline.sampling import spec_samples
+from tests.paths import MODELS
 
 TOL = 1e-9
 
@@ -33,13 +34,13 @@ def _agree(spec, q):
 
 
 @settings(max_examples=40, deadline=None)
-@given(kst.arm_specs(), kst.data())
+@given(kst.arm_specs(trees=True), kst.data())
 def test_all_backends_agree_on_random_specs(spec, data):
     q = data.draw(kst.configuration_batches(spec, max_size=8))
     _agree(spec, q)
 
 
-@pytest.mark.parametrize("path", ["models/arm3.toml", "models/ur5e.toml", "models/panda.toml", "models/scara.toml"])
+@pytest.mark.parametrize("path", sorted(str(p) for p in MODELS.glob("*.toml")))
 def test_shipped_models_agree_at_edges_and_random_samples(path):
     spec = load_spec(path)
     _agree(spec, spec_samples(spec, 30, seed=1))
@@ -47,7 +48,7 @@ def test_shipped_models_agree_at_edges_and_random_samples(path):
 
 @pytest.mark.slow
 @settings(max_examples=300, deadline=None)
-@given(kst.arm_specs(), kst.data())
+@given(kst.arm_specs(trees=True), kst.data())
 def test_all_backends_agree_on_random_specs_sweep(spec, data):
     _agree(spec, data.draw(kst.configuration_batches(spec, max_size=20)))
 
