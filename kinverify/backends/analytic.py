@@ -15,7 +15,11 @@ from kinverify.backends.base import BackendBase, Evaluation
 
 
 class AnalyticBackend(BackendBase):
+    """FK and geometric Jacobians from the spec (:mod:`kinverify.model.kinematics`), already in
+    kinverify's convention."""
+
     name = "analytic"
+    library = "numpy"
 
     def __init__(self, spec: ArmSpec) -> None:
         self.spec = spec

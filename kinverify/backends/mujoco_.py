@@ -18,6 +18,8 @@ class MujocoBackend(EvaluatingBackend):
     Joints not in ``joint_names`` stay at ``qpos0``.
     """
 
+    library = "mujoco"
+
     def __init__(self, model: "mujoco.MjModel", name: str, joint_names, frames) -> None:
         self.model, self.data, self.name = model, mujoco.MjData(model), name
         self.joint_names, self.frames = tuple(joint_names), tuple(frames)

@@ -20,6 +20,8 @@ class PinocchioBackend(EvaluatingBackend):
     Joints of the model not in ``joint_names`` are held at their neutral value.
     """
 
+    library = "pin"
+
     def __init__(self, model: "pin.Model", name: str, joint_names, frames) -> None:
         self.model, self.data, self.name = model, model.createData(), name
         self.joint_names, self.frames = tuple(joint_names), tuple(frames)

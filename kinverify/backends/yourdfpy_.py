@@ -19,6 +19,8 @@ class YourdfpyBackend(BackendBase):
     ``frame_to`` in ``frame_from``; with ``frame_from`` the root link (``world``) that is
     ``T_world_from_frame``, ours. Joints not in ``joint_names`` stay at 0."""
 
+    library = "yourdfpy"
+
     jacobian_method = "finite-difference"
     slow = True  # ~100x slower per configuration than the others: capped by VerifyOptions.slow_samples
 

@@ -68,7 +68,8 @@ def run(args) -> int:
         raise UnknownNameError("backend", name, list(registry))
     solver = build_backend(name, sources)
     if not solver.jacobian_method:
-        raise InputError(f"backend {name!r} has no Jacobian; choose one of: analytic, pinocchio-urdf, pinocchio-mjcf, mujoco")
+        with_jacobians = [n for n, info in registry.items() if info.available and info.backend_class.jacobian_method == "analytic"]
+        raise InputError(f"backend {name!r} has no Jacobian; choose one of: {', '.join(with_jacobians)}")
     position_only = not rpy
     target = make_transform(rpy_to_matrix(rpy) if rpy else np.eye(3), xyz)
     model = FrameModel(solver, frame, sources.revolute)

@@ -26,7 +26,7 @@ SPECIAL_SECTIONS = {"diagnosis"}  # rendered inside the failing-check blocks, no
 # Page order of sections and versions; anything else follows alphabetically. Fixed here (not
 # taken from dict order) so a result re-read from its JSON (sorted keys) renders identically.
 SECTION_ORDER = ("filemode", "pictures", "workspace", "ik", "tracking", "dynamics")
-VERSION_ORDER = ("kinverify", "python", "numpy", "pin", "mujoco", "yourdfpy")
+VERSION_ORDER = ("kinverify", "python")  # then the libraries, alphabetically
 
 
 def _ordered(keys, first) -> list:

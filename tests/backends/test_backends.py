@@ -115,3 +115,19 @@ def test_single_joint_arm(joint_type):
                                                       "limits": {"lower": -0.5, "upper": 0.5, "unit": unit}}],
                            "tools": [{"name": "tip", "xyz": [0.2, 0, 0]}]})
     _agree(spec, spec_samples(spec, 10))
+
+
+def test_capabilities_are_declared_once_on_each_backend_class():
+    """Library, Jacobian method and cost come from the adapter class: the report's versions and
+    file mode's readers of each file are derived from the registry, not kept in side lists."""
+    from kinverify.backends import available_backends, names_reading
+    from kinverify.versions import library_versions
+
+    versions = library_versions()
+    for name, info in available_backends().items():
+        cls = info.backend_class
+        assert cls.library and cls.library in versions, name
+        assert cls.jacobian_method in ("analytic", "finite-difference", None)
+    assert [n for n, i in available_backends().items() if i.backend_class.slow] == ["yourdfpy"]
+    assert names_reading("urdf") == ("pinocchio-urdf", "yourdfpy", "mujoco-urdf")
+    assert names_reading("mjcf") == ("mujoco", "pinocchio-mjcf")
