@@ -98,7 +98,7 @@ def default_backend_names(sources: ModelSources) -> list[str]:
     for info in available_backends().values():
         if not info.available or getattr(sources, info.source) is None:
             continue
-        if info.name == "analytic-dh" and sources.spec.dh is None:
+        if info.name == "analytic-dh" and (sources.spec.dh is None or sources.spec.floating):
             continue
         names.append(info.name)
     return names

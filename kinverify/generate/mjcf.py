@@ -13,6 +13,7 @@ marker, sensors, actuators), with the seed's defects fixed:
 
 from __future__ import annotations
 
+from kinverify.model.floating import FLOATING_JOINT
 from kinverify.model.kinematics import home_tool_position
 from kinverify.model.spec import ArmSpec, Geometry, Link
 from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
@@ -115,15 +116,24 @@ def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict 
         out.append(f'    <geom name="tabletop" type="box" pos="{nums([x, y, base_z - 0.02])}" size="0.6 0.4 0.02" rgba="0.6 0.4 0.2 1"/>')
     out += [
         f'    <site name="target" pos="{nums(target)}" size="0.03" rgba="0 1 0 0.5"/>',
-        "    <!-- Pinocchio's MJCF parser ignores the pose of a top-level body: the arm hangs from a",
-        "         zero-pose mount body so that the base pose is read by every parser. -->",
-        '    <body name="world_mount">',
-        '      <inertial pos="0 0 0" mass="1" diaginertia="0.001 0.001 0.001"/>',
-        f"      <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
     ]
-    out += _body_contents(spec, spec.base_link, 0, " " * 8)
-    out += _child_bodies(spec, 0, " " * 8)
-    out += ["      </body>", "    </body>", "  </worldbody>", "  <actuator>"]
+    if spec.floating:  # a free joint belongs to a top-level body; its pose there is only qpos0
+        out += [f"    <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
+                f'      <freejoint name="{FLOATING_JOINT}"/>']
+        out += _body_contents(spec, spec.base_link, 0, " " * 6)
+        out += _child_bodies(spec, 0, " " * 6)
+        out += ["    </body>", "  </worldbody>", "  <actuator>"]
+    else:
+        out += [
+            "    <!-- Pinocchio's MJCF parser ignores the pose of a top-level body: the arm hangs from a",
+            "         zero-pose mount body so that the base pose is read by every parser. -->",
+            '    <body name="world_mount">',
+            '      <inertial pos="0 0 0" mass="1" diaginertia="0.001 0.001 0.001"/>',
+            f"      <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
+        ]
+        out += _body_contents(spec, spec.base_link, 0, " " * 8)
+        out += _child_bodies(spec, 0, " " * 8)
+        out += ["      </body>", "    </body>", "  </worldbody>", "  <actuator>"]
     out += [f"    {_actuator(j, actuators, position_gains)}" for j in spec.joints]
     out += ["  </actuator>", "  <sensor>"]
     out += [f'    <jointpos name={attr(j.name + "_pos")} joint={attr(j.name)}/>' for j in spec.joints]

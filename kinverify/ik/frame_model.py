@@ -61,7 +61,7 @@ class FrameModel:
 
         spec = self.backend.spec
         poses = frame_poses(spec, q)
-        return poses[:, self.index], geometric_jacobians(spec, poses)[:, self.index]
+        return poses[:, self.index], geometric_jacobians(spec, poses, q)[:, self.index]
 
     def _pinocchio(self, q):
         poses = np.empty((len(q), 4, 4))

@@ -69,7 +69,7 @@ def spec_from_canonical(data: dict[str, Any], where: str = "spec") -> ArmSpec:
         if dh is not None:
             dh = DHTable(dh["convention"], tuple(DHRow(**row) for row in dh["rows"]))
         return ArmSpec(data["name"], _origin(data["base_origin"]), _link(data["base_link"]), joints, tools, dh,
-                       tuple(data.get("gravity", (0.0, 0.0, -9.81))))
+                       tuple(data.get("gravity", (0.0, 0.0, -9.81))), data.get("floating", False))
     except SpecError as err:
         raise InputError(f"{where}: invalid stored spec: {err}") from None
     except (KeyError, TypeError, ValueError, AttributeError) as err:

@@ -15,12 +15,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kinverify.errors import SpecError
+from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE, base_limits
 from kinverify.model.transforms import xyz_rpy_to_transform
 
 JOINT_TYPES = ("revolute", "prismatic")
 SHAPES = ("capsule", "cylinder", "sphere", "box")
 NAME_PATTERN = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,63}$")
-RESERVED_NAMES = ("world", "universe", "world_mount")  # used by the generated URDF/MJCF
+RESERVED_NAMES = ("world", "universe", "world_mount", "floating_base")  # used by the generated URDF/MJCF
 MAX_ABS = 1e6  # bound on any number in a spec: larger values are typos or fuzz, not arms
 
 
@@ -247,9 +248,12 @@ class ArmSpec:
     tools: tuple[Tool, ...] = ()
     dh: DHTable | None = None
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    floating: bool = False  # the base moves freely: its pose is part of the configuration
 
     def __post_init__(self) -> None:
         _name(self.name, "name")
+        if not isinstance(self.floating, bool):
+            raise SpecError("base.floating", f"expected true or false, got {self.floating!r}")
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "tools", tuple(self.tools))
         object.__setattr__(self, "gravity", _vector(self.gravity, 3, "gravity"))
@@ -315,6 +319,37 @@ class ArmSpec:
     def link_index(self, name: str) -> int:
         """0 for the base link, i + 1 for ``joints[i].link``."""
         return self.link_names.index(name)
+
+    @property
+    def coordinate_names(self) -> tuple[str, ...]:
+        """The configuration's coordinates: the joints, after the six base coordinates when floating
+        (:mod:`kinverify.model.floating`)."""
+        return (BASE_COORDINATES if self.floating else ()) + self.joint_names
+
+    @property
+    def nq(self) -> int:
+        """Number of configuration coordinates (``dof``, plus 6 with a floating base)."""
+        return len(self.coordinate_names)
+
+    @property
+    def coordinate_limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sampling ranges of every coordinate: the joint limits, after the base's (home ± 1 m,
+        every orientation) when floating."""
+        if not self.floating:
+            return self.lower, self.upper
+        lo, up = base_limits(self.base_origin.xyz)
+        return _readonly(np.concatenate([lo, self.lower])), _readonly(np.concatenate([up, self.upper]))
+
+    @property
+    def coordinate_revolute(self) -> tuple[bool, ...]:
+        return (BASE_REVOLUTE if self.floating else ()) + tuple(j.type == "revolute" for j in self.joints)
+
+    def home(self) -> np.ndarray:
+        """The home configuration ``(nq,)``: every joint at 0, a floating base at its origin."""
+        joints = np.zeros(self.dof)
+        if not self.floating:
+            return joints
+        return np.concatenate([self.base_origin.xyz, self.base_origin.rpy, joints])
 
     @property
     def parent_indices(self) -> tuple[int, ...]:

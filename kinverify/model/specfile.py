@@ -240,6 +240,7 @@ def _spec_from_table(top: _Table) -> ArmSpec:
         joints.append(joint)
     base = top.table("base") or _Table({}, "base")
     base_origin = _origin(base)
+    floating = base.get("floating", False)
     first = origins[0].xyz
     base_geometry = _default_geometry(first, radius * 5 / 3) if np.linalg.norm(first) > 1e-6 else Geometry("sphere", radius=radius)
     bl = base.table("link") or _Table({}, "base.link")
@@ -249,7 +250,7 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     gravity = top.get("gravity", (0.0, 0.0, -9.81))
     top.done()
     return _build("", ArmSpec, name=name, base_origin=base_origin, base_link=base_link, joints=joints,
-                  tools=tools, dh=dh, gravity=gravity)
+                  tools=tools, dh=dh, gravity=gravity, floating=floating)
 
 
 def _link_name(jt, i: int) -> str:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from kinverify.errors import InputError
+from kinverify.model.floating import has_base
 from kinverify.suites.base import AGREEMENT, PERFORMANCE, Check, Property, Section, Suite, SuiteResult, VerifyContext
 from kinverify.ik.closed_form import Arm3ClosedForm
 from kinverify.ik.figures import ik_figures, solver_data
@@ -59,6 +60,10 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     section = Section(IKSuite.title)
     if n <= 0 or not src.joint_names:
         section.summary = "skipped (--ik-targets 0)"
+        return SuiteResult([], section)
+    if has_base(src.joint_names):
+        section.summary = ("skipped: the base floats, so moving it reaches every target; IK of the arm from a held "
+                           "base is not run for floating-base models")
         return SuiteResult([], section)
     frame, dof = src.frames[-1], len(src.joint_names)
     position_only = dof < 6

@@ -34,7 +34,7 @@ def _agree(spec, q):
 
 
 @settings(max_examples=40, deadline=None)
-@given(kst.arm_specs(trees=True), kst.data())
+@given(kst.arm_specs(trees=True, floating=True), kst.data())
 def test_all_backends_agree_on_random_specs(spec, data):
     q = data.draw(kst.configuration_batches(spec, max_size=8))
     _agree(spec, q)

@@ -67,10 +67,12 @@ def test_shipped_models_load_in_every_library(path):
 
 
 @settings(max_examples=25, deadline=None)
-@given(kst.arm_specs(trees=True))
+@given(kst.arm_specs(trees=True, floating=True))
 def test_random_specs_load_in_every_library(spec):
     mj, pin_urdf, pin_mjcf, robot = _load_everywhere(spec)
-    assert mj.nv == pin_urdf.nv == pin_mjcf.nv == len(robot.actuated_joint_names) == spec.dof
+    base = 6 if spec.floating else 0  # a free joint / free-flyer (yourdfpy counts a floating joint as one)
+    assert mj.nv == pin_urdf.nv == pin_mjcf.nv == spec.dof + base
+    assert len(robot.actuated_joint_names) == spec.dof + (1 if spec.floating else 0)
     masses = [mj.body_mass[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, j.link.name)] for j in spec.joints]
     np.testing.assert_allclose(masses, [j.link.inertial.mass for j in spec.joints])
     parents = [mj.body_parentid[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, j.link.name)] for j in spec.joints]
