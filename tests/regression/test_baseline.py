@@ -58,7 +58,7 @@ def test_unchanged_shipped_models_pass(tmp_path, name):
     dynamics = 2 * spec.nq * result.samples  # mass-matrix row and gravity per coordinate
     ik = 0 if spec.floating else 2 * min(bl_q.IK_TARGETS, result.samples)
     assert result.compared == kinematics + dynamics + ik
-        assert result.explanations == []
+    assert result.explanations == []
 
 
 def test_a_1mm_longer_link_is_reported_at_the_right_frame_and_size(arm3_baseline):
