@@ -92,7 +92,7 @@ class DynamicsSuite(Suite):
         n = int(opts.extra.get("dynamics_samples", DEFAULT_SAMPLES))
         q = np.asarray(ctx.q[:n])
         units = _units(sources.revolute)
-        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed)
+        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed, opts.on_progress)
         snapped = mj.snapped_inertia_frames()
         quirk = ("MuJoCo treats the principal inertia axes of " + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
                  + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo") if snapped else ""
@@ -129,7 +129,7 @@ class DynamicsSuite(Suite):
         return SuiteResult(checks, section, findings)
 
     @staticmethod
-    def state_errors(pin: PinocchioDynamics, mj: MujocoDynamics, q: np.ndarray, vmax, effort, seed: int = 0):
+    def state_errors(pin: PinocchioDynamics, mj: MujocoDynamics, q: np.ndarray, vmax, effort, seed: int = 0, on_progress=None):
         """Max |difference| per state property over configurations ``q`` (N, n) with random
         speeds in ±vmax, accelerations in ±ACCELERATION and joint forces in ±effort. Returns the
         stats, the largest |value| per property (the scale of its tolerance) and the first
@@ -138,7 +138,10 @@ class DynamicsSuite(Suite):
         stats = {p: ErrorStats() for p in STATE_PROPERTIES}
         scales = dict.fromkeys(STATE_PROPERTIES, 0.0)
         breakdown = None
-        for qk in q:
+        report = on_progress or (lambda done, total: None)
+        for k, qk in enumerate(q):
+            if k % 10 == 0:
+                report(k, len(q))
             v = rng.uniform(-1.0, 1.0, len(qk)) * vmax
             a = rng.uniform(-ACCELERATION, ACCELERATION, len(qk))
             tau = rng.uniform(-1.0, 1.0, len(qk)) * effort
@@ -157,6 +160,7 @@ class DynamicsSuite(Suite):
             for prop, (x, y) in pairs.items():
                 stats[prop].update(np.array([np.abs(x - y).max()]), qk[None])
                 scales[prop] = max(scales[prop], float(np.abs(x).max()))
+        report(len(q), len(q))
         return stats, scales, breakdown
 
     def parameter_checks(self, ctx: VerifyContext, pin: PinocchioDynamics, mj: MujocoDynamics, origin: str, units) -> list:
