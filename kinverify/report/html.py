@@ -107,9 +107,14 @@ def detail_rows(result: VerifyResult, group: matrix.Group) -> list[dict[str, Any
     rank = {f: i for i, f in enumerate(result.frames)}
     rows = []
     for row in group.rows:
-        for col, c in row.cells.items():
+        for col in group.columns:
+            if col not in row.cells:
+                continue
+            c = row.cells[col]
             failed = sorted((x for x in c.checks if not x.passed), key=lambda x: rank.get(x.frame, len(rank)))
+            pairs = {x.backends for x in c.checks}
             rows.append({"anchor": c.anchor, "property": row.property, "column": col, "against": ", ".join(a for a in c.against if a),
+                         "pair": " vs ".join(c.worst.backends) if len(pairs) > 1 else "",
                          "n": len(c.checks), "failed": len(failed), "worst": c.worst, "p99": max(x.p99_error for x in c.checks),
                          "first": failed[0].frame if failed else "", "passed": c.passed,
                          "note": "; ".join(dict.fromkeys(x.note for x in c.checks if x.note))})

@@ -287,3 +287,16 @@ def test_failing_report_shows_its_first_failure_without_scrolling(failing, faili
     assert pixels.shape[:2] == (browser.HEIGHT, browser.WIDTH)
     r, g, b = pixels[10, 640, :3]
     assert r > 0.5 and g < 0.3 and b < 0.3
+
+
+def test_an_internal_error_says_so_first_and_keeps_what_was_computed(passing, tmp_path):
+    data = passing.to_dict()
+    data["internal_errors"] = ["suite ik: ZeroDivisionError: division by zero (lm.py:12)"]
+    result = VerifyResult.from_dict(data)
+    page = render_html(result)
+    banner = _text(_between(page, '<header class="banner', "</header>"))
+    assert 'class="banner error"' in page and banner.startswith("ERROR exit 3: kinverify itself failed")
+    assert "Internal error (a kinverify bug, not a property of the model): suite ik: ZeroDivisionError" in _text(page)
+    assert '<section id="matrix">' in page  # what the other suites computed is still shown
+    path = write_json(result, tmp_path / "e.json")
+    assert main(["report", str(path), "--out", str(tmp_path / "e.html")]) == 3
