@@ -23,5 +23,6 @@ def run(args) -> int:
 
     result = load_result_json(args.results)
     out = write_html(result, args.out or Path(args.results).with_suffix(".html"))
-    print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed); report: {out}")
+    print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
+          f"{len(result.failing_findings)} error findings); report: {out}")
     return result.exit_code

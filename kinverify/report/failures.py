@@ -144,7 +144,7 @@ def side_by_side(f: Finding) -> tuple[list[tuple[str, str, str]], list[tuple[str
         if key == "urdf" or key.startswith("urdf_"):
             twin = "mjcf" + key[4:]
             if twin in values:
-                pairs.append((key[5:].replace("_", " ") or f.property or f.kind.replace("_", " "), fmt_value(value), fmt_value(values[twin])))
+                pairs.append((key[5:].replace("_", " ") or f.property or "value", fmt_value(value), fmt_value(values[twin])))
                 continue
         elif (key == "mjcf" or key.startswith("mjcf_")) and ("urdf" + key[4:]) in values:
             continue
@@ -152,13 +152,16 @@ def side_by_side(f: Finding) -> tuple[list[tuple[str, str, str]], list[tuple[str
     return pairs, rest
 
 
-def finding_groups(result: VerifyResult) -> list[dict[str, Any]]:
+def finding_groups(result: VerifyResult, errors: bool | None = None) -> list[dict[str, Any]]:
     """Findings grouped by what they concern (joint, link, frame, model, file), the groups with
-    an error first; accepted findings count as their own kind, after infos."""
+    an error first; accepted findings count as their own kind, after infos. ``errors``: only the
+    findings that fail the verdict (True), only the others (False), or all (None)."""
     order = {s: i for i, s in enumerate(SEVERITIES)}
     level = lambda f: len(SEVERITIES) if f.accepted else order[f.severity]
     groups: dict[tuple[str, str], dict[str, Any]] = {}
     for f in result.findings:
+        if errors is not None and f.fails != errors:
+            continue
         key = (f.subject_type, f.subject)
         g = groups.setdefault(key, {"label": f.label, "type": f.subject_type, "subject": f.subject, "items": []})
         pairs, rest = side_by_side(f)

@@ -180,11 +180,11 @@ def render_html(result: VerifyResult) -> str:
     marks = fail_view.marked_subjects(result)
     dist = error_distributions_svg(result)
     finding_groups = fail_view.finding_groups(result)
+    top, others = fail_view.finding_groups(result, errors=True), fail_view.finding_groups(result, errors=False)
     return _environment().get_template("report.html.j2").render(
         r=result, exit_meaning=EXIT_MEANING[result.verdict], compared=compared(result),
         failing=fail_view.failure_groups(result), findings=fail_view.findings_summary(result),
-        finding_groups=finding_groups, top_findings=[g for g in finding_groups if g["severity"] == "error"],
-        other_findings=[g for g in finding_groups if g["severity"] != "error"],
+        finding_groups=finding_groups, top_findings=top, other_findings=others,
         groups=groups, legend=matrix.legend(), suites=suites_view(result, groups),
         pictures=pictures_view(result, marks), filemode=result.sections.get("filemode"),
         filemode_view=_section_view("filemode", result.sections["filemode"]) if "filemode" in result.sections else None,

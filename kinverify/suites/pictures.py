@@ -225,8 +225,9 @@ def skeleton_data(ctx: VerifyContext, home: np.ndarray) -> dict:
                                   "reference": ref_poses[i, ri[f], :3, 3].tolist(), "value": backend.poses(q[i:i + 1])[0, oi[f], :3, 3].tolist(),
                                   "position_error": float(pos[i, f]), "rotation_error": float(rot[i, f])})
     other = max(score, key=score.get) if score else ""
-    if not other and src.spec is None:  # file mode: the MJCF side is drawn over the URDF side anyway
-        other = next((n for n in MJCF_READERS if n in ctx.backends and n != ref.name), "")
+    if src.spec is None:  # file mode: the MJCF as MuJoCo reads it is drawn over the URDF side, agreeing or not
+        readers = [n for n in MJCF_READERS if n in ctx.backends and n != ref.name]
+        other = next((n for n in readers if n in score or not score), other)
     if other in score:
         d = next(d for d in disagreements if d["backend"] == other)
         worst, label = np.asarray(d["q"]), (f"largest FK disagreement of {other} with {ref.name} among the first {len(q)} "

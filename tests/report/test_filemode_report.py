@@ -57,16 +57,17 @@ def test_findings_are_grouped_by_subject_with_values_side_by_side(small_result):
     for f in findings:
         assert text.count(f["message"]) == 1  # once, in its group; never repeated as a note
     assert text.count("URDF: meshes skipped") == 1 and "a run note" in text
-    # errors first, on the first screen: one group per joint, the info about j0 inside j0's group
+    # the errors on the first screen, one group per joint; the others (here j0's info) in the file-mode section
     top = page[page.index('<section id="failures"'):page.index('<section id="matrix"')]
     groups = re.findall(r'<tbody class="group (\w+)">\s*<tr class="subject"><th colspan="5">([^<]*)</th>', top)
     assert groups == [("error", "joint j0"), ("error", "joint j1"), ("error", "joint j2")]
-    j0 = top[top.index("joint j0</th>"):top.index("joint j1</th>")]
-    assert "quat rounded" in j0 and '<span class="sev info">' in j0
+    assert "quat rounded" not in top and '<span class="sev info">' not in top
     row = next(r for r in top.split("<tr ") if "joint j1: damping" in r)
     assert re.findall(r'<td class="val"><div><code>([^<]*)</code></div></td>', row) == ["0.003", "1"]  # URDF, MJCF
-    # the accepted finding is greyed, in the file-mode section, after the warning
+    # the accepted finding is greyed, in the file-mode section, after the warning and j0's info
     rest = page[page.index('<section id="section-filemode">'):]
+    others = re.findall(r'<tbody class="group (\w+)">\s*<tr class="subject"><th colspan="5">([^<]*)</th>', rest)
+    assert others == [("warning", "joint j3"), ("info", "joint j0"), ("accepted", "link l2")]
     assert re.search(r'<tr class="accepted"><td><span class="sev accepted">accepted</span></td><td>mass_difference', rest)
     assert rest.index("velocity only in the URDF") < rest.index("link l2: mass 1 kg")
 
