@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from kinverify.report.matrix import column_of, ratio, reference
+from kinverify.report.units import display_unit, revolute
 from kinverify.results import VerifyResult
 from kinverify.suites.base import SEVERITIES, Check, Finding
 
@@ -41,13 +42,6 @@ def configuration(q, revolute: list[bool]) -> dict[str, str]:
     """A configuration as copyable vectors: radians (metres for prismatic joints) and degrees."""
     deg = [math.degrees(v) if r else v for v, r in zip(q, revolute)]
     return {"rad": _vector([v + 0.0 for v in q], ".10g"), "deg": _vector([round(v, 6) + 0.0 for v in deg], ".10g")}
-
-
-def revolute(result: VerifyResult) -> list[bool]:
-    joints = result.model_info.get("joints") or []
-    if len(joints) == len(result.joint_names):
-        return [j.get("type", "revolute") == "revolute" for j in joints]
-    return [True] * len(result.joint_names)
 
 
 def _section_data(result: VerifyResult, name: str) -> dict:
@@ -86,7 +80,7 @@ def failure_groups(result: VerifyResult) -> list[dict[str, Any]]:
         for c in sorted(failed, key=lambda c: -(ratio(c) if ratio(c) == ratio(c) else math.inf)):
             vec = configuration(c.worst_q, rev)
             if c.worst_q and vec["rad"] not in [w["rad"] for w in worst]:
-                worst.append({**vec, "where": f"{c.property} at {c.frame}", "error": f"{c.max_error:.3e} {c.unit}"})
+                worst.append({**vec, "where": f"{c.property} at {c.frame}", "error": f"{c.max_error:.3e} {display_unit(c.unit, rev)}"})
         v = values.get(col)
         both = None
         if v:

@@ -23,6 +23,7 @@ from markupsafe import Markup
 from kinverify.report import failures as fail_view
 from kinverify.report import matrix
 from kinverify.report.plots import error_distributions_svg, workspace_svg
+from kinverify.report.units import display_unit, revolute
 from kinverify.report.writer import write_atomic
 from kinverify.results import VerifyResult
 from kinverify.suites.base import Check, Section, Table
@@ -191,7 +192,7 @@ def render_html(result: VerifyResult) -> str:
         run_notes=run_notes(result), distributions=Markup(dist) if dist else None,
         rows=sorted(result.checks, key=lambda c: c.passed),
         versions=[(k, result.versions[k]) for k in _ordered(result.versions, VERSION_ORDER)],
-        revolute=fail_view.revolute(result), math=math, matrix=matrix)
+        revolute=revolute(result), unit=lambda u: display_unit(u, revolute(result)), math=math, matrix=matrix)
 
 
 def write_html(result: VerifyResult, path) -> Path:

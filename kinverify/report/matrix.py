@@ -23,6 +23,7 @@ import re
 from collections import Counter
 from dataclasses import dataclass, field
 
+from kinverify.report.units import display_unit, revolute
 from kinverify.results import VerifyResult
 from kinverify.suites.base import PERFORMANCE, Check
 
@@ -96,8 +97,10 @@ def short(x: float) -> str:
         return "0"
     if math.isinf(x):
         return "inf"
-    if 0.01 <= abs(x) < 1000:
+    if 0.01 <= abs(x) < 100:
         return f"{x:.2g}"
+    if 100 <= abs(x) < 1000:
+        return f"{x:.0f}"
     return f"{x:.0e}".replace("e-0", "e-").replace("e+0", "e").replace("e+", "e")
 
 
@@ -110,6 +113,7 @@ class Cell:
     column: str
     checks: list[Check]
     against: list[str]
+    revolute: tuple[bool, ...] = ()  # the model's joint types, for joint-space units
 
     @property
     def worst(self) -> Check:
@@ -139,7 +143,7 @@ class Cell:
         limit = "goal" if w.kind == PERFORMANCE else "tolerance"
         verdict = ("all pass" if not n_fail else f"{n_fail} of {len(self.checks)} "
                    + ("below goal" if w.kind == PERFORMANCE and not w.counts else "fail"))
-        return (f"{w.property}: {' vs '.join(w.backends)} at {w.frame}: {w.max_error:.3g} {w.unit} "
+        return (f"{w.property}: {' vs '.join(w.backends)} at {w.frame}: {w.max_error:.3g} {display_unit(w.unit, self.revolute)} "
                 f"({limit} {w.tolerance:.3g}); {len(self.checks)} check{'s' if len(self.checks) != 1 else ''}, {verdict}")
 
 
@@ -180,7 +184,7 @@ def groups(result: VerifyResult) -> list[Group]:
     the suite declares them, columns in the order of ``result.backends`` then first seen."""
     from kinverify.suites.registry import SUITES
 
-    ref = reference(result)
+    ref, rev = reference(result), tuple(revolute(result))
     suite_of = {p.name: (s.name, s.title) for s in SUITES for p in s.properties}
     declared = [p.name for s in SUITES for p in s.properties]
     by_suite: dict[str, Group] = {}
@@ -192,7 +196,7 @@ def groups(result: VerifyResult) -> list[Group]:
             row = Row(c.property, c.kind)
             g.rows.append(row)
         col, against = column_of(c.backends, result.backends, ref)
-        cell = row.cells.setdefault(col, Cell(col, [], []))
+        cell = row.cells.setdefault(col, Cell(col, [], [], rev))
         cell.checks.append(c)
         if against not in cell.against:
             cell.against.append(against)

@@ -78,10 +78,13 @@ def error_distributions_svg(result: VerifyResult) -> str | None:
         for i, (prop, pairs) in enumerate(props.items()):
             ax = fig.add_subplot(rows, cols, i + 1)
             lo, hi = len(centres), 0
-            for pair, hist in pairs.items():
+            series = {" vs ".join(pair): hist for pair, hist in pairs.items()}
+            if len(series) > 6:  # a legend of 25 pairs hides the plot: pool them
+                series = {f"{len(series)} backend pairs, pooled": sum(series.values())}
+            for label, hist in series.items():
                 nz = np.nonzero(hist)[0]
                 lo, hi = min(lo, nz.min()), max(hi, nz.max())
-                ax.step(centres, np.where(hist > 0, hist, np.nan), where="mid", label=" vs ".join(pair), lw=1.2)
+                ax.step(centres, np.where(hist > 0, hist, np.nan), where="mid", label=label, lw=1.2)
             ax.axvline(tolerance[prop], color="#c62828", ls="--", lw=1, label="tolerance")
             ax.set_xscale("log")
             ax.set_yscale("log")

@@ -18,6 +18,7 @@ from rich.text import Text
 
 from kinverify.report.matrix import column_of, reference
 from kinverify.results import VerifyResult
+from kinverify.report.units import display_unit, revolute as revolute_of
 from kinverify.suites.base import PERFORMANCE, Check, joint_unit
 
 Column = tuple[str, dict]  # (plain-text header, rich column options)
@@ -54,19 +55,6 @@ def fit_table(console: Console, columns: Sequence[Column], rows: Sequence[Sequen
     for row in rows:
         table.add_row(*(row[i] for i in keep))
     return table
-
-
-def display_unit(unit: str, revolute: Sequence[bool]) -> str:
-    """A joint-space unit (``joint``, ``rad|m``) in the model's own terms: rad when every joint
-    is revolute, m when every joint is prismatic."""
-    if unit in ("joint", "rad|m") and len(revolute):
-        return joint_unit(revolute)
-    return unit
-
-
-def revolute_of(result: VerifyResult) -> list[bool]:
-    joints = result.model_info.get("joints") or []
-    return [j.get("type", "revolute") == "revolute" for j in joints] if joints else []
 
 
 def suite_lines(result: VerifyResult) -> list[tuple[str, str, str, str]]:

@@ -22,18 +22,15 @@ FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-
 
 # Appended to a copy of the page: once loaded, writes what the test reads into <pre id="probe">.
 PROBE = """<script>
-window.addEventListener("load", function () {
-  var srcs = Array.prototype.map.call(document.images, function (i) { return i.src; });
-  Promise.allSettled(srcs.map(function (s) { var im = new Image(); im.src = s; return im.decode().then(function () { return im.naturalWidth; }); }))
-    .then(function (res) {
-      var box = function (sel) { var el = document.querySelector(sel); if (!el) { return null; }
-        var r = el.getBoundingClientRect(); return {top: r.top + window.scrollY, bottom: r.bottom + window.scrollY, width: r.width}; };
-      var svgs = Array.prototype.filter.call(document.querySelectorAll("figure.plot svg, svg.tree"), function (s) { return s.getBoundingClientRect().width > 0; });
-      var out = {images: res.length, decoded: res.filter(function (r) { return r.status === "fulfilled" && r.value > 0; }).length,
-                 svgs: svgs.length, height: document.documentElement.scrollHeight, width: document.documentElement.scrollWidth, boxes: {}};
-      SELECTORS.forEach(function (sel) { out.boxes[sel] = box(sel); });
-      var pre = document.createElement("pre"); pre.id = "probe"; pre.textContent = JSON.stringify(out); document.body.appendChild(pre);
-    });
+window.addEventListener("load", function () {  // after "load" every image has loaded (or failed)
+  var images = Array.prototype.slice.call(document.images);
+  var box = function (sel) { var el = document.querySelector(sel); if (!el) { return null; }
+    var r = el.getBoundingClientRect(); return {top: r.top + window.scrollY, bottom: r.bottom + window.scrollY, width: r.width}; };
+  var svgs = Array.prototype.filter.call(document.querySelectorAll("figure.plot svg, svg.tree"), function (s) { return s.getBoundingClientRect().width > 0; });
+  var out = {images: images.length, decoded: images.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length,
+             svgs: svgs.length, height: document.documentElement.scrollHeight, width: document.documentElement.scrollWidth, boxes: {}};
+  SELECTORS.forEach(function (sel) { out.boxes[sel] = box(sel); });
+  var pre = document.createElement("pre"); pre.id = "probe"; pre.textContent = JSON.stringify(out); document.body.appendChild(pre);
 });
 </script>"""
 
