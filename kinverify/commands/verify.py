@@ -97,7 +97,6 @@ def options_from_args(args):
 
 def run(args) -> int:
     import shlex
-    import sys
 
     from rich.console import Console
 
@@ -106,15 +105,18 @@ def run(args) -> int:
 
     options = options_from_args(args)
     command = "kinverify " + shlex.join(args.argv)
-    console = Console() if sys.stdout.isatty() else Console(width=140)
+    console = Console()  # the terminal's width (COLUMNS, or 80 when not a terminal); tables fit it
     if args.urdf or args.mjcf:
         if args.model:
             raise InputError("give either a spec MODEL or --urdf/--mjcf, not both")
         if not (args.urdf and args.mjcf):
             raise InputError("file mode needs both --urdf and --mjcf")
         from kinverify.filemode import verify_files  # file mode (issue 7)
+        from kinverify.report.progress import VerifyProgress
 
-        with console.status("verifying files..."):
+        with VerifyProgress(console, "files") as bar:
+            bar.suite("kinematics")  # file mode runs the kinematics suite on the two files
+            options.on_progress = bar.advance
             result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command)
     else:
         if not args.model:
@@ -127,10 +129,7 @@ def run(args) -> int:
         with VerifyProgress(console, spec.name) as bar:
             options.on_progress = bar.advance
             result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
-    if args.quiet:
-        console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
-                      f"{len(result.failing_findings)} error findings)")
-    else:
+    if not args.quiet:
         print_result(result, console)
     json_path = write_json(result, args.json or f"reports/{result.model}.json")
     html_path = write_html(result, args.report or f"reports/{result.model}.html")
@@ -140,7 +139,11 @@ def run(args) -> int:
         from kinverify.report.writer import write_atomic
 
         outputs += f"  junit: {write_atomic(args.junit, junit_xml(result))}"
-    console.print(outputs)
+    if args.quiet:  # one line, whatever the terminal's width
+        console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
+                      f"{len(result.failing_findings)} error findings); {outputs}", soft_wrap=True)
+    else:
+        console.print(outputs)
     for err in result.internal_errors:
         console.print(f"[bold red]internal error[/] (a kinverify bug, not a property of the model; please report it "
                       f"with the JSON): {err}")

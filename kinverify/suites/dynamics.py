@@ -96,7 +96,7 @@ class DynamicsSuite(Suite):
         units = _units(sources.revolute)
         # with a floating base: the mass matrix and gravity in the base coordinates (tracking/models.py)
         compared = STATE_PROPERTIES[:2] if floating else STATE_PROPERTIES
-        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed, compared)
+        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed, compared, opts.on_progress)
         snapped = mj.snapped_inertia_frames()
         quirk = ("MuJoCo treats the principal inertia axes of " + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
                  + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo") if snapped else ""
@@ -138,7 +138,7 @@ class DynamicsSuite(Suite):
 
     @staticmethod
     def state_errors(pin: PinocchioDynamics, mj: MujocoDynamics, q: np.ndarray, vmax, effort, seed: int = 0,
-                     compared=STATE_PROPERTIES):
+                     compared=STATE_PROPERTIES, on_progress=None):
         """Max |difference| per state property over configurations ``q`` (N, n) with random
         speeds in ±vmax, accelerations in ±ACCELERATION and joint forces in ±effort. Returns the
         stats, the largest |value| per property (the scale of its tolerance) and the first
@@ -147,7 +147,10 @@ class DynamicsSuite(Suite):
         stats = {p: ErrorStats() for p in compared}
         scales = dict.fromkeys(compared, 0.0)
         breakdown = None
-        for qk in q:
+        report = on_progress or (lambda done, total: None)
+        for k, qk in enumerate(q):
+            if k % 10 == 0:
+                report(k, len(q))
             n = len(vmax)
             v = rng.uniform(-1.0, 1.0, n) * vmax
             a = rng.uniform(-ACCELERATION, ACCELERATION, n)
@@ -168,6 +171,7 @@ class DynamicsSuite(Suite):
             for prop, (x, y) in pairs.items():
                 stats[prop].update(np.array([np.abs(x - y).max()]), qk[None])
                 scales[prop] = max(scales[prop], float(np.abs(x).max()))
+        report(len(q), len(q))
         return stats, scales, breakdown
 
     def parameter_checks(self, ctx: VerifyContext, pin: PinocchioDynamics, mj: MujocoDynamics, origin: str, units) -> list:

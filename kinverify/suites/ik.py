@@ -73,7 +73,9 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     closed = suite.closed_form(src, frame)
     checks, rows, failures, plotted = [], [], [], []
     ik_opts = IKOptions(seed=opts.seed)
-    for backend in solvers:
+    report = opts.on_progress or (lambda done, total: None)
+    for k, backend in enumerate(solvers):
+        report(k, len(solvers))
         model = FrameModel(backend, frame, src.revolute)
         sol = suite.solve(backend, model, targets, lower, upper, position_only, ik_opts)
         ok = sol.solved(TOL_POS, TOL_ROT)
@@ -92,6 +94,7 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
             plotted.append(solver_data(seed, seed_ok, seed.success))
         failures += [[backend.name, int(k), _fmt(q_gen[k]), _fmt(targets[k, :3, 3]), _fmt(sol.seed_q[k]),
                       float(sol.pos_error[k]), float(sol.rot_error[k])] for k in np.flatnonzero(~ok)[:10]]
+    report(len(solvers), len(solvers))
     unreach_rows = []
     if src.spec is not None:
         checks_u, unreach_rows = _unreachable(suite, ctx, solvers, frame, position_only, lower, upper, closed)
