@@ -9,6 +9,8 @@ import numpy as np
 import pinocchio as pin
 
 from kinverify.errors import BackendError, UnknownNameError
+from kinverify.model.floating import base_transforms, has_base, velocity_map
+from kinverify.model.transforms import matrix_to_quat
 from kinverify.backends.base import EvaluatingBackend, Evaluation
 
 
@@ -17,15 +19,26 @@ class PinocchioBackend(EvaluatingBackend):
 
     Native convention: ``data.oMf[i]`` is ``T_world_from_frame``; ``getFrameJacobian`` with
     ``LOCAL_WORLD_ALIGNED`` is ``[linear; angular]``, world axes, at the frame origin — already ours.
-    Joints of the model not in ``joint_names`` are held at their neutral value.
+    A floating root is a ``JointModelFreeFlyer``: ``q = [xyz, quat xyzw]`` placed at its joint
+    placement, ``v`` the base's body-frame twist, converted to the base coordinates of
+    :mod:`kinverify.model.floating`. Joints of the model not in ``joint_names`` are held at their
+    neutral value.
     """
+
+    library = "pin"
 
     def __init__(self, model: "pin.Model", name: str, joint_names, frames) -> None:
         self.model, self.data, self.name = model, model.createData(), name
         self.joint_names, self.frames = tuple(joint_names), tuple(frames)
         available = [model.names[i] for i in range(1, model.njoints)]
         self._idx_q, self._idx_v = [], []
-        for joint in self.joint_names:
+        self.floating = has_base(self.joint_names)
+        if self.floating:
+            root = next((i for i in range(1, model.njoints) if model.parents[i] == 0), None)
+            if root is None or model.joints[root].shortname() != "JointModelFreeFlyer":
+                raise BackendError(name, "the configuration has a floating base but the model's root joint is not floating")
+            self._ff = (model.joints[root].idx_q, model.joints[root].idx_v, model.jointPlacements[root].inverse().homogeneous)
+        for joint in self.joint_names[6 if self.floating else 0:]:
             if not model.existJointName(joint):
                 raise UnknownNameError("joint", joint, available)
             jmodel = model.joints[model.getJointId(joint)]
@@ -64,8 +77,24 @@ class PinocchioBackend(EvaluatingBackend):
 
     def _full_q(self, q: np.ndarray) -> np.ndarray:
         full = np.tile(self._neutral, (q.shape[0], 1))
+        if self.floating:
+            iq, _, placement_inv = self._ff
+            t = placement_inv @ base_transforms(q[:, :6])  # the free-flyer's own motion
+            full[:, iq:iq + 3] = t[:, :3, 3]
+            full[:, iq + 3:iq + 7] = np.roll(matrix_to_quat(t[:, :3, :3]), -1, axis=-1)  # wxyz -> xyzw
+            q = q[:, 6:]
         full[:, self._idx_q] = q
         return full
+
+    def _columns(self, full: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """Our Jacobian columns from the model's ``(N, F, 6, nv)``: the joints', after the base's
+        converted from the free-flyer's body twist."""
+        joints = full[..., self._idx_v]
+        if not self.floating:
+            return joints
+        iv = self._ff[1]
+        base = full[..., iv:iv + 6] @ velocity_map(q[:, :6], linear_in_body=True)[:, None]
+        return np.concatenate([base, joints], axis=-1)
 
     def frame_kinematics(self, frame_index: int):
         """Per-configuration IK path for ``frames[frame_index]``: ``(fk, log3)`` with ``fk(q (n,)) ->
@@ -73,6 +102,8 @@ class PinocchioBackend(EvaluatingBackend):
         frame). R and p are live views of ``data.oMf`` (pinocchio returns it by reference): valid
         until the next call. Joints outside ``joint_names`` (e.g. a gripper) are locked at neutral
         in a reduced model, so each call computes only the compared joints."""
+        if self.floating:
+            raise BackendError(self.name, "IK's one-frame path does not take a floating base (IK is not run for one)")
         model, fid = self.model, self._frame_ids[frame_index]
         if self._idx_q != list(range(model.nq)) or self._idx_v != list(range(model.nv)):
             keep = {model.getJointId(j) for j in self.joint_names}
@@ -119,7 +150,7 @@ class PinocchioBackend(EvaluatingBackend):
                 for f, fid in frames:
                     pk[f] = oMf[fid].homogeneous
                     jk[f] = gfj(model, data, fid, lwa)
-            jac = full if self._idx_v == list(range(model.nv)) else full[..., self._idx_v]
+            jac = full if self._idx_v == list(range(model.nv)) and not self.floating else self._columns(full, q)
         else:
             jac, ffk = None, pin.framesForwardKinematics
             for k, qk in enumerate(self._full_q(q)):

@@ -179,18 +179,7 @@ def _batch_model(args):
         else:
             model = FrameModel.from_chain(chain, "numpy chain", args.tip)
         return model, chain.lower, chain.upper, chain.names, where
-    from kinverify.backends import ModelSources, build_backend
-    from kinverify.errors import UnknownNameError
-    from kinverify.model.specfile import load_spec
+    from kinverify.commands.ik_single import spec_model
 
-    spec = load_spec(args.model)
-    sources = ModelSources.from_spec(spec)
-    frame = args.frame or sources.frames[-1]
-    if frame not in sources.frames:
-        raise UnknownNameError("frame", frame, sources.frames)
-    name = args.backend or ("pinocchio-urdf" if args.per_target else "analytic")
-    model = FrameModel(build_backend(name, sources), frame, sources.revolute)
-    if model.chain is None:
-        model.seed_model = FrameModel(build_backend("analytic", sources), frame, sources.revolute)
+    spec, sources, frame, _, model = spec_model(args, "pinocchio-urdf" if args.per_target else "analytic")
     return model, np.asarray(sources.lower), np.asarray(sources.upper), list(sources.joint_names), f"{spec.name}: {frame}"
-

@@ -11,30 +11,47 @@ CONFIRM_TOL = 1e-6  # m and rad
 ALL_STARTS = 32  # random starts for --all-solutions
 
 
-def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
-    import numpy as np
-
-    from kinverify.backends import ModelSources, backend_info, build_backend, build_backends
+def spec_model(args, default: str):
+    """``(spec, sources, frame, backend name, FrameModel)`` for ``args.model``; an InputError for
+    a floating base, an unknown frame or a backend without Jacobians. Only the solver backend's
+    library is imported (and the analytic chain's, for restart seeds)."""
+    from kinverify.backends import ModelSources, available_backends, build_backend
     from kinverify.errors import InputError, UnknownNameError
-    from kinverify.ik import Arm3ClosedForm, FrameModel, IKOptions, residuals, solve_lm
+    from kinverify.ik import FrameModel
     from kinverify.model.specfile import load_spec
-    from kinverify.model.transforms import make_transform, rpy_to_matrix
 
     spec = load_spec(args.model)
+    if spec.floating:
+        raise InputError(f"{args.model}: the base floats, so moving it reaches every target; IK is not run for "
+                         "floating-base models")
     sources = ModelSources.from_spec(spec)
     frame = args.frame or sources.frames[-1]
     if frame not in sources.frames:
         raise UnknownNameError("frame", frame, sources.frames)
-    # only the solver's library is imported before the solve; the confirming backends load after it
-    name = args.backend or ("pinocchio-urdf" if backend_info("pinocchio-urdf").available else "analytic")
+    name = args.backend or default
     solver = build_backend(name, sources)
     if not solver.jacobian_method:
-        raise InputError(f"backend {name!r} has no Jacobian; choose one of: analytic, pinocchio-urdf, pinocchio-mjcf, mujoco")
-    position_only = not rpy
-    target = make_transform(rpy_to_matrix(rpy) if rpy else np.eye(3), xyz)
+        with_jacobians = [n for n, info in available_backends().items() if info.available and info.backend_class.jacobian_method == "analytic"]
+        raise InputError(f"backend {name!r} has no Jacobian; choose one of: {', '.join(with_jacobians)}")
     model = FrameModel(solver, frame, sources.revolute)
     if model.chain is None:  # restart seeds from the spec's chain (any FK of the frame gives usable seeds)
         model.seed_model = FrameModel(build_backend("analytic", sources), frame, sources.revolute)
+    return spec, sources, frame, name, model
+
+
+def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
+    import numpy as np
+
+    from kinverify.backends import backend_info, build_backends
+    from kinverify.errors import InputError
+    from kinverify.ik import Arm3ClosedForm, IKOptions, residuals, solve_lm
+    from kinverify.model.transforms import make_transform, rpy_to_matrix
+
+    # only the solver's library is imported before the solve; the confirming backends load after it
+    default = "pinocchio-urdf" if backend_info("pinocchio-urdf").available else "analytic"
+    spec, sources, frame, name, model = spec_model(args, default)
+    position_only = not rpy
+    target = make_transform(rpy_to_matrix(rpy) if rpy else np.eye(3), xyz)
     lower, upper = np.asarray(sources.lower), np.asarray(sources.upper)
     starts = ALL_STARTS if args.all_solutions else 1
     # one solution: start from the best stored configuration; every solution: 32 different random starts

@@ -143,7 +143,8 @@ def verify_files(urdf: str, mjcf: str, options, frames=(), joints=(), command: s
     # MJCF-side backends are seen under the URDF's frame names so the checks pair frames by name.
     sources = diag["sources"]
     extra = [b if n in URDF_SIDE else AliasedBackend(b, sources.frames) for n, b in diag["backends"].items()]
-    opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]], suites=["kinematics"])
+    suites = [s for s in ("kinematics", "pictures") if options.suites is None or s in options.suites]  # pictures: the overlay
+    opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]], suites=suites)
     result = verify(sources, opts, extra_backends=extra, source=f"{urdf} + {mjcf}", command=command)
     result.sections["filemode"] = diag["section"]
     result.findings = diag["findings"] + result.findings

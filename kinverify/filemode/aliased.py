@@ -14,6 +14,7 @@ class AliasedBackend(BackendBase):
         self.inner, self.name, self.frames = inner, inner.name, tuple(frames)
         self.joint_names = inner.joint_names
         self.has_rotation, self.jacobian_method = inner.has_rotation, inner.jacobian_method
+        self.library, self.slow = inner.library, inner.slow
 
     def poses(self, q: np.ndarray) -> np.ndarray:
         return self.inner.poses(q)

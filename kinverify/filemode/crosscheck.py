@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from kinverify.backends import names_reading
 from kinverify.model.transforms import geodesic_distance, invert_transform
 from kinverify.filemode.describe import ModelDesc
 from kinverify.filemode.diagnose import ANG_TOL, POS_TOL, finding
 
-URDF_SIDE = ("pinocchio-urdf", "yourdfpy", "mujoco-urdf")
-MJCF_SIDE = ("mujoco", "pinocchio-mjcf")
+URDF_SIDE = names_reading("urdf")  # every library that reads each file, the primary reader first
+MJCF_SIDE = names_reading("mjcf")
 
 
 def pose_errors(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

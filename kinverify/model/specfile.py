@@ -218,12 +218,16 @@ def _spec_from_table(top: _Table) -> ArmSpec:
             parent = last_link
         tools.append(_build(tt.path, Tool, name=tname, parent=parent or last_link, origin=origin))
         tt.done()
+    link_names = [_link_name(jt, i) for i, jt in enumerate(joint_tables)]
+    parents = [jt.string("parent") for jt in joint_tables]
     joints = []
     for i, jt in enumerate(joint_tables):
-        if i + 1 < len(origins):
-            end = origins[i + 1].xyz
+        # default geometry: towards the first joint hanging from this link, else its first tool
+        children = [k for k in range(i + 1, len(joint_tables)) if (parents[k] or link_names[k - 1]) == link_names[i]]
+        if children:
+            end = origins[children[0]].xyz
         else:
-            ends = [t.origin.xyz for t in tools if t.parent == last_link]
+            ends = [t.origin.xyz for t in tools if t.parent == link_names[i]]
             end = ends[0] if ends else None
         lt = jt.table("link") or _Table({}, jt.at("link"))
         link = _link(lt, f"link{i + 1}", _default_geometry(end, radius), density)
@@ -231,11 +235,12 @@ def _spec_from_table(top: _Table) -> ArmSpec:
         joint = _build(jt.path, Joint, name=jt.get("name", f"joint{i + 1}"), type=types[i], origin=origins[i],
                        axis=axes[i], limits=_limits(lim_table, types[i]), link=link,
                        damping=jt.get("damping", 0.0), friction=jt.get("friction", 0.0),
-                       armature=jt.get("armature", 0.0))
+                       armature=jt.get("armature", 0.0), parent=parents[i])
         jt.done()
         joints.append(joint)
     base = top.table("base") or _Table({}, "base")
     base_origin = _origin(base)
+    floating = base.get("floating", False)
     first = origins[0].xyz
     base_geometry = _default_geometry(first, radius * 5 / 3) if np.linalg.norm(first) > 1e-6 else Geometry("sphere", radius=radius)
     bl = base.table("link") or _Table({}, "base.link")
@@ -245,7 +250,13 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     gravity = top.get("gravity", (0.0, 0.0, -9.81))
     top.done()
     return _build("", ArmSpec, name=name, base_origin=base_origin, base_link=base_link, joints=joints,
-                  tools=tools, dh=dh, gravity=gravity)
+                  tools=tools, dh=dh, gravity=gravity, floating=floating)
+
+
+def _link_name(jt, i: int) -> str:
+    table = jt.data.get("link", {})
+    name = table.get("name") if isinstance(table, dict) else None
+    return name if isinstance(name, str) else f"link{i + 1}"
 
 
 def load_spec(path: str | Path) -> ArmSpec:

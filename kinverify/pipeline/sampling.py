@@ -57,8 +57,9 @@ def sample_configurations(lower, upper, revolute, n: int, seed: int = 0, edges: 
 
 
 def spec_samples(spec, n: int, seed: int = 0, edges: bool = True) -> np.ndarray:
-    revolute = [j.type == "revolute" for j in spec.joints]
-    return sample_configurations(spec.lower, spec.upper, revolute, n, seed, edges)
+    """Configurations of every coordinate of ``spec`` (a floating base's six first)."""
+    lower, upper = spec.coordinate_limits
+    return sample_configurations(lower, upper, spec.coordinate_revolute, n, seed, edges)
 
 
 class Samples:

@@ -66,7 +66,7 @@ class Quantity:
 def kinematics_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
     """FK (position, rotation matrix) and Jacobian (linear, angular rows) of every frame."""
     poses = frame_poses(spec, q)
-    jac = geometric_jacobians(spec, poses)
+    jac = geometric_jacobians(spec, poses, q)
     out: list[Record] = []
     for prop, values in (("fk.position", poses[..., :3, 3]), ("fk.rotation", poses[..., :3, :3]),
                          ("jacobian.linear", jac[..., :3, :]), ("jacobian.angular", jac[..., 3:, :])):
@@ -148,7 +148,7 @@ def build_baseline(spec: ArmSpec, samples: int = DEFAULT_SAMPLES, seed: int = DE
         "model": spec.name,
         "seed": seed,
         "samples": samples,
-        "joint_names": list(spec.joint_names),
+        "joint_names": list(spec.coordinate_names),  # the columns of q: a floating base's six first
         "frames": list(spec.frame_names),
         "spec": spec_to_canonical(spec),
         "fingerprints": fingerprints(spec),

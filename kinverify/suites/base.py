@@ -219,7 +219,7 @@ class VerifyOptions:
     executor: str = "local"  # "local" or "dask"
     scheduler: str | None = None  # Dask scheduler address; None: a LocalCluster
     slow_samples: int | None = 2_000  # slow backends (yourdfpy) see only the first this many configurations
-    on_progress: Callable[[int, int], None] | None = None  # (configurations done, total), not pickled
+    on_progress: Callable[[int, int], None] | None = None  # (done, total) of the running suite's work, not pickled
 
 
 @dataclass

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from kinverify.errors import InputError
+from kinverify.model.floating import has_base
 from kinverify.suites.base import AGREEMENT, PERFORMANCE, Check, Property, Section, Suite, SuiteResult, VerifyContext
 from kinverify.ik.closed_form import Arm3ClosedForm
 from kinverify.ik.figures import ik_figures, solver_data
@@ -61,6 +62,10 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     if n <= 0 or not src.joint_names:
         section.summary = "skipped (--ik-targets 0)"
         return SuiteResult([], section)
+    if has_base(src.joint_names):
+        section.summary = ("skipped: the base floats, so moving it reaches every target; IK of the arm from a held "
+                           "base is not run for floating-base models")
+        return SuiteResult([], section)
     frame, dof = src.frames[-1], len(src.joint_names)
     position_only = dof < 6
     lower, upper = np.asarray(src.lower), np.asarray(src.upper)
@@ -70,7 +75,9 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     closed = suite.closed_form(src, frame)
     checks, rows, failures, plotted = [], [], [], []
     ik_opts = IKOptions(seed=opts.seed, start="seeded")
-    for backend in solvers:
+    report = opts.on_progress or (lambda done, total: None)
+    for k, backend in enumerate(solvers):
+        report(k, len(solvers))
         model = models[backend.name]
         sol = suite.solve(backend, model, targets, lower, upper, position_only, ik_opts)
         ok = sol.solved(TOL_POS, TOL_ROT)
@@ -89,6 +96,7 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
             plotted.append(solver_data(seed, seed_ok, seed.success))
         failures += [[backend.name, int(k), _fmt(q_gen[k]), _fmt(targets[k, :3, 3]), _fmt(sol.seed_q[k]),
                       float(sol.pos_error[k]), float(sol.rot_error[k])] for k in np.flatnonzero(~ok)[:10]]
+    report(len(solvers), len(solvers))
     unreach_rows = []
     if src.spec is not None:
         checks_u, unreach_rows = _unreachable(suite, ctx, solvers, models, frame, position_only, lower, upper, closed)

@@ -45,7 +45,7 @@ SLOW_FD_EVALUATIONS = 300  # a slow backend's (yourdfpy: 20 configurations for 7
 
 def capped_rows(backend: Backend, opts: VerifyOptions, start: int, n: int) -> slice:
     """Slow backends (``slow = True``, e.g. yourdfpy) see only the first ``opts.slow_samples`` rows."""
-    if not getattr(backend, "slow", False) or opts.slow_samples is None:
+    if not backend.slow or opts.slow_samples is None:
         return slice(0, n)
     return slice(0, max(0, min(opts.slow_samples - start, n)))
 
