@@ -19,6 +19,7 @@ import importlib
 import os
 import signal
 import sys
+import warnings
 
 from kinverify import __version__
 
@@ -55,6 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def check_args(args) -> None:
     """Limits on numeric arguments (see docs/robustness.md); :class:`InputError` on the first bad one."""
+    from kinverify.errors import InputError
     from kinverify.pipeline import limits
 
     if getattr(args, "seed", None) is not None:
@@ -68,6 +70,10 @@ def check_args(args) -> None:
         limits.check_count(args.jobs, "--jobs", limits.MAX_SAMPLES, minimum=1)
     if getattr(args, "ik_targets", None) is not None:
         limits.check_count(args.ik_targets, "--ik-targets", limits.MAX_STORED_SAMPLES)
+    for flag in ("duration", "hold"):
+        value = getattr(args, flag, None) if args.command == "track" else None
+        if value is not None and value > limits.MAX_TRACK_SECONDS:  # NaN and negative values: track's own checks
+            raise InputError(f"--{flag} {value:g} s is above the maximum {limits.MAX_TRACK_SECONDS:g} s (see docs/robustness.md)")
 
 
 def run_files(args) -> tuple[list, list]:
@@ -95,7 +101,10 @@ def main(argv: list[str] | None = None) -> int:
 
         check_args(args)
         inputs, outputs = run_files(args)
-        with output_plan(inputs, outputs):
+        with output_plan(inputs, outputs), warnings.catch_warnings():
+            # numpy's overflow/invalid-value warnings on extreme inputs are noise here: every
+            # result is checked for finiteness where it matters
+            warnings.simplefilter("ignore", RuntimeWarning)
             return args.run(args)
     except KinverifyError as err:
         print(f"kinverify: error: {_one_line(err)}", file=sys.stderr)

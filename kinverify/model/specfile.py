@@ -123,7 +123,11 @@ def _link(t: _Table, default_name: str, default_geometry: Geometry | None, densi
             raise SpecError(t.at("inertial"), "missing: a link without geometry needs inertial data")
         if mass is not None:
             mass = check_scalar(mass, t.at("mass"), positive=True)
-        inertial = _build(t.path, inertial_from_geometry, geom=geometry, mass=mass, density=density)
+        try:
+            inertial = _build(t.path, inertial_from_geometry, geom=geometry, mass=mass, density=density)
+        except ArithmeticError:  # a size so small (or large) that the volume under- or overflows
+            raise SpecError(t.at("geometry"), "too small or too large to derive a mass and inertia from; give an "
+                            "inertial table") from None
     t.done()
     return _build(t.path, Link, name=name, inertial=inertial, geometry=geometry)
 

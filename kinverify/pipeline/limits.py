@@ -10,6 +10,8 @@ line (exit 2) instead of running away with memory or time.
   also grows with the model (frames × joints per configuration): :func:`chunk_for` lowers the
   chunk, with a note, so one chunk's arrays stay below ``CHUNK_BYTES``.
 - ``MAX_SEED``: seeds are numpy ``default_rng`` seeds, whole numbers in ``[0, 2**64)``.
+- ``MAX_TRACK_SECONDS``: ``track --duration`` and ``--hold`` (simulated time, at MuJoCo's 1 ms
+  step every second is a thousand steps per controller).
 - ``--jobs`` is capped (with a note) at the cores this process may run on.
 - ``MAX_MODEL_BYTES``, ``MAX_LINKS``, ``MAX_JOINTS``: a URDF or MJCF read by file mode or
   ``diff``, and a spec (joints). Parsing is linear in the file size, but what a run computes
@@ -29,6 +31,7 @@ MAX_STORED_SAMPLES = 100_000
 MAX_CHUNK = 100_000
 CHUNK_BYTES = 256 * 2**20
 MAX_SEED = 2**64 - 1
+MAX_TRACK_SECONDS = 600.0
 MAX_MODEL_BYTES = 8 * 2**20
 MAX_LINKS = 256  # URDF links, MJCF bodies
 MAX_JOINTS = 64  # movable (1-DOF) joints
