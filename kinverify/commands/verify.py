@@ -131,9 +131,9 @@ def run(args) -> int:
             result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
     if not args.quiet:
         print_result(result, console)
-    from kinverify.report.output import claim_outputs
+    from kinverify.report.output import claim_outputs, default_output
 
-    json_out, html_out = args.json or f"reports/{result.model}.json", args.report or f"reports/{result.model}.html"
+    json_out, html_out = args.json or default_output(result.model, ".json"), args.report or default_output(result.model, ".html")
     claim_outputs(("--json", json_out), ("--report", html_out))  # both checked before either is written
     json_path = write_json(result, json_out)
     html_path = write_html(result, html_out)

@@ -86,18 +86,30 @@ def check_supported(root: ET.Element, kind: str, path) -> None:
                                  f"(kinverify compares fixed-base models; make the root joint fixed to compare the rest)")
         bodies, movable = len(links), sum(j.get("type") in MOVABLE["urdf"] for j in joints)
     else:
+        # bodies MuJoCo will make: <body> elements, plus those <composite>/<flexcomp> generate
+        # (count "nx ny nz"), all times each <replicate> count (an upper bound)
         bodies = sum(1 for _ in root.iter("body"))
+        bodies += sum(_product(el.get("count")) for tag in ("composite", "flexcomp") for el in root.iter(tag))
         movable = sum(1 for j in root.iter("joint") if j.get("type", "hinge") in MOVABLE["mjcf"])
         for rep in root.iter("replicate"):
-            try:
-                bodies *= max(1, int(rep.get("count", "1")))
-            except ValueError:
-                pass  # MuJoCo reports the bad count
+            bodies *= _product(rep.get("count"))
     what = "links" if kind == "urdf" else "bodies"
     if bodies > MAX_LINKS or movable > MAX_JOINTS:
         count, limit, noun = (bodies, MAX_LINKS, what) if bodies > MAX_LINKS else (movable, MAX_JOINTS, "movable joints")
         raise InputError(f"--{kind}: {path} has {count} {noun}, above the {limit} kinverify compares "
                          "(see docs/robustness.md)")
+
+
+def _product(counts: str | None) -> int:
+    """Product of the whole numbers in a ``count`` attribute (1 when absent or unreadable: MuJoCo
+    reports a bad count itself)."""
+    out = 1
+    for word in (counts or "").split():
+        try:
+            out *= max(1, int(word))
+        except ValueError:
+            return 1
+    return out
 
 
 def resolve_asset(filename: str, base: Path) -> Path | None:

@@ -21,6 +21,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import os
+import re
 import stat
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -152,6 +153,13 @@ def claim_outputs(*pairs: tuple[str, object]) -> list[Path]:
     if plan is None:
         plan = OutputPlan()
     return [plan.claim(path, label) for label, path in pairs]
+
+
+def default_output(name: str, suffix: str, folder: str = "reports") -> str:
+    """``folder/<name><suffix>`` for a default output path, with ``name`` (a model name, which a
+    user's URDF or MJCF may set to anything, e.g. ``../../x``) reduced to a plain file name."""
+    safe = re.sub(r"[^A-Za-z0-9_.+-]", "_", name).lstrip(".") or "model"
+    return f"{folder}/{safe[:120]}{suffix}"
 
 
 def target_for_write(path) -> Path:

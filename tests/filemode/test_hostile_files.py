@@ -96,6 +96,11 @@ def test_too_many_links_or_joints_are_refused_after_a_linear_parse(tmp_path, cap
                           '<geom size="0.1"/></body></replicate></worldbody></mujoco>')
     with pytest.raises(InputError, match="has 100000 bodies"):
         load_mjcf(str(replicated))
+    flex = tmp_path / "flex.xml"
+    flex.write_text('<mujoco><worldbody><flexcomp name="f" type="grid" count="100 100 100" spacing="0.1 0.1 0.1" dim="3"/>'
+                    '</worldbody></mujoco>')
+    with pytest.raises(InputError, match="has 1000000 bodies"):
+        load_mjcf(str(flex))
 
 
 @pytest.mark.parametrize("mass, inertia, problem", [

@@ -20,7 +20,7 @@ from kinverify.cli import main
 from kinverify.errors import InputError
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
-from kinverify.report.output import OutputPlan, check_target, output_plan
+from kinverify.report.output import OutputPlan, check_target, default_output, output_plan
 from kinverify.report.writer import write_atomic
 from tests.paths import MODELS
 
@@ -200,3 +200,17 @@ def test_a_full_disk_is_an_error_and_replaces_nothing(work, full_disk, capsys):
             "cannot write: No space left on device; nothing was replaced")
     assert target.read_text() == "previous results\n"
     assert sorted(p.name for p in full_disk.iterdir()) == ["r.json"]
+
+
+def test_a_model_name_cannot_steer_a_default_output_out_of_reports(work, capsys):
+    assert default_output("../../x", ".json") == "reports/_.._x.json"
+    assert default_output("arm3", ".html") == "reports/arm3.html" and default_output("", ".json") == "reports/model.json"
+    Path("inner").mkdir()
+    hostile = '../../escaped'
+    Path("inner/u.urdf").write_text(Path("u.urdf").read_text().replace('<robot name="arm3">', f'<robot name="{hostile}">'))
+    Path("inner/r.xml").write_text(Path("r.xml").read_text().replace('<mujoco model="arm3">', f'<mujoco model="{hostile}">'))
+    os.chdir("inner")
+    assert main(["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", "--samples", "0", "--quiet"]) == 0
+    capsys.readouterr()
+    assert sorted(p.name for p in Path("reports").iterdir()) == ["_.._escaped.html", "_.._escaped.json"]
+    assert not list(work.glob("escaped*")) and not list(work.parent.glob("escaped*"))
