@@ -11,6 +11,7 @@ always dropped (they are visual only).
 
 from __future__ import annotations
 
+import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -171,6 +172,7 @@ def load_mjcf(path: str) -> LoadedFile:
     returned, with a warning, so the refusal is reported as a finding."""
     import mujoco
 
+    _route_mujoco_warnings(mujoco)
     text, root = read_xml(path, "mjcf")
     name = root.get("model") or Path(path).stem
     kept = _resolve_mesh_assets(root, Path(path).resolve().parent)
@@ -187,6 +189,18 @@ def load_mjcf(path: str) -> LoadedFile:
     except ValueError as err:
         warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {_first_line(err)}")
     return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
+
+
+def _route_mujoco_warnings(mujoco) -> None:
+    """MuJoCo's default warning handler prints to stdout and appends to ``MUJOCO_LOG.TXT`` in the
+    current folder (e.g. "XML contains a 'NaN'"): a user's folder is not MuJoCo's log. Its
+    warnings become Python warnings instead (once per process, unless a handler is set)."""
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(_mujoco_warning)
+
+
+def _mujoco_warning(message: str) -> None:
+    warnings.warn(f"MuJoCo: {message}", UserWarning, stacklevel=2)
 
 
 def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:

@@ -151,3 +151,13 @@ def test_an_mjcf_lacking_one_of_the_urdf_joints_fails(tmp_path):
     missing = [f for f in result.findings if f.kind == "unmatched_joint"]
     assert [(f.subject, f.severity, f.values["file"]) for f in missing] == [("joint3", "error", "URDF")]
     assert result.verdict == "fail" and result.exit_code == 1
+
+
+def test_mujoco_writes_no_log_file_into_the_current_folder(tmp_path, monkeypatch, capfd):
+    monkeypatch.chdir(tmp_path)
+    urdf, mjcf = generated_pair("arm3")
+    u, m = write_pair(tmp_path, urdf, mjcf.replace('<body name="link1" pos="0.0 0.0 0.1">', '<body name="link1" pos="nan 0.0 0.1">'))
+    assert 'pos="nan' in Path(m).read_text()
+    assert main(["diff", m, m, "--samples", "2", "--report", str(tmp_path / "d.html")]) in (0, 1, 2)
+    out, err = capfd.readouterr()
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists() and "WARNING: XML contains a 'NaN'" not in out
