@@ -28,7 +28,7 @@ ISSUES = "the kinverify issue tracker"
 # argument -> how messages name it; these name files a command reads
 INPUTS = {"model": "the spec MODEL", "urdf": "--urdf", "mjcf": "--mjcf", "results": "RESULTS", "baseline": "--baseline",
           "old": "OLD", "new": "NEW"}
-OUTPUTS = {"json": "--json", "report": "--report", "out": "--out"}  # generate's --out is a directory, not a file
+OUTPUTS = {"json": "--json", "report": "--report", "junit": "--junit", "out": "--out"}  # generate's --out is a directory, not a file
 
 
 class Terminated(KeyboardInterrupt):

@@ -161,9 +161,16 @@ def _dh_row(t: _Table, scale: float) -> DHRow:
     return DHRow(**values)
 
 
+BOOLEAN_FIELDS = ("base.floating",)  # the only fields that take true/false
+
+
 def _strict_types(value: Any, path: str) -> None:
-    """No spec field is a boolean, and no array holds text: ``true`` and ``"1"`` are not numbers
-    (numpy would take them as 1.0)."""
+    """Booleans only in :data:`BOOLEAN_FIELDS` (and there only booleans), no text in an array:
+    ``true`` and ``"1"`` are not numbers (numpy would take them as 1.0), nor ``1`` a boolean."""
+    if path in BOOLEAN_FIELDS:
+        if not isinstance(value, bool):
+            raise SpecError(path, f"expected true or false, got {_toml_repr(value)}")
+        return
     if isinstance(value, bool):
         raise SpecError(path, f"expected a number or a string, got a boolean ({str(value).lower()}): booleans are not numbers")
     if isinstance(value, dict):

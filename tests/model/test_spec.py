@@ -189,6 +189,12 @@ def test_booleans_and_text_are_not_numbers(override, field, words):
     assert err.value.field == field and words in str(err.value) and str(err.value).startswith("arm.toml: ")
 
 
+def test_a_boolean_field_takes_only_booleans():
+    assert spec_from_dict({**minimal(), "base": {"floating": True}}).floating
+    with pytest.raises(SpecError, match=r"base.floating: expected true or false, got 1"):
+        spec_from_dict({**minimal(), "base": {"floating": 1}})
+
+
 def test_a_geometry_too_small_for_its_volume_is_a_spec_error():
     tiny = minimal(link={"geometry": {"shape": "capsule", "radius": 1e-320, "fromto": [0, 0, 0, 0, 0, 0.3]}})
     with pytest.raises(SpecError, match="too small or too large to derive a mass and inertia"):
