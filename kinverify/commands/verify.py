@@ -131,8 +131,12 @@ def run(args) -> int:
             result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
     if not args.quiet:
         print_result(result, console)
-    json_path = write_json(result, args.json or f"reports/{result.model}.json")
-    html_path = write_html(result, args.report or f"reports/{result.model}.html")
+    from kinverify.report.output import claim_outputs, default_output
+
+    json_out, html_out = args.json or default_output(result.model, ".json"), args.report or default_output(result.model, ".html")
+    claim_outputs(("--json", json_out), ("--report", html_out))  # both checked before either is written
+    json_path = write_json(result, json_out)
+    html_path = write_html(result, html_out)
     outputs = f"report: {html_path}  json: {json_path}"
     if args.junit:
         from kinverify.report.junit import junit_xml
