@@ -14,6 +14,20 @@ from kinverify.model.transforms import matrix_to_quat
 from kinverify.backends.base import EvaluatingBackend, Evaluation
 
 
+# A URDF may name a joint and a link alike: a frame name is looked up with its type, links first.
+FRAME_TYPES = (pin.FrameType.BODY, pin.FrameType.OP_FRAME, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT,
+               pin.FrameType.SENSOR)
+
+
+def frame_id(model: "pin.Model", name: str) -> int:
+    """Id of the frame ``name``: the link (BODY frame) of that name if there is one, else the
+    operational frame, fixed joint, joint or sensor; :class:`UnknownNameError` when none."""
+    for kind in FRAME_TYPES:
+        if model.existFrame(name, kind):
+            return model.getFrameId(name, kind)
+    raise UnknownNameError("frame", name, list(dict.fromkeys(f.name for f in model.frames)))
+
+
 class PinocchioBackend(EvaluatingBackend):
     """Frame FK and Jacobians from a ``pin.Model``.
 
@@ -46,10 +60,6 @@ class PinocchioBackend(EvaluatingBackend):
                 raise BackendError(name, f"joint {joint!r} has {jmodel.nq} coordinates; only 1-DOF joints are compared")
             self._idx_q.append(jmodel.idx_q)
             self._idx_v.append(jmodel.idx_v)
-        frame_names = [f.name for f in model.frames]
-        for frame in self.frames:
-            if not model.existFrame(frame):
-                raise UnknownNameError("frame", frame, frame_names)
         self._frame_ids = [frame_id(model, f) for f in self.frames]
         self._neutral = pin.neutral(model)
 
@@ -160,10 +170,3 @@ class PinocchioBackend(EvaluatingBackend):
                     pk[f] = oMf[fid].homogeneous
         return Evaluation(self.name, self.frames, poses, jac)
 
-
-def frame_id(model: "pin.Model", name: str) -> int:
-    """The frame called ``name``, a body (link) first: a URDF may name a joint like a link, and
-    Pinocchio makes a frame for each."""
-    if model.existFrame(name, pin.FrameType.BODY):
-        return model.getFrameId(name, pin.FrameType.BODY)
-    return model.getFrameId(name)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 
 from kinverify.backends import ModelSources, available_backends, build_backend
 from kinverify.errors import InputError, KinverifyError
@@ -23,6 +24,7 @@ from kinverify.filemode.loading import load_mjcf, load_urdf
 from kinverify.filemode.match import Matching, match
 from kinverify.filemode.aliased import AliasedBackend
 from kinverify.filemode.section import build_section
+from kinverify.filemode.validate import validate_inertials
 
 __all__ = ["verify_files", "diagnose_files"]
 
@@ -87,10 +89,11 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
             continue
         try:
             backends[name] = build_backend(name, sources)
-        except KinverifyError as err:
+        except Exception as err:  # a library that fails on the user's file refuses it (e.g. yourdfpy on a planar joint)
             side = "URDF" if name in URDF_SIDE else "MJCF"
             why = _mimic_hint(U.text, str(err)) if name == "yourdfpy" else ""
-            refusals.append(finding("parser_refused", f"{name} refuses the {side}: {err}{why}", {"file": side, "backend": name}))
+            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {_first_line(err)}"
+            refusals.append(finding("parser_refused", f"{name} refuses the {side}: {text}{why}", {"file": side, "backend": name}))
     ref = next((n for n in URDF_SIDE if n in backends), None)
     other = next((n for n in MJCF_SIDE if n in backends), None)
     if ref is None or other is None:
@@ -98,11 +101,25 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
         raise InputError(f"no backend could load the {side}: " + "; ".join(f.message for f in refusals))
 
     q = sample_configurations(lower, upper, revolute, DIAGNOSIS_SAMPLES, seed=options.seed if options else 0)
-    t_base = base_transform(u, m, matching)
-    residual_rows, starts, residual = frame_residuals(backends[ref], backends[other], q, t_base, matching.frames)
+    internal: list[str] = []  # kinverify's own failures in a diagnosis step: reported, the other steps still run
+
+    def step(name, fn, *args, default=None):
+        try:
+            return fn(*args)
+        except (KinverifyError, KeyboardInterrupt):
+            raise
+        except Exception as err:
+            internal.append(internal_error(f"file-mode diagnosis {name}", err))
+            return [] if default is None else default
+
+    t_base = step("base transform", base_transform, u, m, matching, default=np.eye(4))
+    residual_rows, starts, residual = step("frame residuals", frame_residuals, backends[ref], backends[other], q, t_base,
+                                           matching.frames, default=([], None, None))
     findings = list(refusals)
-    findings += diagnose_base(t_base, residual)
-    parser, parser_rows = parser_checks(backends, q, m, top_level_pose(M.text))
+    findings += step("inertial validation", validate_inertials, U, M)
+    findings += step("base", diagnose_base, t_base, residual)
+    parser, parser_rows = step("parser cross-check", lambda: parser_checks(backends, q, m, top_level_pose(M.text)),
+                                default=([], []))
     findings += parser
     for side, names in (("URDF", matching.unmatched_urdf), ("MJCF", matching.unmatched_mjcf)):
         for n in names:
@@ -111,19 +128,30 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
     if starts:
         findings.append(starts)
     differing = {f[0] for f, row in zip(matching.frames, residual_rows) if row[3] > POS_TOL or row[4] > ANG_TOL}
-    kin = diagnose_joints(u, m, matching, t_base, differing) + diagnose_frames(u, m, matching)
+    kin = step("joints", diagnose_joints, u, m, matching, t_base, differing) + step("frames", diagnose_frames, u, m, matching)
     findings += kin
-    findings += diagnose_rounding(kin, U.text, M.original, u, m, matching)
-    findings += diagnose_limits(u, m, matching)
-    links, link_rows = diagnose_links(u, m, matching)
+    findings += step("rounding", diagnose_rounding, kin, U.text, M.original, u, m, matching)
+    findings += step("limits", diagnose_limits, u, m, matching)
+    links, link_rows = step("links", diagnose_links, u, m, matching, default=([], []))
     findings += links
-    dyn, dyn_notes = diagnose_dynamics(u, m, matching)
+    dyn, dyn_notes = step("dynamics", diagnose_dynamics, u, m, matching, default=([], []))
     findings += dyn
     notes = list(U.warnings + M.warnings) + [f"URDF: {s}" for s in u.skipped] + [f"MJCF: {s}" for s in m.skipped]
     notes += [f"joint dynamics in one file only: {n}" for n in dyn_notes]
     section = build_section(U, M, matching, findings, notes, residual_rows, parser_rows, link_rows, ref, other)
     return dict(sources=sources, backends=backends, reference=ref, findings=findings, notes=notes, section=section,
-                urdf=U, mjcf=M, matching=matching, base=t_base)
+                urdf=U, mjcf=M, matching=matching, base=t_base, internal_errors=internal)
+
+
+def internal_error(where: str, err: Exception) -> str:
+    from kinverify.run import internal_error as describe
+
+    return describe(where, err)
+
+
+def _first_line(err: Exception) -> str:
+    lines = str(err).strip().splitlines()
+    return lines[0] if lines else type(err).__name__
 
 
 def _mimic_hint(urdf_text: str, message: str) -> str:
@@ -149,6 +177,7 @@ def verify_files(urdf: str, mjcf: str, options, frames=(), joints=(), command: s
     result.sections["filemode"] = diag["section"]
     result.findings = diag["findings"] + result.findings
     result.notes += diag["notes"]
+    result.internal_errors = diag["internal_errors"] + result.internal_errors
     result.model_info["files"] = {"urdf": urdf, "mjcf": mjcf}
     result.model_info["joint_pairs"] = [list(p) for p in diag["matching"].joints]
     result.model_info["frame_pairs"] = [list(p) for p in diag["matching"].frames]

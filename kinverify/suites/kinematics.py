@@ -13,6 +13,7 @@ import numpy as np
 
 from kinverify.backends.base import Backend
 from kinverify.pipeline.parallel import run_chunks
+from kinverify.pipeline.sampling import ChunkRanges
 from kinverify.pipeline.stats import ErrorStats
 from kinverify.suites.base import Property, Suite, SuiteResult, VerifyContext, VerifyOptions, tolerance, within
 from kinverify.suites.measures import finite_difference_errors, fk_errors, jacobian_errors
@@ -110,7 +111,7 @@ class KinematicsSuite(Suite):
         opts = ctx.options
         n = len(ctx.q)
         acc = Accumulator()
-        for part in run_chunks(ctx, kinematics_chunk, [(a, min(a + opts.chunk, n)) for a in range(0, n, opts.chunk)]):
+        for part in run_chunks(ctx, kinematics_chunk, ChunkRanges(n, opts.chunk)):
             acc.merge(part)
         fd_pairs, capped = {}, {}
         for name, backend in ctx.backends.items():

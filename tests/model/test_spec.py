@@ -175,3 +175,36 @@ def test_the_gripper_fingers_are_branches_of_the_palm():
     jac = geometric_jacobians(spec, frame_poses(spec, q))[0]
     tip = spec.frame_names.index("fingertip_left")
     assert np.all(jac[tip][:, fingers[1]] == 0) and np.any(jac[tip][:, fingers[0]] != 0)  # the other finger does not move it
+
+
+@pytest.mark.parametrize("override, field, words", [
+    ({"xyz": [True, False, True]}, "joints[0].xyz", "expected numbers, got [true, false, true]"),
+    ({"axis": ["0", "0", "1"]}, "joints[0].axis", "expected numbers, got ['0', '0', '1']"),
+    ({"damping": True}, "joints[0].damping", "got a boolean (true): booleans are not numbers"),
+    ({"limits": {"lower": False, "upper": 90, "unit": "deg"}}, "joints[0].limits.lower", "booleans are not numbers"),
+])
+def test_booleans_and_text_are_not_numbers(override, field, words):
+    with pytest.raises(SpecError) as err:
+        spec_from_dict(minimal(**override), file="arm.toml")
+    assert err.value.field == field and words in str(err.value) and str(err.value).startswith("arm.toml: ")
+
+
+def test_a_boolean_field_takes_only_booleans():
+    assert spec_from_dict({**minimal(), "base": {"floating": True}}).floating
+    with pytest.raises(SpecError, match=r"base.floating: expected true or false, got 1"):
+        spec_from_dict({**minimal(), "base": {"floating": 1}})
+
+
+def test_a_geometry_too_small_for_its_volume_is_a_spec_error():
+    tiny = minimal(link={"geometry": {"shape": "capsule", "radius": 1e-320, "fromto": [0, 0, 0, 0, 0, 0.3]}})
+    with pytest.raises(SpecError, match="too small or too large to derive a mass and inertia"):
+        spec_from_dict(tiny)
+
+
+def test_more_joints_than_the_documented_maximum_are_refused():
+    from kinverify.pipeline.limits import MAX_JOINTS
+
+    data = minimal()
+    data["joints"] = [dict(data["joints"][1], name=f"j{i}") for i in range(MAX_JOINTS + 1)]
+    with pytest.raises(SpecError, match=f"joints: {MAX_JOINTS + 1} joints, above the {MAX_JOINTS}"):
+        spec_from_dict(data)
