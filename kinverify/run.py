@@ -77,13 +77,13 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
         options, notes = dataclasses.replace(options, chunk=chunk), notes + [note]
     q = Samples(sources.lower, sources.upper, sources.revolute, options.samples, options.seed)
     ctx = VerifyContext(sources, backends, q, options)
-    checks, sections, findings, timings, internal = [], {}, [], {}, []
+    checks, sections, findings, timings, cpu, internal = [], {}, [], {}, {}, []
     for suite_cls in SUITES:
         if options.suites is not None and suite_cls.name not in options.suites:
             continue
         if progress:
             progress(suite_cls.name)
-        t_suite = time.perf_counter()
+        t_suite, c_suite = time.perf_counter(), cpu_seconds()
         try:
             result = suite_cls().run(ctx)
         except (KinverifyError, KeyboardInterrupt):
@@ -92,6 +92,7 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
             internal.append(internal_error(f"suite {suite_cls.name}", err))
             result = SuiteResult()
         timings[suite_cls.name] = time.perf_counter() - t_suite
+        cpu[suite_cls.name] = cpu_seconds() - c_suite
         checks += result.checks
         findings += result.findings
         if result.section is not None:
@@ -101,8 +102,16 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
         frames=list(sources.frames), backends=list(backends), checks=checks, versions=library_versions(),
         command=command, started=started.isoformat(timespec="seconds"), duration_s=time.perf_counter() - t0,
         lower=list(sources.lower), upper=list(sources.upper), sections=sections, model_info=model_info(sources),
-        findings=findings, timings=timings, internal_errors=internal, notes=notes,
+        findings=findings, timings=timings, cpu_timings=cpu, internal_errors=internal, notes=notes,
     )
+
+
+def cpu_seconds() -> float:
+    """CPU time of this process and of its children that have been waited for (renderers, workers)."""
+    import resource
+
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + children.ru_utime + children.ru_stime
 
 
 def verify_spec(spec: ArmSpec, options: VerifyOptions | None = None, **kwargs) -> VerifyResult:

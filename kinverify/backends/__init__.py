@@ -17,7 +17,8 @@ from kinverify.backends.function import FunctionBackend
 from kinverify.backends.sources import ModelSources
 
 __all__ = ["Backend", "BackendBase", "BackendInfo", "Evaluation", "FunctionBackend", "ModelSources",
-           "available_backends", "build_backend", "build_backends", "finite_difference_jacobians", "libraries", "names_reading"]
+           "available_backends", "backend_info", "build_backend", "build_backends", "finite_difference_jacobians", "libraries",
+           "names_reading"]
 
 
 @dataclass(frozen=True)
@@ -60,17 +61,23 @@ _ENTRIES = (
 PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco"}  # the reference reader of each file in file mode
 
 
-@lru_cache(maxsize=1)
+@lru_cache(maxsize=None)
+def backend_info(name: str) -> BackendInfo:
+    """One registered backend, importing its library only (``available`` False where that fails)."""
+    entry = next((e for e in _ENTRIES if e[0] == name), None)
+    if entry is None:
+        raise UnknownNameError("backend", name, [e[0] for e in _ENTRIES])
+    name, module, cls, source = entry
+    try:
+        importlib.import_module(module, __name__)
+        return BackendInfo(name, module, cls, source, True)
+    except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
+        return BackendInfo(name, module, cls, source, False, f"cannot import: {err}")
+
+
 def available_backends() -> dict[str, BackendInfo]:
     """Every registered backend, with ``available`` False where its library fails to import."""
-    out = {}
-    for name, module, cls, source in _ENTRIES:
-        try:
-            importlib.import_module(module, __name__)
-            out[name] = BackendInfo(name, module, cls, source, True)
-        except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
-            out[name] = BackendInfo(name, module, cls, source, False, f"cannot import: {err}")
-    return out
+    return {e[0]: backend_info(e[0]) for e in _ENTRIES}
 
 
 def names_reading(source: str) -> tuple[str, ...]:
@@ -86,10 +93,8 @@ def libraries() -> tuple[str, ...]:
 
 
 def build_backend(name: str, sources: ModelSources) -> Backend:
-    registry = available_backends()
-    if name not in registry:
-        raise UnknownNameError("backend", name, list(registry))
-    return registry[name].build(sources)
+    """Build one backend (importing only its library)."""
+    return backend_info(name).build(sources)
 
 
 def default_backend_names(sources: ModelSources) -> list[str]:

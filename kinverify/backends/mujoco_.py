@@ -71,6 +71,32 @@ class MujocoBackend(EvaluatingBackend):
             raise BackendError(name, f"cannot load URDF: {str(err).strip().splitlines()[0]}") from None
         return cls(model, name, joint_names, frames)
 
+    def frame_kinematics(self, frame_index: int):
+        """Per-configuration IK path for ``frames[frame_index]``: ``(fk, log3)`` with ``fk(q (n,)) ->
+        (R (3, 3), p (3,), J (6, n))``: ``mj_kinematics``, ``mj_comPos`` and one ``mj_jacBody`` or
+        ``mj_jacSite`` (not every frame's). R and p are views of ``MjData``, valid until the next call."""
+        from kinverify.ik.single import log3
+
+        m, d = self.model, self.data
+        site, oid = self._targets[frame_index]
+        rot = (d.site_xmat if site else d.xmat)[oid].reshape(3, 3)
+        pos = (d.site_xpos if site else d.xpos)[oid]
+        jac_full = np.zeros((6, m.nv))
+        jacp, jacr = jac_full[:3], jac_full[3:]
+        jac_fn = mujoco.mj_jacSite if site else mujoco.mj_jacBody
+        kin, com_pos = mujoco.mj_kinematics, mujoco.mj_comPos
+        qpos, qadr, vadr = d.qpos, np.asarray(self._qadr, dtype=int), np.asarray(self._vadr, dtype=int)
+        qpos[:] = m.qpos0
+        whole = self._vadr == list(range(m.nv))
+
+        def fk(q):
+            qpos[qadr] = q
+            kin(m, d)
+            com_pos(m, d)
+            jac_fn(m, d, jacp, jacr, oid)
+            return rot, pos, jac_full if whole else jac_full[:, vadr]
+        return fk, log3
+
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         # Lean loop (issue 8): body and site poses copied with one fancy index each per
         # configuration (d.xpos[ids], d.xmat[ids]); Jacobians written by mj_jacBody/mj_jacSite

@@ -106,14 +106,39 @@ class PinocchioBackend(EvaluatingBackend):
         base = full[..., iv:iv + 6] @ velocity_map(q[:, :6], linear_in_body=True)[:, None]
         return np.concatenate([base, joints], axis=-1)
 
-    def frame_pose_and_jacobian(self, q: np.ndarray, frame_index: int) -> tuple[np.ndarray, np.ndarray]:
-        """Pose (4, 4) and Jacobian (6, n) of ``frames[frame_index]`` at one configuration ``(n,)``:
-        the one-frame fast path iterative IK needs (``computeFrameJacobian`` also runs FK)."""
-        full = self._neutral.copy()
-        full[self._idx_q] = q
-        fid = self._frame_ids[frame_index]
-        jac = pin.computeFrameJacobian(self.model, self.data, full, fid, pin.LOCAL_WORLD_ALIGNED)
-        return self.data.oMf[fid].homogeneous, np.reshape(jac, (6, -1))[:, self._idx_v]
+    def frame_kinematics(self, frame_index: int):
+        """Per-configuration IK path for ``frames[frame_index]``: ``(fk, log3)`` with ``fk(q (n,)) ->
+        (R (3, 3), p (3,), J (6, n))`` from one ``computeFrameJacobian`` (which also places the
+        frame). R and p are live views of ``data.oMf`` (pinocchio returns it by reference): valid
+        until the next call. Joints outside ``joint_names`` (e.g. a gripper) are locked at neutral
+        in a reduced model, so each call computes only the compared joints."""
+        if self.floating:
+            raise BackendError(self.name, "IK's one-frame path does not take a floating base (IK is not run for one)")
+        model, fid = self.model, self._frame_ids[frame_index]
+        if self._idx_q != list(range(model.nq)) or self._idx_v != list(range(model.nv)):
+            keep = {model.getJointId(j) for j in self.joint_names}
+            model = pin.buildReducedModel(model, [i for i in range(1, model.njoints) if i not in keep], self._neutral)
+            fid = frame_id(model, self.frames[frame_index])
+            if [model.names[i] for i in range(1, model.njoints)] != list(self.joint_names) or model.nq != model.nv:
+                raise BackendError(self.name, "IK needs the compared joints in the model's order, one coordinate each")
+        data = model.createData()
+        cfj, lwa = pin.computeFrameJacobian, pin.LOCAL_WORLD_ALIGNED
+        placement = data.oMf[fid]
+        rot, pos = placement.rotation, placement.translation
+
+        def fk(q):
+            return rot, pos, cfj(model, data, q, fid, lwa)
+
+        if model.nv == 1:  # computeFrameJacobian returns a (6,) vector then
+            def fk(q, inner=fk):
+                r, p, jac = inner(q)
+                return r, p, jac.reshape(6, 1)
+        fk(pin.neutral(model))
+        if not np.array_equal(pos, data.oMf[fid].translation):  # not by reference in this pin: fetch it
+            def fk(q, inner=fk):
+                jac = inner(q)[2]
+                return data.oMf[fid].rotation, data.oMf[fid].translation, jac
+        return fk, pin.log3
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         # Lean loop (issue 8): bound functions, results written straight into preallocated
@@ -144,3 +169,4 @@ class PinocchioBackend(EvaluatingBackend):
                 for f, fid in frames:
                     pk[f] = oMf[fid].homogeneous
         return Evaluation(self.name, self.frames, poses, jac)
+

@@ -13,6 +13,7 @@ from kinverify.backends.base import BackendBase
 
 
 STALE_BELOW = 1e-6  # rad or m: smaller joint changes may leave trimesh's transforms stale
+_IDENTITY = np.eye(4)
 
 
 class YourdfpyBackend(BackendBase):
@@ -20,7 +21,12 @@ class YourdfpyBackend(BackendBase):
     ``frame_to`` in ``frame_from``; with ``frame_from`` the root link (``world``) that is
     ``T_world_from_frame``, ours. yourdfpy takes a floating root joint for a 1-coordinate joint,
     so a floating base is held fixed at the identity there and its pose (the base coordinates
-    of :mod:`kinverify.model.floating`) composed in front. Joints not in ``joint_names`` stay at 0."""
+    of :mod:`kinverify.model.floating`) composed in front. Joints not in ``joint_names`` stay at 0.
+
+    Poses are read one joint at a time (``get_transform(child, parent)``: the transform yourdfpy
+    wrote for that joint) and chained from the root here, one product per link: asking trimesh
+    for each frame from the root walks and multiplies the whole path again for every frame
+    (quadratic in the chain's length, ~3× slower on a 7-joint arm)."""
 
     library = "yourdfpy"
 
@@ -43,6 +49,16 @@ class YourdfpyBackend(BackendBase):
         self._root = robot.base_link
         self._cfg = np.asarray(robot.cfg, dtype=float).copy()
         self._reseat_transforms()
+        parent = {j.child: j.parent for j in robot.robot.joints}
+        depth = {}
+        for frame in self.frames:  # every link from the root to each frame, parents first
+            link, path = frame, []
+            while link != self._root and link not in depth:
+                path.append(link)
+                link = parent[link]
+            for k, child in enumerate(reversed(path)):
+                depth[child] = depth.get(link, 0) + k + 1
+        self._edges = [(child, parent[child]) for child in sorted(depth, key=depth.get)]
 
     def _reseat_transforms(self) -> None:
         """At load time trimesh keeps a joint's first (identity) transform when the real origin is
@@ -84,8 +100,11 @@ class YourdfpyBackend(BackendBase):
             if np.any((cfg != previous) & (np.abs(cfg - previous) < STALE_BELOW)):
                 self.robot.update_cfg(cfg + 1.0)  # trimesh would skip so small a change (quirks.py)
             self.robot.update_cfg(cfg)
+            world = {self._root: _IDENTITY}
+            for child, par in self._edges:
+                world[child] = world[par] @ self.robot.get_transform(child, par)
             for f, frame in enumerate(self.frames):
-                out[k, f] = self.robot.get_transform(frame, self._root)
+                out[k, f] = world[frame]
         self._cfg = cfg
         return out
 

@@ -78,7 +78,8 @@ def ik_records(spec: ArmSpec, q: np.ndarray, fixed: dict[str, Any]) -> list[dict
     if frame not in spec.frame_names or not targets or starts.shape[1] != spec.dof:
         return []
     model = FrameModel(AnalyticBackend(spec), frame)
-    opts = IKOptions(max_restarts=IK_RESTARTS, max_iter=IK_ITERATIONS, max_attempt_iter=IK_ITERATIONS, time_budget=60.0, seed=0)
+    opts = IKOptions(tol_pos=1e-12, tol_rot=1e-12, max_restarts=IK_RESTARTS, first_attempt_iter=IK_ITERATIONS,
+                     stall_window=IK_ITERATIONS, max_evaluations=IK_ITERATIONS, time_budget=60.0, seed=0)
     sol = solve_lm(model, poses, spec.lower, spec.upper, position_only=bool(fixed.get("position_only")),
                    options=opts, q0=starts, batch=True)
     out = []

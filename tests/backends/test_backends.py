@@ -131,3 +131,22 @@ def test_capabilities_are_declared_once_on_each_backend_class():
     assert [n for n, i in available_backends().items() if i.backend_class.slow] == ["yourdfpy"]
     assert names_reading("urdf") == ("pinocchio-urdf", "yourdfpy", "mujoco-urdf")
     assert names_reading("mjcf") == ("mujoco", "pinocchio-mjcf")
+
+
+@settings(max_examples=15, deadline=None)
+@given(kst.arm_specs(max_joints=7), kst.data())
+def test_one_frame_ik_paths_equal_the_full_evaluation(spec, data):
+    """``frame_kinematics`` (IK's per-configuration path: one frame, one library call) gives the
+    pose and Jacobian ``evaluate`` gives for that frame, on Pinocchio and MuJoCo."""
+    q = data.draw(kst.configuration_batches(spec, 1, 3))
+    sources = ModelSources.from_spec(spec)
+    for backend in build_backends(sources, ["pinocchio-urdf", "pinocchio-mjcf", "mujoco", "mujoco-urdf"]):
+        ev = backend.evaluate(q)
+        for f in range(len(backend.frames)):
+            fk, log3 = backend.frame_kinematics(f)
+            for k in range(len(q)):
+                rot, pos, jac = fk(q[k])
+                np.testing.assert_allclose(rot, ev.poses[k, f, :3, :3], atol=1e-12)
+                np.testing.assert_allclose(pos, ev.poses[k, f, :3, 3], atol=1e-12)
+                np.testing.assert_allclose(jac, ev.jacobians[k, f], atol=1e-12)
+                np.testing.assert_allclose(log3(rot), log3(ev.poses[k, f, :3, :3]), atol=1e-12)
