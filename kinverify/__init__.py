@@ -9,9 +9,9 @@ the frame origin, rows ``[linear; angular]``; quaternions ``wxyz``.
 
 __version__ = "0.1.0"
 
-from kinverify.mujoco_gl import import_mujoco_despite_bad_gl  # noqa: E402
+from kinverify.mujoco_gl import install_guard  # noqa: E402
 
-import_mujoco_despite_bad_gl()  # an unknown MUJOCO_GL must not stop the run, only the renderings
+install_guard()  # MuJoCo is imported when first needed; an unknown MUJOCO_GL must not stop the run, only the renderings
 
 from kinverify.errors import BackendError, InputError, KinverifyError, SpecError  # noqa: E402
 from kinverify.model.spec import ArmSpec, Geometry, Inertial, Joint, Limits, Link, Origin, Tool  # noqa: E402

@@ -2,23 +2,50 @@
 
 Each subcommand is a module in :mod:`kinverify.commands` with ``add_parser(subparsers)`` and
 ``run(args) -> int``; heavy imports happen inside ``run``. Exit codes: 0 agreement, 1 a check
-failed, 2 bad input (one line on stderr, no traceback).
+failed (the models disagree), 2 bad input, an unusable output path or a system error such as a
+full disk (one line on stderr, no traceback), 3 an internal error (a kinverify bug: one line saying where to report it; ``verify``
+still writes what it computed), 130 interrupted (SIGINT), 143 terminated (SIGTERM).
+
+Before a command runs, its arguments that name files are checked here, in one place: seeds,
+sample counts and chunk sizes against :mod:`kinverify.pipeline.limits`, and every output path
+against every input (:mod:`kinverify.report.output`), so a bad path is refused before a long run.
+Set ``KINVERIFY_DEBUG=1`` to see the traceback of an internal error.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import signal
 import sys
+import warnings
 
 from kinverify import __version__
 
 COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff")
+ISSUES = "the kinverify issue tracker"
+# argument -> how messages name it; these name files a command reads
+INPUTS = {"model": "the spec MODEL", "urdf": "--urdf", "mjcf": "--mjcf", "results": "RESULTS", "baseline": "--baseline",
+          "old": "OLD", "new": "NEW"}
+OUTPUTS = {"json": "--json", "report": "--report", "junit": "--junit", "out": "--out"}  # generate's --out is a directory, not a file
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, handled like SIGINT: raised in the main process so every ``finally`` runs (worker
+    processes stopped, temporary files removed, nothing half-written)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit 2), like every other kinverify error."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="kinverify", description="Prove that a robot arm's models agree: "
-                                     "analytic FK, Pinocchio (URDF and MJCF), MuJoCo and yourdfpy, property by property.")
+    parser = _Parser(prog="kinverify", description="Prove that a robot arm's models agree: "
+                     "analytic FK, Pinocchio (URDF and MJCF), MuJoCo and yourdfpy, property by property.")
     parser.add_argument("--version", action="version", version=f"kinverify {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMANDS:
@@ -27,20 +54,95 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def check_args(args) -> None:
+    """Limits on numeric arguments (see docs/robustness.md); :class:`InputError` on the first bad one."""
+    from kinverify.errors import InputError
+    from kinverify.pipeline import limits
+
+    if getattr(args, "seed", None) is not None:
+        limits.check_seed(args.seed)
+    stored = args.command in ("baseline", "diff")
+    if getattr(args, "samples", None) is not None:
+        limits.check_count(args.samples, "--samples", limits.MAX_STORED_SAMPLES if stored else limits.MAX_SAMPLES)
+    if getattr(args, "chunk", None) is not None:
+        limits.check_count(args.chunk, "--chunk", limits.MAX_CHUNK, minimum=1)
+    if getattr(args, "jobs", None) is not None:
+        limits.check_count(args.jobs, "--jobs", limits.MAX_SAMPLES, minimum=1)
+    if getattr(args, "ik_targets", None) is not None:
+        limits.check_count(args.ik_targets, "--ik-targets", limits.MAX_STORED_SAMPLES)
+    for flag in ("duration", "hold"):
+        value = getattr(args, flag, None) if args.command == "track" else None
+        if value is not None and value > limits.MAX_TRACK_SECONDS:  # NaN and negative values: track's own checks
+            raise InputError(f"--{flag} {value:g} s is above the maximum {limits.MAX_TRACK_SECONDS:g} s (see docs/robustness.md)")
+
+
+def run_files(args) -> tuple[list, list]:
+    """``(label, path)`` of the files ``args`` names: inputs, then outputs."""
+    inputs = [(label, getattr(args, key)) for key, label in INPUTS.items() if isinstance(getattr(args, key, None), str)]
+    outputs = [(label, getattr(args, key)) for key, label in OUTPUTS.items()
+               if isinstance(getattr(args, key, None), str) and not (key == "out" and args.command == "generate")]
+    return inputs, outputs
+
+
+def _one_line(err: BaseException, limit: int | None = None) -> str:
+    text = " ".join(str(err).split()) or type(err).__name__
+    return text if limit is None or len(text) <= limit else text[:limit - 3] + "..."
+
+
 def main(argv: list[str] | None = None) -> int:
     from kinverify.errors import KinverifyError
 
     parser = build_parser()
     args = parser.parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)
+    previous = _catch_sigterm()
     try:
-        return args.run(args)
+        from kinverify.report.output import output_plan
+
+        check_args(args)
+        inputs, outputs = run_files(args)
+        with output_plan(inputs, outputs), warnings.catch_warnings():
+            # numpy's overflow/invalid-value warnings on extreme inputs are noise here: every
+            # result is checked for finiteness where it matters
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return args.run(args)
     except KinverifyError as err:
-        print(f"kinverify: error: {err}", file=sys.stderr)
+        print(f"kinverify: error: {_one_line(err)}", file=sys.stderr)
         return 2
+    except Terminated:
+        print("kinverify: terminated", file=sys.stderr)
+        return 128 + signal.SIGTERM
     except KeyboardInterrupt:
         print("kinverify: interrupted", file=sys.stderr)
         return 130
+    except OSError as err:  # the system refused (disk full, file size limit, permissions): not a bug
+        where = f"{err.filename}: " if err.filename else ""
+        print(f"kinverify: error: {where}{err.strerror or _one_line(err)} (a system error)", file=sys.stderr)
+        return 2
+    except Exception as err:  # a kinverify bug: say so in one line, never a traceback
+        if os.environ.get("KINVERIFY_DEBUG"):
+            import traceback
+
+            traceback.print_exc()
+        print(f"kinverify: internal error: {type(err).__name__}: {_one_line(err, 300)} (please report it at {ISSUES} "
+              "with the command line)", file=sys.stderr)
+        return 3
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+def _catch_sigterm():
+    """Handle SIGTERM like SIGINT while a command runs (main thread only); the previous handler,
+    to restore, or None."""
+    try:
+        return signal.signal(signal.SIGTERM, _raise_terminated)
+    except ValueError:  # not the main thread
+        return None
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,17 +1,23 @@
-"""Import MuJoCo even when ``MUJOCO_GL`` names a GL backend that cannot load.
+"""Import MuJoCo even when ``MUJOCO_GL`` names a GL backend that cannot load, and only when needed.
 
 ``import mujoco`` raises for a value it does not know (``RuntimeError``) and for a known backend
 whose library is missing (e.g. ``osmesa`` without libOSMesa: ``AttributeError`` from PyOpenGL),
 which would take the whole run down (backends, dynamics, tracking). kinverify's main process
-never renders: the pictures suite and the tracking animation render in child processes. So when
-the import fails, the main process imports MuJoCo again with GL disabled and restores the
-variable; the children inherit the original value, fail, and their failure becomes a
-"rendering unavailable" note in the report. MuJoCo's compiled modules, loaded before its GL
-import failed, are reused by the second import, not loaded twice.
+never renders: the pictures suite and the tracking animation render in child processes.
+
+``import kinverify`` does not import MuJoCo (it costs about a second of start-up that ``--help``
+or ``kinverify ik --urdf`` do not need); it installs :class:`MujocoGuard`, which watches for the
+first ``import mujoco`` (by kinverify or anyone): when ``MUJOCO_GL`` asks for GL and MuJoCo's
+module fails to execute, it records why (:data:`IMPORT_ERROR`) and executes it again with GL
+disabled, then restores the variable. The rendering children inherit the original value, fail,
+and their failure becomes a "rendering unavailable" note in the report. MuJoCo's compiled
+modules, loaded before its GL import failed, are reused by the second execution.
 """
 
 from __future__ import annotations
 
+import importlib.abc
+import importlib.util
 import os
 import platform
 import sys
@@ -29,28 +35,55 @@ def accepted(value: str) -> bool:
     return value.lower().strip() in _ACCEPTED | _PLATFORM.get(platform.system(), set())
 
 
-def import_mujoco_despite_bad_gl() -> None:
-    """Import MuJoCo now if ``MUJOCO_GL`` asks for GL; with GL disabled if that import fails."""
-    global IMPORT_ERROR
-    value = os.environ.get("MUJOCO_GL")
-    if value is None or value.lower().strip() in _NO_GL | {""} or "mujoco" in sys.modules:
-        return
-    try:
-        import mujoco  # noqa: F401
-        return
-    except ModuleNotFoundError as err:
-        if err.name == "mujoco":
-            return  # no MuJoCo at all: its backends report themselves unavailable
-        IMPORT_ERROR = f"{type(err).__name__}: {err}"
-    except Exception as err:  # RuntimeError (unknown value), AttributeError/ImportError (GL library missing)
-        IMPORT_ERROR = f"{type(err).__name__}: {err}"
-    os.environ["MUJOCO_GL"] = "disable"
-    try:
-        import mujoco  # noqa: F401,F811
-    except Exception:
-        pass  # MuJoCo is broken beyond GL: its backends report themselves unavailable
-    finally:
-        os.environ["MUJOCO_GL"] = value
+class MujocoGuard(importlib.abc.MetaPathFinder):
+    """A finder that finds nothing itself: on the first ``import mujoco`` with GL asked for, it
+    hands back MuJoCo's own spec with the loader wrapped in :class:`_GlFallbackLoader`."""
+
+    def find_spec(self, name, path=None, target=None):
+        if name != "mujoco":
+            return None
+        uninstall_guard()  # once: the spec below comes from the other finders
+        value = os.environ.get("MUJOCO_GL")
+        if value is None or value.lower().strip() in _NO_GL | {""}:
+            return None
+        spec = importlib.util.find_spec(name)
+        if spec is None or spec.loader is None:
+            return None  # no MuJoCo at all: its backends report themselves unavailable
+        spec.loader = _GlFallbackLoader(spec.loader)
+        return spec
+
+
+class _GlFallbackLoader(importlib.abc.Loader):
+    def __init__(self, loader) -> None:
+        self.loader = loader
+
+    def create_module(self, spec):
+        return self.loader.create_module(spec)
+
+    def exec_module(self, module) -> None:
+        global IMPORT_ERROR
+        module.__loader__ = module.__spec__.loader = self.loader  # the module keeps MuJoCo's own loader
+        value = os.environ["MUJOCO_GL"]
+        try:
+            self.loader.exec_module(module)
+            return
+        except Exception as err:  # RuntimeError (unknown value), AttributeError/ImportError (GL library missing)
+            IMPORT_ERROR = f"{type(err).__name__}: {err}"
+        os.environ["MUJOCO_GL"] = "disable"
+        try:
+            self.loader.exec_module(module)  # if MuJoCo is broken beyond GL this raises: backends unavailable
+        finally:
+            os.environ["MUJOCO_GL"] = value
+
+
+def install_guard() -> None:
+    """Watch for the first ``import mujoco`` (idempotent; nothing to do once it is imported)."""
+    if "mujoco" not in sys.modules and not any(isinstance(f, MujocoGuard) for f in sys.meta_path):
+        sys.meta_path.insert(0, MujocoGuard())
+
+
+def uninstall_guard() -> None:
+    sys.meta_path[:] = [f for f in sys.meta_path if not isinstance(f, MujocoGuard)]
 
 
 def render_in_child(module: str, request: dict, timeout_s: float) -> tuple[list[bytes], str]:

@@ -44,6 +44,7 @@ class VerifyResult:
     model_info: dict[str, Any] = field(default_factory=dict)  # joint table, masses, URDF/MJCF text
     findings: list[Finding] = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)  # suite -> seconds
+    cpu_timings: dict[str, float] = field(default_factory=dict)  # suite -> CPU seconds (this process + waited-for children)
     internal_errors: list[str] = field(default_factory=list)
 
     @property

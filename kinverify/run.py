@@ -17,6 +17,8 @@ from typing import Any, Callable
 from kinverify.backends import ModelSources, build_backends
 from kinverify.errors import InputError, KinverifyError
 from kinverify.model.spec import ArmSpec
+from kinverify.pipeline.limits import MAX_CHUNK, MAX_SAMPLES, cap_jobs, check_count, check_seed, chunk_for
+from kinverify.pipeline.parallel import check_executor_options
 from kinverify.pipeline.sampling import Samples
 from kinverify.results import VerifyResult
 from kinverify.suites.base import SuiteResult, VerifyContext, VerifyOptions
@@ -40,42 +42,57 @@ def model_info(sources: ModelSources) -> dict[str, Any]:
     return info
 
 
+def internal_error(where: str, err: BaseException) -> str:
+    """One line for an internal error: where, the exception, and the file:line that raised it."""
+    tb = traceback.extract_tb(err.__traceback__)
+    at = f" ({tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno})" if tb else ""
+    return f"{where}: {type(err).__name__}: {err}{at}"
+
+
 def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_backends=(), source: str = "",
            command: str = "", progress: Callable[[str], None] | None = None) -> VerifyResult:
     """Run every registered suite on ``sources`` and return the results."""
     options = options or VerifyOptions()
-    if options.samples < 0:
-        raise InputError(f"--samples must be >= 0, got {options.samples}")
+    check_count(options.samples, "--samples", MAX_SAMPLES)
+    check_seed(options.seed)
+    check_count(options.chunk, "--chunk", MAX_CHUNK, minimum=1)
+    check_executor_options(options)
+    notes = []
+    if options.executor == "local" or not options.scheduler:  # a remote scheduler has its own cores
+        jobs, note = cap_jobs(options.jobs)
+        if note:
+            options, notes = dataclasses.replace(options, jobs=jobs), [note]
     started, t0 = datetime.now(timezone.utc), time.perf_counter()
     backends = {b.name: b for b in build_backends(sources, options.backends)}
     for b in extra_backends:
         backends[b.name] = b
-    notes = []
     if options.reference not in backends:
         if not options.backends or options.reference != VerifyOptions.reference:
             raise InputError(f"reference backend {options.reference!r} is not among {', '.join(backends)}")
         # --backends without the default reference: compare against the first one given
         options = dataclasses.replace(options, reference=next(iter(backends)))
         notes.append(f"reference backend: {options.reference} (the first of --backends; analytic was not selected)")
+    chunk, note = chunk_for(options.chunk, len(sources.frames), len(sources.joint_names), len(backends))
+    if note:
+        options, notes = dataclasses.replace(options, chunk=chunk), notes + [note]
     q = Samples(sources.lower, sources.upper, sources.revolute, options.samples, options.seed)
     ctx = VerifyContext(sources, backends, q, options)
-    checks, sections, findings, timings, internal = [], {}, [], {}, []
+    checks, sections, findings, timings, cpu, internal = [], {}, [], {}, {}, []
     for suite_cls in SUITES:
         if options.suites is not None and suite_cls.name not in options.suites:
             continue
         if progress:
             progress(suite_cls.name)
-        t_suite = time.perf_counter()
+        t_suite, c_suite = time.perf_counter(), cpu_seconds()
         try:
             result = suite_cls().run(ctx)
         except (KinverifyError, KeyboardInterrupt):
             raise
         except Exception as err:  # our own bug: say so, keep what the other suites compute
-            where = traceback.extract_tb(err.__traceback__)[-1]
-            internal.append(f"suite {suite_cls.name}: {type(err).__name__}: {err} "
-                            f"({where.filename.rsplit('/', 1)[-1]}:{where.lineno})")
+            internal.append(internal_error(f"suite {suite_cls.name}", err))
             result = SuiteResult()
         timings[suite_cls.name] = time.perf_counter() - t_suite
+        cpu[suite_cls.name] = cpu_seconds() - c_suite
         checks += result.checks
         findings += result.findings
         if result.section is not None:
@@ -85,8 +102,16 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
         frames=list(sources.frames), backends=list(backends), checks=checks, versions=library_versions(),
         command=command, started=started.isoformat(timespec="seconds"), duration_s=time.perf_counter() - t0,
         lower=list(sources.lower), upper=list(sources.upper), sections=sections, model_info=model_info(sources),
-        findings=findings, timings=timings, internal_errors=internal, notes=notes,
+        findings=findings, timings=timings, cpu_timings=cpu, internal_errors=internal, notes=notes,
     )
+
+
+def cpu_seconds() -> float:
+    """CPU time of this process and of its children that have been waited for (renderers, workers)."""
+    import resource
+
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + children.ru_utime + children.ru_stime
 
 
 def verify_spec(spec: ArmSpec, options: VerifyOptions | None = None, **kwargs) -> VerifyResult:

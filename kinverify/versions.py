@@ -5,12 +5,14 @@ from __future__ import annotations
 import platform
 from importlib import metadata
 
-DISTRIBUTIONS = ("kinverify", "numpy", "pin", "mujoco", "yourdfpy")
-
 
 def library_versions() -> dict[str, str]:
+    """kinverify, Python, numpy and the library of every registered backend (declared on each
+    backend class), e.g. ``{"kinverify": "0.1.0", "python": "3.11.7", "numpy": ..., "pin": ...}``."""
+    from kinverify.backends import libraries
+
     out = {"python": platform.python_version()}
-    for dist in DISTRIBUTIONS:
+    for dist in dict.fromkeys(("kinverify", "numpy") + libraries()):
         try:
             out[dist] = metadata.version(dist)
         except metadata.PackageNotFoundError:

@@ -114,3 +114,55 @@ def test_mangled_spec_files_give_one_line_and_exit_2(capsys, raw):
     assert code == 2
     assert err.startswith(f"kinverify: error: {path}: ") and err.count("\n") == 1, err
     assert "Traceback" not in err
+
+
+def test_argument_errors_are_one_line_and_exit_2(capsys):
+    for argv, words in ((["verify", "models/arm3.toml", "--seed", "-1"], "--seed must be >= 0, got -1"),
+                        (["verify", "models/arm3.toml", "--samples", "abc"], "argument --samples: expected a whole number"),
+                        (["verify", "models/arm3.toml", "--seed", str(2**64)], "--seed 18446744073709551616 is above the maximum"),
+                        (["diff", "models/arm3.toml", "models/arm3.toml", "--samples", "-5"], "--samples must be >= 0"),
+                        (["baseline", "save", "models/arm3.toml", "--out", "b.json", "--seed", "-3"], "--seed must be >= 0"),
+                        (["nonsense"], "invalid choice")):
+        if argv[-1] in ("abc", "nonsense"):  # argparse's own errors exit 2 through SystemExit
+            with pytest.raises(SystemExit) as exc:
+                main(argv)
+            assert exc.value.code == 2
+        else:
+            assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert words in err and err.count("\n") == 1 and "Traceback" not in err, err
+
+
+def test_seed_minus_one_through_the_module_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "kinverify", "verify", "models/arm3.toml", "--seed", "-1"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2 and proc.stderr == "kinverify: error: --seed must be >= 0, got -1\n"
+
+
+def test_an_internal_error_exits_3_with_one_line_and_where_to_report_it(capsys, monkeypatch):
+    # A kinverify bug stands in as a real exception raised from the real generate command.
+    import kinverify.commands.generate as generate
+
+    def broken(args):
+        return {}["missing key"]
+
+    monkeypatch.setattr(generate, "run", broken)
+    assert main(["generate", "models/arm3.toml", "--out", "unused"]) == 3
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith("kinverify: internal error: KeyError: 'missing key' (please report it at the kinverify issue tracker")
+
+
+def test_an_internal_error_in_a_suite_still_writes_the_report(tmp_path, capsys, monkeypatch):
+    from kinverify.suites.workspace import WorkspaceSuite
+
+    def broken(self, ctx):
+        return 1 / 0
+
+    monkeypatch.setattr(WorkspaceSuite, "run", broken)
+    code = main(["verify", "models/arm3.toml", "--samples", "5", "--skip", "ik", "--skip", "tracking", "--skip", "pictures",
+                 "--json", str(tmp_path / "r.json"), "--report", str(tmp_path / "r.html")])
+    assert code == 3
+    data = json.loads((tmp_path / "r.json").read_text())
+    assert data["verdict"] == "error" and data["internal_errors"][0].startswith("suite workspace: ZeroDivisionError")
+    assert data["checks"] and (tmp_path / "r.html").exists()  # what the other suites computed is kept

@@ -55,7 +55,7 @@ def _first_failure(spec, backend):
 
 
 @settings(max_examples=15, deadline=None)
-@given(kst.arm_specs(min_joints=2, max_joints=6), st.data())
+@given(kst.arm_specs(min_joints=2, max_joints=6, trees=True), st.data())
 def test_flipped_axis_in_urdf_is_caught_at_its_link(spec, data):
     k = data.draw(st.integers(0, spec.dof - 1))
     mutated = flip_axis(ModelSources.from_spec(spec).urdf, spec.joints[k].name)
@@ -67,7 +67,7 @@ def test_flipped_axis_in_urdf_is_caught_at_its_link(spec, data):
 
 
 @settings(max_examples=15, deadline=None)
-@given(kst.arm_specs(min_joints=2, max_joints=6), st.data())
+@given(kst.arm_specs(min_joints=2, max_joints=6, trees=True), st.data())
 def test_1mm_origin_offset_in_mjcf_is_caught_at_its_link(spec, data):
     k = data.draw(st.integers(0, spec.dof - 1))
     mutated = offset_body(ModelSources.from_spec(spec).mjcf, spec.joints[k].link.name)

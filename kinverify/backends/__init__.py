@@ -17,7 +17,8 @@ from kinverify.backends.function import FunctionBackend
 from kinverify.backends.sources import ModelSources
 
 __all__ = ["Backend", "BackendBase", "BackendInfo", "Evaluation", "FunctionBackend", "ModelSources",
-           "available_backends", "build_backend", "build_backends", "finite_difference_jacobians"]
+           "available_backends", "backend_info", "build_backend", "build_backends", "finite_difference_jacobians", "libraries",
+           "names_reading"]
 
 
 @dataclass(frozen=True)
@@ -26,15 +27,18 @@ class BackendInfo:
     module: str  # kinverify module holding the adapter
     cls: str
     source: str  # "spec", "urdf" or "mjcf"
-    library: str  # distribution whose version the report records
     available: bool
     reason: str = ""  # why it is unavailable
 
-    def build(self, sources: ModelSources) -> Backend:
+    @property
+    def backend_class(self) -> type:
+        """The adapter class, which declares the capabilities (library, Jacobians, slow...)."""
         if not self.available:
             raise BackendUnavailable(self.name, self.reason)
-        cls = getattr(importlib.import_module(self.module, __name__), self.cls)
-        return _BUILDERS[self.source](cls, sources, self.name)
+        return getattr(importlib.import_module(self.module, __name__), self.cls)
+
+    def build(self, sources: ModelSources) -> Backend:
+        return _BUILDERS[self.source](self.backend_class, sources, self.name)
 
 
 _BUILDERS: dict[str, Callable] = {
@@ -43,36 +47,54 @@ _BUILDERS: dict[str, Callable] = {
     "mjcf": lambda cls, s, name: cls.from_mjcf(s.mjcf, s.mjcf_joint_names or s.joint_names, s.mjcf_frames or s.frames, name=name),
 }
 
-# name, module, class, source, library
+# name, module, class, source: a backend is an adapter class reading one model source. Per
+# source, the first listed is the one file mode takes as that file's primary reader.
 _ENTRIES = (
-    ("analytic", ".analytic", "AnalyticBackend", "spec", "numpy"),
-    ("analytic-dh", ".analytic", "AnalyticDHBackend", "spec", "numpy"),
-    ("pinocchio-urdf", ".pinocchio_", "PinocchioBackend", "urdf", "pin"),
-    ("pinocchio-mjcf", ".pinocchio_", "PinocchioBackend", "mjcf", "pin"),
-    ("mujoco", ".mujoco_", "MujocoBackend", "mjcf", "mujoco"),
-    ("yourdfpy", ".yourdfpy_", "YourdfpyBackend", "urdf", "yourdfpy"),
-    ("mujoco-urdf", ".mujoco_", "MujocoBackend", "urdf", "mujoco"),
+    ("analytic", ".analytic", "AnalyticBackend", "spec"),
+    ("analytic-dh", ".analytic", "AnalyticDHBackend", "spec"),
+    ("pinocchio-urdf", ".pinocchio_", "PinocchioBackend", "urdf"),
+    ("pinocchio-mjcf", ".pinocchio_", "PinocchioBackend", "mjcf"),
+    ("mujoco", ".mujoco_", "MujocoBackend", "mjcf"),
+    ("yourdfpy", ".yourdfpy_", "YourdfpyBackend", "urdf"),
+    ("mujoco-urdf", ".mujoco_", "MujocoBackend", "urdf"),
 )
+PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco"}  # the reference reader of each file in file mode
 
 
-@lru_cache(maxsize=1)
+@lru_cache(maxsize=None)
+def backend_info(name: str) -> BackendInfo:
+    """One registered backend, importing its library only (``available`` False where that fails)."""
+    entry = next((e for e in _ENTRIES if e[0] == name), None)
+    if entry is None:
+        raise UnknownNameError("backend", name, [e[0] for e in _ENTRIES])
+    name, module, cls, source = entry
+    try:
+        importlib.import_module(module, __name__)
+        return BackendInfo(name, module, cls, source, True)
+    except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
+        return BackendInfo(name, module, cls, source, False, f"cannot import: {err}")
+
+
 def available_backends() -> dict[str, BackendInfo]:
     """Every registered backend, with ``available`` False where its library fails to import."""
-    out = {}
-    for name, module, cls, source, library in _ENTRIES:
-        try:
-            importlib.import_module(module, __name__)
-            out[name] = BackendInfo(name, module, cls, source, library, True)
-        except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
-            out[name] = BackendInfo(name, module, cls, source, library, False, f"cannot import: {err}")
-    return out
+    return {e[0]: backend_info(e[0]) for e in _ENTRIES}
+
+
+def names_reading(source: str) -> tuple[str, ...]:
+    """Registered backends that read ``source`` ("spec", "urdf" or "mjcf"), the primary reader first."""
+    names = [name for name, _, _, src in _ENTRIES if src == source]
+    primary = PRIMARY.get(source)
+    return tuple(sorted(names, key=lambda n: n != primary))
+
+
+def libraries() -> tuple[str, ...]:
+    """The distributions behind the registered backends that import, in registry order."""
+    return tuple(dict.fromkeys(info.backend_class.library for info in available_backends().values() if info.available))
 
 
 def build_backend(name: str, sources: ModelSources) -> Backend:
-    registry = available_backends()
-    if name not in registry:
-        raise UnknownNameError("backend", name, list(registry))
-    return registry[name].build(sources)
+    """Build one backend (importing only its library)."""
+    return backend_info(name).build(sources)
 
 
 def default_backend_names(sources: ModelSources) -> list[str]:
@@ -81,7 +103,7 @@ def default_backend_names(sources: ModelSources) -> list[str]:
     for info in available_backends().values():
         if not info.available or getattr(sources, info.source) is None:
             continue
-        if info.name == "analytic-dh" and sources.spec.dh is None:
+        if info.name == "analytic-dh" and (sources.spec.dh is None or sources.spec.floating):
             continue
         names.append(info.name)
     return names

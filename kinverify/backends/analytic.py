@@ -15,22 +15,27 @@ from kinverify.backends.base import BackendBase, Evaluation
 
 
 class AnalyticBackend(BackendBase):
+    """FK and geometric Jacobians from the spec (:mod:`kinverify.model.kinematics`), already in
+    kinverify's convention."""
+
     name = "analytic"
+    library = "numpy"
 
     def __init__(self, spec: ArmSpec) -> None:
         self.spec = spec
-        self.joint_names = spec.joint_names
+        self.joint_names = spec.coordinate_names  # the base's six first when floating
         self.frames = spec.frame_names
 
     def poses(self, q: np.ndarray) -> np.ndarray:
         return frame_poses(self.spec, self._check(q))
 
     def jacobians(self, q: np.ndarray) -> np.ndarray:
-        return geometric_jacobians(self.spec, self.poses(q))
+        q = self._check(q)
+        return geometric_jacobians(self.spec, self.poses(q), q)
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         poses = self.poses(q)
-        return Evaluation(self.name, self.frames, poses, geometric_jacobians(self.spec, poses) if with_jacobians else None)
+        return Evaluation(self.name, self.frames, poses, geometric_jacobians(self.spec, poses, q) if with_jacobians else None)
 
 
 class AnalyticDHBackend(AnalyticBackend):

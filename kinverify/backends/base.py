@@ -29,6 +29,7 @@ class Backend(Protocol):
     frames: tuple[str, ...]
     has_rotation: bool
     jacobian_method: str | None  # "analytic", "finite-difference" or None
+    slow: bool  # costly per configuration: compared on a capped number of configurations
 
     def poses(self, q: np.ndarray) -> np.ndarray: ...
 
@@ -65,13 +66,18 @@ def finite_difference_jacobians(poses_fn, q: np.ndarray, step: float = FD_STEP) 
 
 
 class BackendBase:
-    """Shared behaviour; subclasses set the attributes and implement :meth:`poses`."""
+    """Shared behaviour; subclasses set the attributes and implement :meth:`poses`.
+
+    Capabilities are declared here, once per class: ``library`` (the distribution whose version
+    every report records), ``jacobian_method``, ``has_rotation`` and ``slow``."""
 
     name: str = "backend"
+    library: str = ""
     joint_names: tuple[str, ...] = ()
     frames: tuple[str, ...] = ()
     has_rotation: bool = True
     jacobian_method: str | None = "analytic"
+    slow: bool = False
 
     def poses(self, q: np.ndarray) -> np.ndarray:
         raise NotImplementedError

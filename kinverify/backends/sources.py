@@ -10,8 +10,11 @@ from kinverify.model.spec import ArmSpec
 
 @dataclass(frozen=True)
 class ModelSources:
-    """A model as the backends read it: optional spec, URDF text, MJCF text, the joints and frames
-    to compare (kinverify's joint order), and the joint limits [rad, m] samples are drawn in."""
+    """A model as the backends read it: optional spec, URDF text, MJCF text, the coordinates and
+    frames to compare (kinverify's order) and the ranges [rad, m] samples are drawn in.
+
+    ``joint_names`` are the configuration's coordinates: the joints, after the six base
+    coordinates of :mod:`kinverify.model.floating` (``base:x`` ...) when the base floats."""
 
     name: str
     joint_names: tuple[str, ...]
@@ -28,5 +31,6 @@ class ModelSources:
 
     @classmethod
     def from_spec(cls, spec: ArmSpec) -> "ModelSources":
-        return cls(spec.name, spec.joint_names, spec.frame_names, tuple(spec.lower), tuple(spec.upper),
-                   tuple(j.type == "revolute" for j in spec.joints), spec, generate_urdf(spec), generate_mjcf(spec))
+        lower, upper = spec.coordinate_limits
+        return cls(spec.name, spec.coordinate_names, spec.frame_names, tuple(lower), tuple(upper),
+                   spec.coordinate_revolute, spec, generate_urdf(spec), generate_mjcf(spec))

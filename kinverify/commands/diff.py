@@ -53,6 +53,8 @@ def run(args) -> int:
     console = Console() if sys.stdout.isatty() else Console(width=160)
     doc = diff_document(result, args.old, args.new)
     print_document(doc, console)
-    path = write_document(doc, args.report or f"reports/diff-{result.old_name}-{result.new_name}.html")
+    from kinverify.report.output import default_output
+
+    path = write_document(doc, args.report or default_output(f"diff-{result.old_name}-{result.new_name}", ".html"))
     console.print(f"report: {path}")
     return 0 if doc["passed"] else 1

@@ -20,9 +20,13 @@ def run(args) -> int:
     from kinverify.report.writer import write_atomic
     from kinverify.model.specfile import load_spec
 
+    from kinverify.report.output import claim_outputs
+
     spec = load_spec(args.model)
     out = Path(args.out)
-    for path, text in ((out / f"{spec.name}.urdf", generate_urdf(spec)), (out / f"{spec.name}.xml", generate_mjcf(spec))):
+    files = ((out / f"{spec.name}.urdf", generate_urdf(spec)), (out / f"{spec.name}.xml", generate_mjcf(spec)))
+    claim_outputs(*(("", path) for path, _ in files))  # both checked before either is written
+    for path, text in files:
         write_atomic(path, text)
         print(path)
     return 0

@@ -1,30 +1,64 @@
-"""``kinverify ik``: solve one IK target, print the solutions, residual and confirming backends.
+"""``kinverify ik``: solve IK for one target or a file of them, on a spec or on any URDF.
 
-Exit 0 when a solution is found and every other backend's FK confirms it, 1 when the target is
-not reached (unreachable: the closest approach is printed) or a backend disagrees, 2 bad input.
+- ``kinverify ik MODEL --target X Y Z [--rpy R P Y]``: the solutions, their residual and the
+  backends whose FK confirms them (exit 1 when the target is not reached or a backend disagrees).
+- ``kinverify ik --urdf FILE --base LINK --tip LINK --targets FILE.npy [--initial FILE.npy]
+  [--json OUT]`` (``--targets`` also works with a spec MODEL, ``--target`` with ``--urdf``): every
+  target solved (batched numpy by default, ``--per-target`` for Pinocchio one target at a time),
+  ``success_rate``, ``median_ms`` and ``p99_ms`` printed (solve time only) and written to the JSON
+  with per-target records; exit 0 when every target is solved, 1 when one is not.
+
+Bad input (files, shapes, non-finite values, unknown links) is exit 2 with one line.
 """
 
 from __future__ import annotations
 
 import math
 
-CONFIRM_TOL = 1e-6  # m and rad
-ALL_STARTS = 32  # random starts for --all-solutions
+from kinverify.commands.ik_single import ALL_STARTS
 
 
 def add_parser(sub):
-    p = sub.add_parser("ik", help="solve inverse kinematics for one target and cross-check it on every backend",
-                       description="Solve IK for MODEL's tool frame with the Levenberg-Marquardt solver on one backend, "
-                       "then put each solution through every other backend's FK. Position-only unless --rpy is given.")
-    p.add_argument("model", help="spec file (models/*.toml)")
-    p.add_argument("--target", nargs="+", required=True, metavar="X", help="target position X Y Z [m]")
-    p.add_argument("--rpy", nargs="+", metavar="R", help="target orientation roll pitch yaw [rad] (URDF fixed-axis XYZ)")
-    p.add_argument("--backend", help="solver backend (default pinocchio-urdf, else analytic)")
-    p.add_argument("--frame", help="frame to place (default: the last tool frame)")
+    p = sub.add_parser("ik", help="solve inverse kinematics for a target or a file of targets, on a spec or any URDF",
+                       description="Solve IK with kinverify's Levenberg-Marquardt solver. On a spec MODEL with --target: "
+                       "the solutions and every other backend's FK of them (position-only unless --rpy). With --urdf "
+                       "FILE --base LINK --tip LINK (or a MODEL) and --targets FILE.npy: every target, solved together, "
+                       "with success_rate, median_ms and p99_ms (solve time per target, start-up excluded). "
+                       "Exit 0 when solved (and confirmed), 1 when a target is not reached or a backend disagrees, "
+                       "2 on bad input.")
+    p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf")
+    p.add_argument("--urdf", metavar="FILE", help="an existing URDF; the chain from --base to --tip is solved")
+    p.add_argument("--base", metavar="LINK", help="with --urdf: the chain's base link (default: the URDF's root link)")
+    p.add_argument("--tip", metavar="LINK", help="with --urdf: the chain's tip link")
+    p.add_argument("--target", nargs="+", metavar="X", help="one target position X Y Z [m]")
+    p.add_argument("--rpy", nargs="+", metavar="R", help="its orientation roll pitch yaw [rad] (URDF fixed-axis XYZ)")
+    p.add_argument("--targets", metavar="FILE.npy", help="N×4×4 poses of the tip in the base frame [m], solved together")
+    p.add_argument("--initial", metavar="FILE.npy", help="with --targets: N×n initial guesses in chain joint order, where "
+                   "each first attempt starts (default: the stored configuration whose tip pose is nearest the target)")
+    p.add_argument("--position-only", action="store_true", help="with --targets: reach the positions only")
+    p.add_argument("--tol-pos", default="1e-6", metavar="M", help="solved (and confirmed) within this position error (default 1e-6 m)")
+    p.add_argument("--tol-rot", default="1e-6", metavar="RAD", help="and this rotation error (default 1e-6 rad)")
+    p.add_argument("--per-target", action="store_true", help="with --targets: solve one target at a time on Pinocchio, each "
+                   "timed alone (default: all at once in numpy, time = batch time / N)")
+    p.add_argument("--json", metavar="OUT", help="with --targets (or --urdf): write per-target results and the summary")
+    p.add_argument("--backend", help="spec mode: solver backend (default pinocchio-urdf for --target, analytic for --targets)")
+    p.add_argument("--frame", help="spec mode: frame to place (default: the last tool frame)")
     p.add_argument("--all-solutions", action="store_true",
-                   help=f"every distinct solution found from {ALL_STARTS} random starts (every closed-form branch for arm3)")
-    p.add_argument("--seed", type=int, default=0, help="random seed for the starts (default 0)")
+                   help=f"--target on a spec: every distinct solution from {ALL_STARTS} random starts (every closed-form branch for arm3)")
+    p.add_argument("--seed", type=int, default=0, help="random seed for starts and restarts (default 0)")
     return p
+
+
+def _tolerance(flag: str, text: str) -> float:
+    from kinverify.errors import InputError
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"{flag}: expected a number, got {text!r}") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise InputError(f"{flag}: must be a positive finite number, got {text!r}")
+    return value
 
 
 def _values(name: str, values, count: int) -> list[float]:
@@ -47,90 +81,105 @@ def _values(name: str, values, count: int) -> list[float]:
 
 
 def run(args) -> int:
+    from kinverify.errors import InputError
+
+    if bool(args.model) == bool(args.urdf):
+        raise InputError("give a spec MODEL or --urdf FILE (with --base and --tip), not both" if args.model
+                         else "give a spec MODEL (models/*.toml) or --urdf FILE --base LINK --tip LINK")
+    if bool(args.target) == bool(args.targets):
+        raise InputError("give --target X Y Z or --targets FILE.npy" if not args.target else "give --target or --targets, not both")
+    if args.urdf and not args.tip:
+        raise InputError("--urdf needs --tip LINK (and --base LINK, default the root link)")
+    if not args.urdf and (args.base or args.tip):
+        raise InputError("--base and --tip go with --urdf")
+    for flag, value in (("--initial", args.initial), ("--position-only", args.position_only), ("--per-target", args.per_target)):
+        if value and not args.targets:
+            raise InputError(f"{flag} goes with --targets")
+    args.tol_pos, args.tol_rot = _tolerance("--tol-pos", args.tol_pos), _tolerance("--tol-rot", args.tol_rot)
+    if args.urdf or args.targets:
+        return _batch(args)
+    if args.json:
+        raise InputError("--json goes with --targets or --urdf")
+    from kinverify.commands.ik_single import solve_one
+
+    return solve_one(args, _values("--target", args.target, 3), _values("--rpy", args.rpy, 3))
+
+
+def _batch(args) -> int:
+    import json
+    import os
+
     import numpy as np
 
-    from kinverify.backends import ModelSources, available_backends, build_backend, build_backends
-    from kinverify.errors import InputError, UnknownNameError
-    from kinverify.ik import Arm3ClosedForm, FrameModel, IKOptions, residuals, solve_lm
-    from kinverify.model.specfile import load_spec
-    from kinverify.model.transforms import make_transform, rpy_to_matrix
+    from kinverify import __version__
+    from kinverify.errors import InputError
+    from kinverify.ik import IKOptions, solve_lm
+    from kinverify.ik.files import load_initial, load_targets, results_json
 
-    xyz = _values("--target", args.target, 3)
-    rpy = _values("--rpy", args.rpy, 3)
-    spec = load_spec(args.model)
-    sources = ModelSources.from_spec(spec)
-    frame = args.frame or sources.frames[-1]
-    if frame not in sources.frames:
-        raise UnknownNameError("frame", frame, sources.frames)
-    registry = available_backends()
-    name = args.backend or ("pinocchio-urdf" if registry["pinocchio-urdf"].available else "analytic")
-    if name not in registry:
-        raise UnknownNameError("backend", name, list(registry))
-    solver = build_backend(name, sources)
-    if not solver.jacobian_method:
-        raise InputError(f"backend {name!r} has no Jacobian; choose one of: analytic, pinocchio-urdf, pinocchio-mjcf, mujoco")
-    position_only = not rpy
-    target = make_transform(rpy_to_matrix(rpy) if rpy else np.eye(3), xyz)
-    model = FrameModel(solver, frame, sources.revolute)
-    lower, upper = np.asarray(sources.lower), np.asarray(sources.upper)
-    starts = ALL_STARTS if args.all_solutions else 1
-    sol = solve_lm(model, np.repeat(target[None], starts, axis=0), lower, upper, position_only, IKOptions(seed=args.seed))
-    kind = "position" if position_only else "pose"
-    print(f"{spec.name}: {kind} target for {frame}: xyz = {_fmt(xyz)} m" + (f", rpy = {_fmt(rpy)} rad" if rpy else "")
-          + f"; solver lm on {name}")
-    closed = None
-    if position_only:
-        try:
-            closed = Arm3ClosedForm.from_spec(spec, frame if frame in spec.tool_names else None)
-        except InputError:
-            closed = None
-    ok = sol.success
-    if not ok.any():
-        k = int(np.argmin(sol.pos_error + sol.rot_error))
-        print(f"unreachable: not solved within the budget ({int(sol.restarts[k]) + 1} starts); closest approach "
-              f"{sol.pos_error[k]:.3e} m" + ("" if position_only else f", {sol.rot_error[k]:.3e} rad")
-              + f" at q = {_fmt(sol.q[k])}")
-        if closed is not None:
-            res = closed.solve(xyz)
-            print(f"closed form: {'reachable' if res.reachable else 'unreachable'}, closest approach {res.closest_distance:.3e} m")
-        return 1
-    solutions = _distinct(sol.q[ok], sources.revolute)
-    others = [b for b in build_backends(sources) if b.name != name and frame in b.frames]
-    all_confirmed = True
-    for i, q in enumerate(solutions):
-        pos, rot = residuals(model.poses(q[None]), target[None], position_only)
-        print(f"solution {i + 1}: q = {_fmt(q)} rad  residual {pos[0]:.2e} m" + ("" if position_only else f", {rot[0]:.2e} rad"))
-        confirmed, disagree = [], []
-        for other in others:
-            p = other.evaluate(q[None], with_jacobians=False).poses[:, other.frames.index(frame)]
-            e_pos, e_rot = residuals(p, target[None], position_only or not other.has_rotation)
-            (confirmed if max(e_pos[0], e_rot[0]) <= CONFIRM_TOL else disagree).append(f"{other.name} ({max(e_pos[0], e_rot[0]):.1e})")
-        print(f"  confirmed by: {', '.join(confirmed) or 'none'}" + (f"; DISAGREE: {', '.join(disagree)}" if disagree else ""))
-        all_confirmed &= not disagree
-    if closed is not None and args.all_solutions:
-        res = closed.solve(xyz)
-        print(f"closed form: {len(res.solutions)} branch(es) inside the limits")
-        for q in res.solutions:
-            print(f"  q = {_fmt(q)} rad")
-    print(f"{len(solutions)} solution(s); median {np.median(sol.time_s) * 1e3:.2f} ms, {int(sol.iterations.sum())} iterations")
-    return 0 if all_confirmed else 1
+    model, lower, upper, joints, where = _batch_model(args)
+    if args.targets:
+        targets = load_targets(args.targets)
+    else:
+        from kinverify.model.transforms import make_transform, rpy_to_matrix
+
+        xyz, rpy = _values("--target", args.target, 3), _values("--rpy", args.rpy, 3)
+        targets = make_transform(rpy_to_matrix(rpy) if rpy else np.eye(3), xyz)[None]
+    position_only = args.position_only or (bool(args.target) and not args.rpy)
+    n = len(joints)
+    q0 = load_initial(args.initial, len(targets), n) if args.initial else None
+    outside = 0 if q0 is None else int(np.any((q0 < lower) | (q0 > upper), axis=1).sum())
+    # without initial guesses the first attempt starts from the best stored configuration (nearer than a random one)
+    opts = IKOptions(tol_pos=args.tol_pos, tol_rot=args.tol_rot, seed=args.seed, start="given" if args.initial else "seeded")
+    sol = solve_lm(model, targets, lower, upper, position_only, opts, q0=q0, batch=not args.per_target)
+    data = results_json(sol, joints, lower, upper, args.tol_pos, args.tol_rot, kinverify=__version__,
+                        command="kinverify " + " ".join(getattr(args, "argv", [])), model=where,
+                        solver=f"lm on {sol.backend}" + (" (batched)" if sol.batched else " (per target)"),
+                        initial_outside_limits=outside)
+    kind = "position" if position_only else "full-pose"
+    how = "batched: batch time / N" if sol.batched else "per target"
+    print(f"{where}: {len(targets)} {kind} target(s), {n} joints; {data['solver']}"
+          + (f"; {outside} initial guess(es) outside the limits were moved onto them" if outside else ""))
+    print(f"success_rate {100 * data['success_rate']:.2f} % ({data['solved']}/{data['targets']} within {args.tol_pos:g} m"
+          + ("" if position_only else f" / {args.tol_rot:g} rad") + f")  median_ms {data['median_ms']:.4g}  "
+          f"p99_ms {data['p99_ms']:.4g}  (solve time per target, {how})")
+    if len(targets) == 1 and sol.solved(args.tol_pos, args.tol_rot)[0]:
+        print(f"q = [{', '.join(f'{x:.9g}' for x in sol.q[0])}]")
+    if args.json:
+        from kinverify.report.writer import write_atomic
+
+        path = write_atomic(args.json, json.dumps(data, indent=1) + "\n")
+        print(f"json: {os.fspath(path)}")
+    return 0 if data["solved"] == data["targets"] else 1
 
 
-def _distinct(qs, revolute, tol: float = 1e-6):
-    out = []
-    for q in qs:
-        if not any(_joint_distance(q, p, revolute) <= tol for p in out):
-            out.append(q)
-    return out
-
-
-def _joint_distance(a, b, revolute) -> float:
+def _batch_model(args):
+    """``(FrameModel, lower, upper, joint names, label)`` of the URDF chain or the spec's frame."""
     import numpy as np
 
-    d = a - b
-    d = np.where(revolute, np.angle(np.exp(1j * d)), d)
-    return float(np.abs(d).max())
+    from kinverify.errors import InputError
+    from kinverify.ik import FrameModel, SerialChain
 
+    if args.urdf:
+        from kinverify.ik.files import read_text
 
-def _fmt(v) -> str:
-    return "[" + ", ".join(f"{float(x):.9g}" for x in v) + "]"
+        text = read_text(args.urdf, "--urdf")
+        chain = SerialChain.from_urdf(text, args.base, args.tip, args.urdf)
+        where = f"{args.urdf}: {args.base or 'root'} -> {args.tip}"
+        if args.per_target:
+            from kinverify.backends.pinocchio_ import PinocchioBackend
+            from kinverify.ik.chain import root_link
+            import defusedxml.ElementTree as DET
+
+            if args.base and args.base != root_link(DET.fromstring(text.encode()), args.urdf):
+                raise InputError(f"--per-target solves on Pinocchio, which places frames in the root link; --base {args.base} "
+                                 "is not the root (drop --per-target to solve the chain in numpy)")
+            batched = FrameModel.from_chain(chain, "urdf", args.tip)
+            model = FrameModel(PinocchioBackend.from_urdf(text, chain.names, [args.tip]), args.tip, batched.revolute)
+            model.seed_model = batched
+        else:
+            model = FrameModel.from_chain(chain, "numpy chain", args.tip)
+        return model, chain.lower, chain.upper, chain.names, where
+    from kinverify.commands.ik_single import spec_model
+
+    spec, sources, frame, _, model = spec_model(args, "pinocchio-urdf" if args.per_target else "analytic")
+    return model, np.asarray(sources.lower), np.asarray(sources.upper), list(sources.joint_names), f"{spec.name}: {frame}"

@@ -98,24 +98,13 @@ def _report(args, spec, result, started, t0, cartesian=None) -> int:
     import time
 
     from rich.console import Console
-    from rich.table import Table
 
+    from kinverify.report.terminal import track_table as metrics_table
     from kinverify.results import VerifyResult
     from kinverify.versions import library_versions
 
-    trajectory = result.trajectory
-    duration = trajectory.duration
-    console = Console(width=140)
-    table = Table(title=f"kinverify track: {spec.name}, {duration:g} s motion + {trajectory.hold:g} s hold")
-    for col in ("controller", "RMS error", "max error", "final error", "ee path dev.", "overshoot", "settling",
-                "residual speed", "speed at end", ""):
-        table.add_column(col)
-    for m in result.metrics:
-        settle = "-" if m.settling_time is None else f"{m.settling_time:.3f} s"
-        table.add_row(m.controller, f"{m.rms_error:.3e} rad", f"{m.max_error:.3e} rad", f"{m.final_error:.3e} rad",
-                      f"{m.ee_path_deviation:.3e} m", f"{m.overshoot:.3e} rad", settle, f"{m.residual_speed:.3e} rad/s",
-                      f"{m.final_speed:.3e} rad/s", "[green]ok[/]" if m.passed else "[bold red]FAIL[/]")
-    console.print(table)
+    console = Console()  # the terminal's width: the table fits it
+    console.print(metrics_table(spec, result, console))
     for m in result.metrics:
         if not m.passed:
             console.print(f"[red]{m.controller} fails:[/] {m.reason}")

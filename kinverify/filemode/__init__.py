@@ -16,7 +16,7 @@ import time
 
 __all__ = ["verify_files", "diagnose_files", "FILE_SUITES"]
 
-FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics")
+FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics", "pictures")  # pictures: both files drawn, aligned
 ALIGN_SAMPLES = 24  # configurations (besides q = 0) the alignment fits over
 
 
@@ -63,6 +63,9 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     findings += units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol)
                                   + convention_findings(al, kinds, tol), [])
     findings += twins
+    from kinverify.filemode.validate import validate_inertials
+
+    findings += _guarded(internal, "inertial validation", lambda: validate_inertials(U, M), [])
     backends = build.build_backends(info, urdf_text, mjcf_text, wanted, tol, findings)
     worst = max([tol(f) for f in compared] or [(1e-9, 1e-9)])
     backends, parser, parser_rows = _guarded(

@@ -144,7 +144,8 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
             if isinstance(err, KeyboardInterrupt):
                 raise
             side = "URDF" if name in URDF_SIDE else "MJCF"
-            findings.append(finding("parser_refused", f"{name} refuses the {side}: {_last_line(err)}",
+            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {_last_line(err)}"
+            findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}",
                                     {"file": side, "backend": name}))
     return out
 

@@ -13,11 +13,12 @@ import math
 
 import numpy as np
 
+from kinverify.backends import names_reading
 from kinverify.filemode.diagnose import finding
 from kinverify.model.transforms import geodesic_distance, invert_transform
 
-URDF_SIDE = ("pinocchio-urdf", "yourdfpy", "mujoco-urdf")
-MJCF_SIDE = ("mujoco", "pinocchio-mjcf")
+URDF_SIDE = names_reading("urdf")  # every library that reads each file, the primary reader first
+MJCF_SIDE = names_reading("mjcf")
 QUIRK_ISSUE = "https://github.com/stack-of-tasks/pinocchio/issues/2782"
 
 

@@ -92,7 +92,11 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
     t = al.T
     dist, ang = float(np.linalg.norm(t[:3, 3])), _angle(t)
     if dist > 1e-9 * max(1.0, dist) or ang > 1e-9:
-        xyz, rpy = t[:3, 3].tolist(), matrix_to_rpy(t[:3, :3]).tolist()
+        noise = max(1e-12, 10 * max(al.residual))  # below the fit's residual a value is zero
+        t = np.where(np.abs(t) < noise, 0.0, t)
+        xyz = np.where(np.abs(t[:3, 3]) < noise, 0.0, t[:3, 3]).tolist()
+        rpy = np.where(np.abs(r := matrix_to_rpy(t[:3, :3])) < noise, 0.0, r).tolist()
+        dist = dist if dist >= noise else 0.0
         out.append(finding("base_transform", f"the MJCF's world is the URDF's moved by xyz = {fmt(xyz)} m, rpy = {fmt(rpy)} rad "
                            f"({math.degrees(ang):.4g}° turn): the same joint values put the robot elsewhere in the world; "
                            f"fitted over {len(al.frames)} frames and {len(al.joints)} axes, residual {al.residual[0]:.2g} m, "

@@ -11,6 +11,7 @@ always dropped (they are visual only).
 
 from __future__ import annotations
 
+import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,6 +20,8 @@ import defusedxml
 import defusedxml.ElementTree as DET
 
 from kinverify.errors import InputError
+from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
+from kinverify.report.output import note_input
 
 
 @dataclass(frozen=True)
@@ -39,6 +42,10 @@ def read_xml(path: str, kind: str) -> tuple[str, ET.Element]:
     if not p.is_file():
         raise InputError(f"--{kind}: {path} is not a file")
     try:
+        size = p.stat().st_size
+        if size > MAX_MODEL_BYTES:
+            raise InputError(f"--{kind}: {path} is {size / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB kinverify "
+                             "reads (see docs/robustness.md)")
         text = p.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:
         raise InputError(f"--{kind}: cannot read {path}: {err}") from None
@@ -56,7 +63,54 @@ def read_xml(path: str, kind: str) -> tuple[str, ET.Element]:
         hint = {"robot": "a URDF", "mujoco": "an MJCF"}.get(root.tag, f"a <{root.tag}> document")
         raise InputError(f"--{kind}: {path} is {hint}, not {'a URDF' if kind == 'urdf' else 'an MJCF'} "
                          f"(root element <{root.tag}>, expected <{expected}>)")
+    check_supported(root, kind, path)
     return text, root
+
+
+MOVABLE = {"urdf": ("revolute", "continuous", "prismatic"), "mjcf": ("hinge", "slide")}
+FLOATING_URDF = ("floating", "planar")
+
+
+def check_supported(root: ET.Element, kind: str, path) -> None:
+    """What kinverify cannot compare yet, refused in one place with one line: a URDF whose root
+    joint is floating or planar (a floating base), and models above the documented size
+    (:mod:`kinverify.pipeline.limits`)."""
+    if kind == "urdf":
+        links = root.findall("link")
+        joints = root.findall("joint")
+        children = {c.get("link") for j in joints for c in j.findall("child")}
+        roots = {l.get("name") for l in links} - children
+        for joint in joints:
+            parent = joint.find("parent")
+            if joint.get("type") in FLOATING_URDF and parent is not None and parent.get("link") in roots:
+                raise InputError(f"--urdf: {path}: joint {joint.get('name')!r} is {joint.get('type')}: unsupported: floating base "
+                                 f"(kinverify compares fixed-base models; make the root joint fixed to compare the rest)")
+        bodies, movable = len(links), sum(j.get("type") in MOVABLE["urdf"] for j in joints)
+    else:
+        # bodies MuJoCo will make: <body> elements, plus those <composite>/<flexcomp> generate
+        # (count "nx ny nz"), all times each <replicate> count (an upper bound)
+        bodies = sum(1 for _ in root.iter("body"))
+        bodies += sum(_product(el.get("count")) for tag in ("composite", "flexcomp") for el in root.iter(tag))
+        movable = sum(1 for j in root.iter("joint") if j.get("type", "hinge") in MOVABLE["mjcf"])
+        for rep in root.iter("replicate"):
+            bodies *= _product(rep.get("count"))
+    what = "links" if kind == "urdf" else "bodies"
+    if bodies > MAX_LINKS or movable > MAX_JOINTS:
+        count, limit, noun = (bodies, MAX_LINKS, what) if bodies > MAX_LINKS else (movable, MAX_JOINTS, "movable joints")
+        raise InputError(f"--{kind}: {path} has {count} {noun}, above the {limit} kinverify compares "
+                         "(see docs/robustness.md)")
+
+
+def _product(counts: str | None) -> int:
+    """Product of the whole numbers in a ``count`` attribute (1 when absent or unreadable: MuJoCo
+    reports a bad count itself)."""
+    out = 1
+    for word in (counts or "").split():
+        try:
+            out *= max(1, int(word))
+        except ValueError:
+            return 1
+    return out
 
 
 def resolve_asset(filename: str, base: Path) -> Path | None:
@@ -68,11 +122,18 @@ def resolve_asset(filename: str, base: Path) -> Path | None:
         for folder in (base, *base.parents):
             for candidate in (folder / package / rel, folder / rel if folder.name == package else None):
                 if candidate is not None and candidate.is_file():
-                    return candidate.resolve()
+                    return _read_asset(candidate)
         return None
     filename = filename[len("file://"):] if filename.startswith("file://") else filename
     candidate = Path(filename) if Path(filename).is_absolute() else base / filename
-    return candidate.resolve() if candidate.is_file() else None
+    return _read_asset(candidate) if candidate.is_file() else None
+
+
+def _read_asset(path: Path) -> Path:
+    """An asset the model references is an input of the run: no output may replace it."""
+    path = path.resolve()
+    note_input(path, "a mesh the model references:")
+    return path
 
 
 def load_urdf(path: str, keep_meshes: bool = True) -> LoadedFile:
@@ -111,6 +172,7 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     returned, with a warning, so the refusal is reported as a finding."""
     import mujoco
 
+    _route_mujoco_warnings(mujoco)
     text, root = read_xml(path, "mjcf")
     name = root.get("model") or Path(path).stem
     kept = _resolve_mesh_assets(root, Path(path).resolve().parent) if keep_meshes else set()
@@ -127,6 +189,18 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     except ValueError as err:
         warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {_first_line(err)}")
     return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
+
+
+def _route_mujoco_warnings(mujoco) -> None:
+    """MuJoCo's default warning handler prints to stdout and appends to ``MUJOCO_LOG.TXT`` in the
+    current folder (e.g. "XML contains a 'NaN'"): a user's folder is not MuJoCo's log. Its
+    warnings become Python warnings instead (once per process, unless a handler is set)."""
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(_mujoco_warning)
+
+
+def _mujoco_warning(message: str) -> None:
+    warnings.warn(f"MuJoCo: {message}", UserWarning, stacklevel=2)
 
 
 def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:

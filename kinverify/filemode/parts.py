@@ -80,8 +80,10 @@ def _moved_by(desc, unmatched) -> dict[str, str]:
 def _lumped(results) -> list:
     out = []
     for side in ("URDF", "MJCF"):
+        other_side = "MJCF" if side == "URDF" else "URDF"
         found = [(p, r) for r in results if r.status in ("agree", "rounding") and not r.group.fixed_base_root
-                 for p in _side(r, side) if p.twin is None and p.mass > 0]
+                 for p in _side(r, side) if p.twin is None and p.mass > 0
+                 and p.name not in {o.name for o in _side(r, other_side)}]  # a same-named body in the same rigid body is its twin
         if found:
             other = "MJCF" if side == "URDF" else "URDF"
             out.append(finding("lumped_links", f"the {side} keeps as separate fixed links what the {other} merges into one body "

@@ -13,6 +13,7 @@ marker, sensors, actuators), with the seed's defects fixed:
 
 from __future__ import annotations
 
+from kinverify.model.floating import FLOATING_JOINT
 from kinverify.model.kinematics import home_tool_position
 from kinverify.model.spec import ArmSpec, Geometry, Link
 from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
@@ -65,6 +66,25 @@ def _actuator(joint, kind: str, gains: dict | None) -> str:
             f'ctrlrange="{nums([lim.lower, lim.upper])}" forcerange="{nums([-lim.effort, lim.effort])}"/>')
 
 
+def _child_bodies(spec: ArmSpec, link: int, indent: str) -> list[str]:
+    """The bodies of the joints hanging from link ``link`` (0 = base), nested as the tree is."""
+    out = []
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+        if parent != link:
+            continue
+        kind = "hinge" if joint.type == "revolute" else "slide"
+        lim = joint.limits
+        out += [
+            f"{indent}<body name={attr(joint.link.name)} {_placement(joint.origin.xyz, joint.origin.rpy)}>",
+            f'{indent}  <joint name={attr(joint.name)} type="{kind}" axis="{nums(joint.axis)}" range="{nums([lim.lower, lim.upper])}" '
+            f'damping="{nums([joint.damping])}" frictionloss="{nums([joint.friction])}" armature="{nums([joint.armature])}"/>',
+        ]
+        out += _body_contents(spec, joint.link, i + 1, indent + "  ")
+        out += _child_bodies(spec, i + 1, indent + "  ")
+        out.append(f"{indent}</body>")
+    return out
+
+
 def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict | None = None,
                   target=None) -> str:
     """The MJCF of ``spec`` as text; the same arguments always give the same bytes.
@@ -96,28 +116,24 @@ def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict 
         out.append(f'    <geom name="tabletop" type="box" pos="{nums([x, y, base_z - 0.02])}" size="0.6 0.4 0.02" rgba="0.6 0.4 0.2 1"/>')
     out += [
         f'    <site name="target" pos="{nums(target)}" size="0.03" rgba="0 1 0 0.5"/>',
-        "    <!-- Pinocchio's MJCF parser ignores the pose of a top-level body: the arm hangs from a",
-        "         zero-pose mount body so that the base pose is read by every parser. -->",
-        '    <body name="world_mount">',
-        '      <inertial pos="0 0 0" mass="1" diaginertia="0.001 0.001 0.001"/>',
-        f"      <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
     ]
-    indent = " " * 8
-    out += _body_contents(spec, spec.base_link, 0, indent)
-    for i, joint in enumerate(spec.joints):
-        kind = "hinge" if joint.type == "revolute" else "slide"
-        lim = joint.limits
+    if spec.floating:  # a free joint belongs to a top-level body; its pose there is only qpos0
+        out += [f"    <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
+                f'      <freejoint name="{FLOATING_JOINT}"/>']
+        out += _body_contents(spec, spec.base_link, 0, " " * 6)
+        out += _child_bodies(spec, 0, " " * 6)
+        out += ["    </body>", "  </worldbody>", "  <actuator>"]
+    else:
         out += [
-            f"{indent}<body name={attr(joint.link.name)} {_placement(joint.origin.xyz, joint.origin.rpy)}>",
-            f'{indent}  <joint name={attr(joint.name)} type="{kind}" axis="{nums(joint.axis)}" range="{nums([lim.lower, lim.upper])}" '
-            f'damping="{nums([joint.damping])}" frictionloss="{nums([joint.friction])}" armature="{nums([joint.armature])}"/>',
+            "    <!-- Pinocchio's MJCF parser ignores the pose of a top-level body: the arm hangs from a",
+            "         zero-pose mount body so that the base pose is read by every parser. -->",
+            '    <body name="world_mount">',
+            '      <inertial pos="0 0 0" mass="1" diaginertia="0.001 0.001 0.001"/>',
+            f"      <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
         ]
-        indent += "  "
-        out += _body_contents(spec, joint.link, i + 1, indent)
-    for _ in spec.joints:
-        indent = indent[:-2]
-        out.append(f"{indent}</body>")
-    out += ["      </body>", "    </body>", "  </worldbody>", "  <actuator>"]
+        out += _body_contents(spec, spec.base_link, 0, " " * 8)
+        out += _child_bodies(spec, 0, " " * 8)
+        out += ["      </body>", "    </body>", "  </worldbody>", "  <actuator>"]
     out += [f"    {_actuator(j, actuators, position_gains)}" for j in spec.joints]
     out += ["  </actuator>", "  <sensor>"]
     out += [f'    <jointpos name={attr(j.name + "_pos")} joint={attr(j.name)}/>' for j in spec.joints]

@@ -7,6 +7,7 @@ URDF cannot carry joint armature: it is left out here and reported by the dynami
 
 from __future__ import annotations
 
+from kinverify.model.floating import FLOATING_JOINT
 from kinverify.model.spec import ArmSpec, Geometry, Link, Origin
 from kinverify.generate._fmt import attr, colour, nums, segment_placement
 
@@ -49,12 +50,16 @@ def _link(link: Link, index: int) -> list[str]:
 
 def generate_urdf(spec: ArmSpec) -> str:
     """The URDF of ``spec`` as text; the same spec always gives the same bytes."""
-    out = ['<?xml version="1.0"?>', f"<robot name={attr(spec.name)}>", '  <link name="world"/>',
-           '  <joint name="world_to_base" type="fixed">', '    <parent link="world"/>',
-           f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(spec.base_origin)}", "  </joint>"]
+    out = ['<?xml version="1.0"?>', f"<robot name={attr(spec.name)}>", '  <link name="world"/>']
+    if spec.floating:  # the base's pose is the configuration's first six coordinates: origin at identity
+        out += [f'  <joint name="{FLOATING_JOINT}" type="floating">', '    <parent link="world"/>',
+                f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(Origin())}", "  </joint>"]
+    else:
+        out += ['  <joint name="world_to_base" type="fixed">', '    <parent link="world"/>',
+                f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(spec.base_origin)}", "  </joint>"]
     out += _link(spec.base_link, 0)
-    parent = spec.base_link.name
-    for i, joint in enumerate(spec.joints):
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+        parent = spec.link_names[parent]
         lim = joint.limits
         out += [
             f"  <joint name={attr(joint.name)} type={attr(joint.type)}>",
@@ -67,7 +72,6 @@ def generate_urdf(spec: ArmSpec) -> str:
             "  </joint>",
         ]
         out += _link(joint.link, i + 1)
-        parent = joint.link.name
     for tool in spec.tools:
         out += [
             f'  <joint name={attr(tool.name + "_mount")} type="fixed">',

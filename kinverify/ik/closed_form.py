@@ -36,7 +36,7 @@ class Arm3ClosedForm:
     @classmethod
     def from_spec(cls, spec, tool: str | None = None) -> "Arm3ClosedForm":
         """Check the spec has the arm3 shape (identity rotations, offsets along z) and read its lengths."""
-        if spec.dof != 3 or any(j.type != "revolute" for j in spec.joints):
+        if spec.dof != 3 or any(j.type != "revolute" for j in spec.joints) or not spec.is_serial:
             raise InputError(f"{spec.name}: closed-form IK needs 3 revolute joints (arm3 shape)")
         axes = [tuple(np.round(j.axis, 12)) for j in spec.joints]
         tool = spec.tools[-1] if tool is None else next(t for t in spec.tools if t.name == tool)

@@ -1,5 +1,5 @@
-"""Figures of the ``ik`` report section: success rate per solver and backend, and the
-distribution of solve times per solver.
+"""Figures of the ``ik`` report section: success rate per solver and backend, and every target's
+solve time per solver (one axes each: a panel per solver cost seconds to draw).
 
 Both are drawn only from :func:`solver_data` records, which the suite keeps in its section
 (``section["solvers"]``), so a saved JSON holds the numbers behind every bar and bin and
@@ -8,14 +8,11 @@ Both are drawn only from :func:`solver_data` records, which the suite keeps in i
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from kinverify.report.plots import RC, figure_entry, new_figure
 
 MIN_MS = 1e-6  # a solve time of 0 (timer resolution) is drawn at this value on the log axis
-BINS = 30
 
 
 def solver_data(sol, ok, own_ok) -> dict:
@@ -60,43 +57,42 @@ def success_figure(solvers: list[dict], tol_pos: float, tol_rot: float) -> dict:
 
 
 def time_figure(solvers: list[dict]) -> dict:
-    """Small multiples, one per solver/backend, sharing a log time axis: histogram of per-target
-    solve times with the median (solid) and 95th percentile (dashed) marked."""
+    """One axes, one row per solver/backend, sharing a log time axis: every target's solve time
+    (dots), the median (long red bar, its value at the right) and the 95th percentile (short bar)."""
     import matplotlib
+    import matplotlib.ticker
 
-    times = [np.maximum(np.asarray(d["time_ms"], dtype=float), MIN_MS) for d in solvers]
-    finite = np.concatenate([t[np.isfinite(t)] for t in times]) if times else np.array([])
-    lo, hi = (float(finite.min()), float(finite.max())) if len(finite) else (1e-3, 1.0)
-    lo, hi = lo / 1.5, max(hi * 1.5, lo * 10)
-    edges = np.geomspace(lo, hi, BINS + 1)
-    cols = 2 if len(solvers) > 1 else 1
-    rows = math.ceil(len(solvers) / cols)
+    n = len(solvers)
+    y = np.arange(n)[::-1]
     with matplotlib.rc_context(RC):
-        fig = new_figure(figsize=(4.2 * cols, 1.55 * rows + 0.6))
-        axes = fig.subplots(rows, cols, sharex=True, squeeze=False).ravel()
-        for ax, d, t in zip(axes, solvers, times):
+        fig = new_figure(figsize=(7.0, 0.42 * n + 1.0))
+        ax = fig.add_subplot(1, 1, 1)
+        for yy, d in zip(y, solvers):
+            t = np.maximum(np.asarray(d["time_ms"], dtype=float), MIN_MS)
             t = t[np.isfinite(t)]
-            ax.hist(t, bins=edges, color="#1565c0" if d["solver"] == "lm" else "#90a4ae")
-            if len(t):
-                med, p95 = float(np.median(t)), float(np.percentile(t, 95))
-                ax.axvline(med, color="#c62828", lw=1.2, label=f"median {med:.3g} ms")
-                ax.axvline(p95, color="#c62828", lw=1.2, ls="--", label=f"p95 {p95:.3g} ms")
-                ax.legend(fontsize=6, loc="upper right")
-            ax.set_xscale("log")
-            ax.set_title(_label(d) + (" (batched: batch time / targets)" if d["batched"] else ""), fontsize=8)
-            ax.set_ylabel("targets")
-            ax.grid(True, which="major", alpha=0.3)
-            ax.minorticks_off()
-        for ax in axes[len(solvers):]:
-            ax.set_visible(False)
-        for ax in axes[-cols:]:
-            ax.set_xlabel("solve time per target [ms]")
-            ax.xaxis.set_tick_params(labelbottom=True)
+            if not len(t):
+                continue
+            jitter = np.linspace(-0.25, 0.25, len(t)) if len(t) > 1 else np.zeros(1)
+            ax.scatter(t, yy + jitter, s=4, color="#1565c0" if d["solver"] == "lm" else "#90a4ae", linewidths=0)
+            med, p95 = float(np.median(t)), float(np.percentile(t, 95))
+            ax.plot([med, med], [yy - 0.35, yy + 0.35], color="#c62828", lw=1.5)
+            ax.plot([p95, p95], [yy - 0.2, yy + 0.2], color="#c62828", lw=0.8)
+            ax.text(1.01, yy, f"median {med:.3g} ms" + (" (batch / N)" if d["batched"] else ""),
+                    transform=ax.get_yaxis_transform(), va="center", fontsize=6.5)
+        ax.set_yticks(y, [_label(d) for d in solvers])
+        ax.set_ylim(-0.6, n - 0.4)
+        ax.set_xscale("log")
+        # plain decimal tick labels: the default 10^k ones go through mathtext, the slowest part of drawing
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.minorticks_off()
+        ax.set_xlabel("solve time per target [ms]")
+        ax.grid(True, axis="x", alpha=0.3)
         fig.tight_layout()
         return figure_entry(fig, "IK solve time per target",
-                            "histogram per solver and backend on a log time axis; solid line: median, dashed: 95th "
-                            "percentile. Batched solvers solve all targets in one call and report the batch time divided "
-                            "by the number of targets, so all their solves share one value. Timings are not asserted.")
+                            "each target's solve time (dots) per solver and backend on a log axis; long red bar: median "
+                            "(value at the right), short red bar: 95th percentile. Batched solvers solve all targets in one "
+                            "call and report the batch time divided by the number of targets, so all their solves share one "
+                            "value. Timings are not asserted.")
 
 
 def ik_figures(solvers: list[dict], tol_pos: float, tol_rot: float) -> list[dict]:

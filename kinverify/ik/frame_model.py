@@ -1,14 +1,13 @@
 """One frame of one backend as IK sees it: batched ``q (B, n) -> (T (B, 4, 4), J (B, 6, n))``.
 
 The generic path goes through the Backend Protocol (``backend.evaluate``) and keeps the
-requested frame. Two fast paths compute only what IK needs, in the same convention:
-the analytic backend (batched numpy, many restarts/targets per call) and Pinocchio (one
-``computeFrameJacobian`` per configuration instead of every frame's Jacobian).
+requested frame. Two fast paths compute only what IK needs, in the same convention: the
+analytic backend through the spec's :class:`~kinverify.ik.chain.SerialChain` to the frame
+(batched numpy, many targets and restarts per call) and Pinocchio's per-configuration
+``computeFrameJacobian`` (:meth:`PinocchioBackend.frame_kinematics`).
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -17,7 +16,9 @@ from kinverify.model.transforms import rotation_angle, rotation_log
 
 
 class FrameModel:
-    """FK and world-aligned Jacobian ``[linear; angular]`` of ``frame`` on ``backend``."""
+    """FK and world-aligned Jacobian ``[linear; angular]`` of ``frame`` on ``backend``, in the
+    forms the solvers call: batched (:meth:`__call__`, :meth:`soa`) and per configuration
+    (:meth:`point`). ``revolute`` ``(n,)``: joints a whole turn may shift (default from the spec)."""
 
     def __init__(self, backend, frame: str | None = None, revolute=None) -> None:
         if not backend.jacobian_method:
@@ -33,42 +34,91 @@ class FrameModel:
 
         # numpy backends evaluate a whole batch per call: solve their rows in lock-step
         self.batched = type(backend).__module__.endswith("backends.analytic")
-        self._eval = self._generic
-        if type(backend) is AnalyticBackend:
-            self._eval = self._analytic
-        elif type(backend).__module__.endswith("backends.pinocchio_"):
-            self._eval = self._pinocchio
+        self.chain = None
+        if type(backend) is AnalyticBackend and not backend.spec.floating:  # the spec's chain to the frame: FK + J of that frame only
+            from kinverify.ik.chain import SerialChain
+
+            self.chain = SerialChain.from_spec(backend.spec, frame)
+        self._tables: dict = {}
+        self.seed_model = self  # whose FK builds the seed table: another model of the same frame may lend its own
+
+    @classmethod
+    def from_chain(cls, chain, name: str = "chain", frame: str = "tip") -> "FrameModel":
+        """A batched model of a :class:`SerialChain` alone (e.g. from a URDF): no backend."""
+        model = cls.__new__(cls)
+        model.backend, model.frame, model.name, model.index = None, frame, name, 0
+        model.dof, model.batched, model.chain, model._tables, model.seed_model = chain.width, True, chain, {}, model
+        model.revolute = np.zeros(chain.width, bool)
+        model.revolute[chain.columns] = chain.revolute
+        return model
 
     def __call__(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self._eval(np.atleast_2d(np.asarray(q, dtype=float)))
-
-    def single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """One configuration ``(n,)`` -> ``T (4, 4)``, ``J (6, n)`` (the per-target solve path)."""
-        if self._eval == self._pinocchio:
-            return self.backend.frame_pose_and_jacobian(q, self.index)
-        poses, jac = self._eval(q[None])
-        return poses[0], jac[0]
-
-    def poses(self, q: np.ndarray) -> np.ndarray:
-        return self(q)[0]
-
-    def _generic(self, q):
+        """``q`` ``(B, n)`` -> poses ``(B, 4, 4)``, Jacobians ``(B, 6, n)``."""
+        q = np.atleast_2d(np.asarray(q, dtype=float))
+        if self.chain is not None:
+            rot, p, jac = self.chain.fk_jac(q)
+            return _poses(rot, p), np.ascontiguousarray(jac)
         ev = self.backend.evaluate(q)
         return ev.poses[:, self.index], ev.jacobians[:, self.index]
 
-    def _analytic(self, q):
-        from kinverify.model.kinematics import frame_poses, geometric_jacobians
+    def soa(self, qT: np.ndarray):
+        """The batched solver's form: ``qT`` ``(n, B)`` -> rotation columns ``(3, 3, B)``,
+        positions ``(3, B)``, Jacobians ``(6, n, B)`` (see :meth:`SerialChain.fk_jac_soa`)."""
+        if self.chain is not None:
+            return self.chain.fk_jac_soa(qT)
+        poses, jac = self(qT.T)
+        return poses[:, :3, :3].transpose(2, 1, 0), poses[:, :3, 3].T, jac.transpose(1, 2, 0)
 
-        spec = self.backend.spec
-        poses = frame_poses(spec, q)
-        return poses[:, self.index], geometric_jacobians(spec, poses)[:, self.index]
+    def point(self):
+        """The per-target solver's form: ``(fk, log3)`` with ``fk(q (n,)) -> (R (3, 3), p (3,),
+        J (6, n))`` (possibly views valid until the next call) and the matching ``log3``."""
+        lean = getattr(self.backend, "frame_kinematics", None)
+        if lean is not None:
+            return lean(self.index)
+        from kinverify.ik.single import log3
 
-    def _pinocchio(self, q):
-        poses = np.empty((len(q), 4, 4))
-        jac = np.empty((len(q), 6, self.dof))
-        for k, qk in enumerate(q):
-            poses[k], jac[k] = self.backend.frame_pose_and_jacobian(qk, self.index)
-        return poses, jac
+        def fk(q):
+            pose, jac = self(q[None])
+            return pose[0, :3, :3], pose[0, :3, 3], jac[0]
+        return fk, log3
+
+    def single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """One configuration ``(n,)`` -> ``T (4, 4)``, ``J (6, n)``."""
+        poses, jac = self(q[None])
+        return poses[0], jac[0]
+
+    def poses(self, q: np.ndarray) -> np.ndarray:
+        if self.chain is not None:
+            return self.chain.poses(q)
+        q = np.atleast_2d(np.asarray(q, dtype=float))
+        return self.backend.evaluate(q, with_jacobians=False).poses[:, self.index]
+
+    def seed_table(self, lower, upper, position_only: bool, samples: int):
+        """``(SeedTable or None, build time s)`` for these finite sampling bounds, built once by
+        ``seed_model`` (seeds are only starting points: any FK of the same frame gives usable ones,
+        so a slow backend can borrow the analytic chain's table)."""
+        owner = self.seed_model
+        if samples <= 0:
+            return None, 0.0
+        key = (lower.tobytes(), upper.tobytes(), position_only, samples)
+        if key not in owner._tables:
+            import time
+
+            from kinverify.ik.seeds import SeedTable
+
+            t0 = time.perf_counter()
+            table = SeedTable(owner.soa, lower, upper, samples=samples, w_rot=0.0 if position_only else 0.2)
+            owner._tables[key] = (table, time.perf_counter() - t0)
+            return owner._tables[key]
+        return owner._tables[key][0], 0.0
+
+
+def _poses(rot: np.ndarray, p: np.ndarray) -> np.ndarray:
+    out = np.zeros(rot.shape[:-2] + (4, 4))
+    out[..., :3, :3] = rot
+    out[..., :3, 3] = p
+    out[..., 3, 3] = 1.0
+    return out
 
 
 def _revolute(backend) -> np.ndarray:
@@ -97,17 +147,3 @@ def residuals(poses: np.ndarray, targets: np.ndarray, position_only: bool) -> tu
         return pos, np.zeros_like(pos)
     rot = rotation_angle(np.swapaxes(targets[:, :3, :3], -1, -2) @ poses[:, :3, :3])
     return pos, rot
-
-
-def pose_error_single(pose: np.ndarray, target: np.ndarray, position_only: bool) -> tuple[np.ndarray, float, float]:
-    """:func:`pose_errors` and :func:`residuals` for one pose: (error vector, position [m], angle [rad])."""
-    dp = target[:3, 3] - pose[:3, 3]
-    pos = math.sqrt(dp @ dp)
-    if position_only:
-        return dp, pos, 0.0
-    m = target[:3, :3] @ pose[:3, :3].T
-    v = 0.5 * np.array([m[2, 1] - m[1, 2], m[0, 2] - m[2, 0], m[1, 0] - m[0, 1]])
-    s = math.sqrt(v @ v)
-    angle = math.atan2(s, 0.5 * (m[0, 0] + m[1, 1] + m[2, 2] - 1.0))
-    dr = v * (angle / s) if s > 1e-12 else v
-    return np.concatenate([dp, dr]), pos, angle

@@ -10,16 +10,18 @@ from __future__ import annotations
 import numpy as np
 
 from kinverify.model.spec import ArmSpec
+from kinverify.model.floating import base_transforms, rate_matrices
 from kinverify.model.transforms import axis_angle_to_matrix
 
 
 def check_configurations(spec: ArmSpec, q) -> np.ndarray:
-    """``q`` as a float array ``(N, n)``; a single ``(n,)`` vector becomes ``(1, n)``."""
+    """``q`` as a float array ``(N, nq)``; a single ``(nq,)`` vector becomes ``(1, nq)``. ``nq`` is
+    the number of joints, plus the six base coordinates first for a floating base."""
     q = np.asarray(q, dtype=float)
     if q.ndim == 1:
         q = q[None, :]
-    if q.ndim != 2 or q.shape[1] != spec.dof:
-        raise ValueError(f"expected configurations of shape (N, {spec.dof}), got {q.shape}")
+    if q.ndim != 2 or q.shape[1] != spec.nq:
+        raise ValueError(f"expected configurations of shape (N, {spec.nq}), got {q.shape}")
     return q
 
 
@@ -74,7 +76,7 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
     """World poses of the base link and every joint's link, ``(N, n + 1, 4, 4)`` (written into
     ``out[:, :n + 1]`` when given).
 
-    Batched (issue 8): each joint's local transform ``origin @ motion(q_i)`` for all N
+    Batched: each joint's local transform ``origin @ motion(q_i)`` for all N
     configurations is one small matrix product ``(N, 3) @ (3, 16)`` of ``(1, sin, cos)`` with
     constants (:func:`joint_local_coefficients`), then one stacked 4×4 product per joint, on
     contiguous buffers.
@@ -83,13 +85,14 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
     n_cfg = q.shape[0]
     if out is None:
         out = np.empty((n_cfg, spec.dof + 1, 4, 4))
-    cur = np.empty((n_cfg, 4, 4))
-    cur[:] = spec.base_origin.transform
-    out[:, 0] = cur
-    nxt = np.empty_like(cur)
+    if spec.floating:  # the base pose is the first six coordinates
+        out[:, 0] = base_transforms(q[:, :6])
+        q = q[:, 6:]
+    else:
+        out[:, 0] = spec.base_origin.transform
     basis = np.empty((n_cfg, 3))
     basis[:, 0] = 1.0
-    for i, (joint, coef) in enumerate(zip(spec.joints, _coefficients(spec))):
+    for i, (joint, coef, parent) in enumerate(zip(spec.joints, _coefficients(spec), spec.parent_indices)):
         if joint.type == "revolute":
             np.sin(q[:, i], out=basis[:, 1])
             np.cos(q[:, i], out=basis[:, 2])
@@ -97,9 +100,7 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
         else:
             basis[:, 1] = q[:, i]
             local = basis[:, :2] @ coef
-        np.matmul(cur, local.reshape(n_cfg, 4, 4), out=nxt)
-        out[:, i + 1] = nxt
-        cur, nxt = nxt, cur
+        np.matmul(out[:, parent], local.reshape(n_cfg, 4, 4), out=out[:, i + 1])  # the parent link: any earlier one
     return out
 
 
@@ -127,13 +128,34 @@ def frame_link_indices(spec: ArmSpec) -> np.ndarray:
     return np.array(list(range(spec.dof + 1)) + [spec.link_index(t.parent) for t in spec.tools])
 
 
-def geometric_jacobians(spec: ArmSpec, poses: np.ndarray) -> np.ndarray:
-    """Jacobians ``(N, F, 6, n)`` of every frame from the frame poses of :func:`frame_poses`.
+def geometric_jacobians(spec: ArmSpec, poses: np.ndarray, q=None) -> np.ndarray:
+    """Jacobians ``(N, F, 6, nq)`` of every frame from the frame poses of :func:`frame_poses`
+    (``q``, the configurations, is needed with a floating base).
 
     Joint i moves link i+1 whose frame origin lies on the joint axis, so the axis in the world is
     ``R_link · axis`` through ``p_link``. Revolute column: ``[z × (p_frame − p_joint); z]``;
-    prismatic: ``[z; 0]``. Columns of joints that are not ancestors of the frame are zero.
+    prismatic: ``[z; 0]``. Columns of joints that are not on the path from the base to the
+    frame (another branch of a tree, or further out) are zero. A floating base adds six columns
+    in front, moving every frame: world translations ``[e_k; 0]`` and the roll, pitch and yaw
+    axes ``a`` through the base origin ``[a × (p_frame − p_base); a]``.
     """
+    joints = _joint_jacobians(spec, poses)
+    if not spec.floating:
+        return joints
+    if q is None:
+        raise ValueError("a floating base's Jacobian columns need the configurations q")
+    q = check_configurations(spec, q)
+    axes = rate_matrices(q[:, :6])  # (N, 3, 3): world roll, pitch, yaw axes as columns
+    lever = poses[..., :3, 3] - poses[:, :1, :3, 3]  # (N, F, 3)
+    base = np.zeros(poses.shape[:2] + (6, 6))
+    base[..., :3, :3] = np.eye(3)
+    a = np.broadcast_to(np.swapaxes(axes, -1, -2)[:, None], lever.shape[:2] + (3, 3))  # (N, F, axis, xyz)
+    base[..., :3, 3:] = np.swapaxes(np.cross(a, lever[:, :, None, :]), -1, -2)
+    base[..., 3:, 3:] = axes[:, None]
+    return np.concatenate([base, joints], axis=-1)
+
+
+def _joint_jacobians(spec: ArmSpec, poses: np.ndarray) -> np.ndarray:
     n = spec.dof
     joint_links = poses[:, 1 : n + 1]
     axes = np.stack([j.axis for j in spec.joints])
@@ -145,11 +167,11 @@ def geometric_jacobians(spec: ArmSpec, poses: np.ndarray) -> np.ndarray:
     revolute = np.array([j.type == "revolute" for j in spec.joints])
     linear = np.where(revolute[None, None, :, None], np.cross(zb, lever), zb)
     angular = np.where(revolute[None, None, :, None], zb, 0.0)
-    ancestor = np.arange(n)[None, :] < frame_link_indices(spec)[:, None]  # (F, n)
+    ancestor = spec.ancestors()[frame_link_indices(spec)]  # (F, n): does joint i move frame f?
     jac = np.concatenate([linear, angular], axis=-1) * ancestor[None, :, :, None]
     return np.swapaxes(jac, -1, -2)
 
 
 def home_tool_position(spec: ArmSpec) -> np.ndarray:
-    """World position [m] of the last frame (the last tool if any) at q = 0."""
-    return frame_poses(spec, np.zeros(spec.dof))[0, -1, :3, 3]
+    """World position [m] of the last frame (the last tool if any) at the home configuration."""
+    return frame_poses(spec, spec.home())[0, -1, :3, 3]

@@ -15,12 +15,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kinverify.errors import SpecError
+from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE, base_limits
 from kinverify.model.transforms import xyz_rpy_to_transform
 
 JOINT_TYPES = ("revolute", "prismatic")
 SHAPES = ("capsule", "cylinder", "sphere", "box")
 NAME_PATTERN = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,63}$")
-RESERVED_NAMES = ("world", "universe", "world_mount")  # used by the generated URDF/MJCF
+RESERVED_NAMES = ("world", "universe", "world_mount", "floating_base")  # used by the generated URDF/MJCF
 MAX_ABS = 1e6  # bound on any number in a spec: larger values are typos or fuzz, not arms
 
 
@@ -170,7 +171,9 @@ class Limits:
 class Joint:
     """A 1-DOF joint and the link it moves. ``axis`` is in the joint (= child link) frame and is
     normalised on construction. ``damping`` [N·m·s/rad], ``friction`` (Coulomb, N·m) and
-    ``armature`` (rotor inertia, kg·m²) are joint-space parameters."""
+    ``armature`` (rotor inertia, kg·m²) are joint-space parameters. ``parent``: the link the
+    joint hangs from (``None``: the previous joint's link, or the base for the first joint), so
+    joints can form a tree (two fingers on one hand, two arms on one torso)."""
 
     name: str
     type: str
@@ -181,9 +184,12 @@ class Joint:
     damping: float = 0.0
     friction: float = 0.0
     armature: float = 0.0
+    parent: str | None = None
 
     def __post_init__(self) -> None:
         _name(self.name, "name")
+        if self.parent is not None:
+            _name(self.parent, "parent")
         if self.type not in JOINT_TYPES:
             raise SpecError("type", f"unknown joint type {self.type!r}; expected one of {', '.join(JOINT_TYPES)}")
         axis = np.asarray(_vector(self.axis, 3, "axis"))
@@ -229,7 +235,8 @@ class DHTable:
 
 @dataclass(frozen=True)
 class ArmSpec:
-    """A serial arm: a fixed base link placed in the world, then joints in order, then tools.
+    """An arm: a fixed base link placed in the world, then joints in order (each hanging from the
+    base or from an earlier joint's link: a serial chain or a tree), then tools.
 
     Frame names (``frame_names``): the base link, every joint's link, every tool.
     """
@@ -241,9 +248,12 @@ class ArmSpec:
     tools: tuple[Tool, ...] = ()
     dh: DHTable | None = None
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    floating: bool = False  # the base moves freely: its pose is part of the configuration
 
     def __post_init__(self) -> None:
         _name(self.name, "name")
+        if not isinstance(self.floating, bool):
+            raise SpecError("base.floating", f"expected true or false, got {self.floating!r}")
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "tools", tuple(self.tools))
         object.__setattr__(self, "gravity", _vector(self.gravity, 3, "gravity"))
@@ -263,6 +273,13 @@ class ArmSpec:
                 raise SpecError(path, f"duplicate name {name!r} (also used by {seen[name]})")
             seen[name] = path
         links = self.link_names
+        for i, joint in enumerate(self.joints):
+            if joint.parent is not None and joint.parent not in links[: i + 1]:
+                where = "a later joint's link" if joint.parent in links else "unknown link"
+                raise SpecError(f"joints[{i}].parent", f"{where} {joint.parent!r}: a joint hangs from the base or an "
+                                f"earlier joint's link ({', '.join(links[: i + 1])})")
+        if self.dh is not None and not self.is_serial:
+            raise SpecError("dh", "a DH table describes a serial chain: joints with a parent are not allowed")
         for i, tool in enumerate(self.tools):
             if tool.parent not in links:
                 raise SpecError(f"tools[{i}].parent", f"unknown link {tool.parent!r}; available links: {', '.join(links)}")
@@ -302,6 +319,57 @@ class ArmSpec:
     def link_index(self, name: str) -> int:
         """0 for the base link, i + 1 for ``joints[i].link``."""
         return self.link_names.index(name)
+
+    @property
+    def coordinate_names(self) -> tuple[str, ...]:
+        """The configuration's coordinates: the joints, after the six base coordinates when floating
+        (:mod:`kinverify.model.floating`)."""
+        return (BASE_COORDINATES if self.floating else ()) + self.joint_names
+
+    @property
+    def nq(self) -> int:
+        """Number of configuration coordinates (``dof``, plus 6 with a floating base)."""
+        return len(self.coordinate_names)
+
+    @property
+    def coordinate_limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sampling ranges of every coordinate: the joint limits, after the base's (home ± 1 m,
+        every orientation) when floating."""
+        if not self.floating:
+            return self.lower, self.upper
+        lo, up = base_limits(self.base_origin.xyz)
+        return _readonly(np.concatenate([lo, self.lower])), _readonly(np.concatenate([up, self.upper]))
+
+    @property
+    def coordinate_revolute(self) -> tuple[bool, ...]:
+        return (BASE_REVOLUTE if self.floating else ()) + tuple(j.type == "revolute" for j in self.joints)
+
+    def home(self) -> np.ndarray:
+        """The home configuration ``(nq,)``: every joint at 0, a floating base at its origin."""
+        joints = np.zeros(self.dof)
+        if not self.floating:
+            return joints
+        return np.concatenate([self.base_origin.xyz, self.base_origin.rpy, joints])
+
+    @property
+    def parent_indices(self) -> tuple[int, ...]:
+        """For each joint, the index of the link it hangs from (0 = base, i + 1 = ``joints[i].link``)."""
+        names = self.link_names
+        return tuple(i if j.parent is None else names.index(j.parent) for i, j in enumerate(self.joints))
+
+    @property
+    def is_serial(self) -> bool:
+        return all(p == i for i, p in enumerate(self.parent_indices))
+
+    def ancestors(self) -> np.ndarray:
+        """``(n + 1, n)`` bool: ``[k, i]`` is True when joint ``i`` moves link ``k`` (is on the path
+        from the base to it)."""
+        parents = self.parent_indices
+        out = np.zeros((self.dof + 1, self.dof), dtype=bool)
+        for i, p in enumerate(parents):
+            out[i + 1] = out[p]
+            out[i + 1, i] = True
+        return out
 
 
 def _readonly(values) -> np.ndarray:

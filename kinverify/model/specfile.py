@@ -15,6 +15,7 @@ import numpy as np
 
 from kinverify.model import dh as dhmod
 from kinverify.errors import SpecError
+from kinverify.pipeline.limits import MAX_JOINTS, MAX_MODEL_BYTES
 from kinverify.model.inertia import DEFAULT_DENSITY, inertial_from_geometry
 from kinverify.model.spec import JOINT_TYPES, check_scalar, ArmSpec, DHRow, DHTable, Geometry, Inertial, Joint, Limits, Link, Origin, Tool
 
@@ -122,7 +123,11 @@ def _link(t: _Table, default_name: str, default_geometry: Geometry | None, densi
             raise SpecError(t.at("inertial"), "missing: a link without geometry needs inertial data")
         if mass is not None:
             mass = check_scalar(mass, t.at("mass"), positive=True)
-        inertial = _build(t.path, inertial_from_geometry, geom=geometry, mass=mass, density=density)
+        try:
+            inertial = _build(t.path, inertial_from_geometry, geom=geometry, mass=mass, density=density)
+        except ArithmeticError:  # a size so small (or large) that the volume under- or overflows
+            raise SpecError(t.at("geometry"), "too small or too large to derive a mass and inertia from; give an "
+                            "inertial table") from None
     t.done()
     return _build(t.path, Link, name=name, inertial=inertial, geometry=geometry)
 
@@ -156,9 +161,40 @@ def _dh_row(t: _Table, scale: float) -> DHRow:
     return DHRow(**values)
 
 
+BOOLEAN_FIELDS = ("base.floating",)  # the only fields that take true/false
+
+
+def _strict_types(value: Any, path: str) -> None:
+    """Booleans only in :data:`BOOLEAN_FIELDS` (and there only booleans), no text in an array:
+    ``true`` and ``"1"`` are not numbers (numpy would take them as 1.0), nor ``1`` a boolean."""
+    if path in BOOLEAN_FIELDS:
+        if not isinstance(value, bool):
+            raise SpecError(path, f"expected true or false, got {_toml_repr(value)}")
+        return
+    if isinstance(value, bool):
+        raise SpecError(path, f"expected a number or a string, got a boolean ({str(value).lower()}): booleans are not numbers")
+    if isinstance(value, dict):
+        for key, item in value.items():
+            _strict_types(item, f"{path}.{key}" if path else str(key))
+    elif isinstance(value, list):
+        for i, item in enumerate(value):
+            if isinstance(item, (bool, str)):
+                raise SpecError(path, f"expected numbers, got {_toml_repr(value)} (element {i} is not a number)")
+            _strict_types(item, f"{path}[{i}]")
+
+
+def _toml_repr(value: Any) -> str:
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_repr(v) for v in value) + "]"
+    return repr(value)
+
+
 def spec_from_dict(data: dict, file: str | None = None) -> ArmSpec:
     """Build a validated spec from the TOML structure (see README); errors name ``file``."""
     try:
+        _strict_types(data, "")
         return _spec_from_table(_Table(data, ""))
     except SpecError as err:
         raise err.in_file(file) if file else err from None
@@ -181,6 +217,8 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     joint_tables = top.tables("joints")
     if not joint_tables:
         raise SpecError("joints", "an arm needs at least one joint")
+    if len(joint_tables) > MAX_JOINTS:
+        raise SpecError("joints", f"{len(joint_tables)} joints, above the {MAX_JOINTS} kinverify compares (see docs/robustness.md)")
     types, axes, origins, rows = [], [], [], []
     for jt in joint_tables:
         jtype = jt.string("type", "revolute")
@@ -218,12 +256,16 @@ def _spec_from_table(top: _Table) -> ArmSpec:
             parent = last_link
         tools.append(_build(tt.path, Tool, name=tname, parent=parent or last_link, origin=origin))
         tt.done()
+    link_names = [_link_name(jt, i) for i, jt in enumerate(joint_tables)]
+    parents = [jt.string("parent") for jt in joint_tables]
     joints = []
     for i, jt in enumerate(joint_tables):
-        if i + 1 < len(origins):
-            end = origins[i + 1].xyz
+        # default geometry: towards the first joint hanging from this link, else its first tool
+        children = [k for k in range(i + 1, len(joint_tables)) if (parents[k] or link_names[k - 1]) == link_names[i]]
+        if children:
+            end = origins[children[0]].xyz
         else:
-            ends = [t.origin.xyz for t in tools if t.parent == last_link]
+            ends = [t.origin.xyz for t in tools if t.parent == link_names[i]]
             end = ends[0] if ends else None
         lt = jt.table("link") or _Table({}, jt.at("link"))
         link = _link(lt, f"link{i + 1}", _default_geometry(end, radius), density)
@@ -231,11 +273,12 @@ def _spec_from_table(top: _Table) -> ArmSpec:
         joint = _build(jt.path, Joint, name=jt.get("name", f"joint{i + 1}"), type=types[i], origin=origins[i],
                        axis=axes[i], limits=_limits(lim_table, types[i]), link=link,
                        damping=jt.get("damping", 0.0), friction=jt.get("friction", 0.0),
-                       armature=jt.get("armature", 0.0))
+                       armature=jt.get("armature", 0.0), parent=parents[i])
         jt.done()
         joints.append(joint)
     base = top.table("base") or _Table({}, "base")
     base_origin = _origin(base)
+    floating = base.get("floating", False)
     first = origins[0].xyz
     base_geometry = _default_geometry(first, radius * 5 / 3) if np.linalg.norm(first) > 1e-6 else Geometry("sphere", radius=radius)
     bl = base.table("link") or _Table({}, "base.link")
@@ -245,7 +288,13 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     gravity = top.get("gravity", (0.0, 0.0, -9.81))
     top.done()
     return _build("", ArmSpec, name=name, base_origin=base_origin, base_link=base_link, joints=joints,
-                  tools=tools, dh=dh, gravity=gravity)
+                  tools=tools, dh=dh, gravity=gravity, floating=floating)
+
+
+def _link_name(jt, i: int) -> str:
+    table = jt.data.get("link", {})
+    name = table.get("name") if isinstance(table, dict) else None
+    return name if isinstance(name, str) else f"link{i + 1}"
 
 
 def load_spec(path: str | Path) -> ArmSpec:
@@ -253,6 +302,9 @@ def load_spec(path: str | Path) -> ArmSpec:
     path = Path(path)
     file = str(path)
     try:
+        if path.stat().st_size > MAX_MODEL_BYTES:
+            raise SpecError("", f"{path.stat().st_size / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB kinverify "
+                            "reads (see docs/robustness.md)", file)
         raw = path.read_bytes()
     except OSError as err:
         raise SpecError("", f"cannot read spec file: {err.strerror or err}", file) from None

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import signal
 import uuid
 from typing import Any, Callable, Iterator
 
@@ -50,6 +51,10 @@ def _worker_state(payload: Payload):
 
 def _init_worker(payload: Payload) -> None:
     os.environ.setdefault("OMP_NUM_THREADS", "1")
+    # The main process handles SIGINT and SIGTERM and stops the workers; a worker ignores a
+    # terminal's Ctrl-C (no traceback from each worker) and dies on SIGTERM.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     _worker_state(payload)
 
 
@@ -114,7 +119,9 @@ def _process_results(fn, payload: Payload, chunks, jobs: int) -> Iterator:
     # hold locks in the libraries we call), but is not available everywhere.
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     ctx = multiprocessing.get_context(method)
-    with ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_init_worker, initargs=(payload,)) as pool:
+    pool = ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_init_worker, initargs=(payload,))
+    finished = False
+    try:
         # Keep at most 2 chunks per worker in flight, so results waiting for an earlier chunk
         # stay bounded in memory.
         pending, order = {}, iter(chunks)
@@ -132,6 +139,27 @@ def _process_results(fn, payload: Payload, chunks, jobs: int) -> Iterator:
                 pending[submitted] = pool.submit(_run_chunk_local, fn, payload.token, *nxt)
                 submitted += 1
             yield result
+        finished = True
+    finally:
+        if finished:
+            pool.shutdown(wait=True)
+        else:  # an error, Ctrl-C or SIGTERM in this process: stop the workers now, leave none behind
+            stop_workers(pool)
+
+
+def stop_workers(pool, timeout: float = 5.0) -> None:
+    """Terminate a ``ProcessPoolExecutor``'s worker processes (queued chunks are cancelled; a
+    worker still alive after ``timeout`` s is killed) and wait for them to exit."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in processes:
+        if proc.is_alive():
+            proc.terminate()
+    for proc in processes:
+        proc.join(timeout)
+        if proc.is_alive():
+            proc.kill()
+            proc.join(timeout)
 
 
 def _dask_results(fn, payload: Payload, chunks, opts) -> Iterator:

@@ -5,6 +5,8 @@ Everything is reproducible from ``seed`` (numpy ``default_rng``).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 HALF_PI = np.pi / 2
@@ -57,8 +59,9 @@ def sample_configurations(lower, upper, revolute, n: int, seed: int = 0, edges: 
 
 
 def spec_samples(spec, n: int, seed: int = 0, edges: bool = True) -> np.ndarray:
-    revolute = [j.type == "revolute" for j in spec.joints]
-    return sample_configurations(spec.lower, spec.upper, revolute, n, seed, edges)
+    """Configurations of every coordinate of ``spec`` (a floating base's six first)."""
+    lower, upper = spec.coordinate_limits
+    return sample_configurations(lower, upper, spec.coordinate_revolute, n, seed, edges)
 
 
 class Samples:
@@ -95,10 +98,9 @@ class Samples:
             parts.append(rng.uniform(self.lower, self.upper, size=(u1 - u0, self.shape[1])))
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
-    def chunks(self, size: int):
-        """``(start, stop)`` of consecutive chunks of at most ``size`` rows."""
-        size = max(1, int(size))
-        return [(a, min(a + size, len(self))) for a in range(0, len(self), size)]
+    def chunks(self, size: int) -> "ChunkRanges":
+        """``(start, stop)`` of consecutive chunks of at most ``size`` rows (a lazy sequence)."""
+        return ChunkRanges(len(self), size)
 
     def __getitem__(self, key):
         if isinstance(key, slice):
@@ -114,3 +116,23 @@ class Samples:
     def __array__(self, dtype=None, copy=None):
         out = self.rows(0, len(self))
         return out if dtype is None else out.astype(dtype)
+
+
+class ChunkRanges(Sequence):
+    """``(start, stop)`` of the consecutive chunks of at most ``size`` rows out of ``n``: a sequence
+    computed on demand, so its memory does not grow with ``n`` (10⁹ samples are 5·10⁵ chunks)."""
+
+    def __init__(self, n: int, size: int) -> None:
+        self.n, self.size = max(0, int(n)), max(1, int(size))
+
+    def __len__(self) -> int:
+        return -(-self.n // self.size)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        k = i + len(self) if i < 0 else i
+        if not 0 <= k < len(self):
+            raise IndexError(i)
+        start = k * self.size
+        return start, min(start + self.size, self.n)

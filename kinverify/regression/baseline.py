@@ -48,7 +48,13 @@ FORMAT = "kinverify-baseline"
 FORMAT_VERSION = 2  # 2: "fixed" (IK targets), ik.* and dynamics.* records
 DEFAULT_SAMPLES = 30  # uniform configurations, after the edge configurations
 DEFAULT_SEED = 0
-REQUIRED_KEYS = ("model", "spec", "fingerprints", "versions", "joint_names", "frames", "q", "records")
+# The sections each format version must have, with their JSON types: a section deleted or retyped
+# is a malformed baseline (exit 2), never a comparison silently skipped.
+SCHEMA: dict[int, dict[str, type | tuple[type, ...]]] = {
+    1: {"model": str, "spec": dict, "fingerprints": dict, "versions": dict, "joint_names": list, "frames": list,
+        "q": list, "records": list},
+}
+SCHEMA[2] = {**SCHEMA[1], "seed": int, "samples": int, "quantities": list, "fixed": dict}
 
 Record = dict[str, Any]
 
@@ -66,7 +72,7 @@ class Quantity:
 def kinematics_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
     """FK (position, rotation matrix) and Jacobian (linear, angular rows) of every frame."""
     poses = frame_poses(spec, q)
-    jac = geometric_jacobians(spec, poses)
+    jac = geometric_jacobians(spec, poses, q)
     out: list[Record] = []
     for prop, values in (("fk.position", poses[..., :3, 3]), ("fk.rotation", poses[..., :3, :3]),
                          ("jacobian.linear", jac[..., :3, :]), ("jacobian.angular", jac[..., 3:, :])):
@@ -148,7 +154,7 @@ def build_baseline(spec: ArmSpec, samples: int = DEFAULT_SAMPLES, seed: int = DE
         "model": spec.name,
         "seed": seed,
         "samples": samples,
-        "joint_names": list(spec.joint_names),
+        "joint_names": list(spec.coordinate_names),  # the columns of q: a floating base's six first
         "frames": list(spec.frame_names),
         "spec": spec_to_canonical(spec),
         "fingerprints": fingerprints(spec),
@@ -206,13 +212,34 @@ def read_baseline(path, model: str | None = None) -> dict[str, Any]:
     if version > FORMAT_VERSION:
         raise InputError(f"{path}: baseline format version {version} is newer than this kinverify reads "
                          f"({FORMAT_VERSION}); upgrade kinverify")
-    missing = [k for k in REQUIRED_KEYS if k not in data]
-    if missing:
-        raise InputError(f"{path}: malformed baseline: missing {', '.join(missing)}")
+    _validate_schema(path, data, SCHEMA.get(version, SCHEMA[1]))
     if model is not None and data["model"] != model:
         raise InputError(f"{path}: baseline is for model {data['model']!r}, not {model!r}")
     _validate_body(path, data)
     return data
+
+
+def _validate_schema(path, data: dict[str, Any], schema: dict[str, Any]) -> None:
+    """Every section of ``schema`` present with its type; the save-time inputs (``fixed``) of
+    every listed quantity that has them present."""
+    missing = [k for k in schema if k not in data]
+    if missing:
+        raise InputError(f"{path}: malformed baseline: missing {', '.join(missing)}")
+    for key, kind in schema.items():
+        value = data[key]
+        if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+            raise InputError(f"{path}: malformed baseline: {key} must be {_JSON_TYPES[kind]}, got {type(value).__name__}")
+    if "quantities" in schema:
+        listed = data["quantities"]
+        if not all(isinstance(n, str) for n in listed):
+            raise InputError(f"{path}: malformed baseline: quantities must be a list of names")
+        for qt in QUANTITIES:
+            if qt.prepare is not None and qt.name in listed and qt.name not in data["fixed"]:
+                raise InputError(f"{path}: malformed baseline: fixed.{qt.name} is missing (the {qt.name} inputs the "
+                                 "baseline was saved with); save the baseline again")
+
+
+_JSON_TYPES = {str: "a string", dict: "an object", list: "a list", int: "a whole number"}
 
 
 def _validate_body(path, data: dict[str, Any]) -> None:

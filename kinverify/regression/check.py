@@ -160,11 +160,11 @@ def check_baseline(spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, To
                               for k in sorted(set(old_versions) | set(now)) if old_versions.get(k) != now.get(k)}
     stored_quantities = data.get("quantities") or ["kinematics"]
     result.missing_quantities = [qt.name for qt in QUANTITIES if qt.name not in stored_quantities]
-    if q.shape[1] != spec.dof:
+    if q.shape[1] != spec.nq:
         result.comparable = False
         return result
     records = compute_records(spec, q, data.get("fixed") or {})
-    order = new_frames + [j for j in spec.joint_names if j not in new_frames]
+    order = new_frames + [j for j in spec.coordinate_names if j not in new_frames]
     result.moved, result.compared = compare_records(data["records"], records, q, order, tolerances)
     return result
 

@@ -85,7 +85,7 @@ def reach(spec: ArmSpec, samples: int = REACH_SAMPLES, seed: int = 0) -> dict[st
 def frame_changes(old: ArmSpec, new: ArmSpec, q: np.ndarray) -> list[FrameChange]:
     """Per common frame, the largest FK and Jacobian change at configurations ``q``."""
     po, pn = frame_poses(old, q), frame_poses(new, q)
-    jo, jn = geometric_jacobians(old, po), geometric_jacobians(new, pn)
+    jo, jn = geometric_jacobians(old, po, q), geometric_jacobians(new, pn, q)
     old_names = list(old.frame_names)
     out = []
     for f, frame in enumerate(new.frame_names):
@@ -105,9 +105,9 @@ def frame_changes(old: ArmSpec, new: ArmSpec, q: np.ndarray) -> list[FrameChange
 def diff_models(old: ArmSpec, new: ArmSpec, samples: int = DIFF_SAMPLES, seed: int = 0) -> ModelDiff:
     """Parameter-level and behaviour-level differences from ``old`` to ``new``."""
     result = ModelDiff(old.name, new.name, diff_specs(old, new))
-    if old.dof != new.dof:
-        result.notes.append(f"joint count changed ({old.dof} -> {new.dof}): FK and Jacobians cannot be compared "
-                            "at the same configurations")
+    if old.nq != new.nq or old.floating != new.floating:
+        what = "the base floats in one version only" if old.floating != new.floating else f"joint count changed ({old.dof} -> {new.dof})"
+        result.notes.append(f"{what}: FK and Jacobians cannot be compared at the same configurations")
     else:
         q = spec_samples(old, samples, seed)
         result.samples = len(q)

@@ -44,7 +44,7 @@ def ik_fixed(spec: ArmSpec, q: np.ndarray) -> dict[str, Any]:
 
     frame = ik_frame(spec)
     samples = list(range(max(0, len(q) - IK_TARGETS), len(q)))
-    if not samples:
+    if not samples or spec.floating:  # a floating base reaches any target: no IK records (as in verify)
         return {"frame": frame, "position_only": spec.dof < 6, "targets": []}
     poses = frame_poses(spec, q[samples])[:, spec.frame_names.index(frame)]
     middle = (np.asarray(spec.lower) + np.asarray(spec.upper)) / 2
@@ -59,7 +59,7 @@ def ik_parse(fixed, n_samples: int | None = None):
     try:
         frame, targets = fixed.get("frame"), list(fixed.get("targets") or [])
         poses = np.array([t["pose"] for t in targets], dtype=float).reshape(len(targets), 4, 4)
-        starts = np.array([t["start"] for t in targets], dtype=float).reshape(len(targets), -1)
+        starts = np.array([t["start"] for t in targets], dtype=float).reshape(len(targets), -1) if targets else np.zeros((0, 0))
         samples = [t["sample"] for t in targets]
     except (AttributeError, KeyError, TypeError, ValueError):
         raise InputError("malformed baseline: fixed.ik must hold targets with a 4x4 pose, a start and a sample") from None
@@ -78,7 +78,8 @@ def ik_records(spec: ArmSpec, q: np.ndarray, fixed: dict[str, Any]) -> list[dict
     if frame not in spec.frame_names or not targets or starts.shape[1] != spec.dof:
         return []
     model = FrameModel(AnalyticBackend(spec), frame)
-    opts = IKOptions(max_restarts=IK_RESTARTS, max_iter=IK_ITERATIONS, max_attempt_iter=IK_ITERATIONS, time_budget=60.0, seed=0)
+    opts = IKOptions(tol_pos=1e-12, tol_rot=1e-12, max_restarts=IK_RESTARTS, first_attempt_iter=IK_ITERATIONS,
+                     stall_window=IK_ITERATIONS, max_evaluations=IK_ITERATIONS, time_budget=60.0, seed=0)
     sol = solve_lm(model, poses, spec.lower, spec.upper, position_only=bool(fixed.get("position_only")),
                    options=opts, q0=starts, batch=True)
     out = []
@@ -90,17 +91,17 @@ def ik_records(spec: ArmSpec, q: np.ndarray, fixed: dict[str, Any]) -> list[dict
 
 
 def dynamics_records(spec: ArmSpec, q: np.ndarray) -> list[dict]:
-    """Mass-matrix rows and gravity torques per joint (Pinocchio on the generated URDF)."""
+    """Mass-matrix rows and gravity torques per coordinate (Pinocchio on the generated URDF)."""
     from kinverify.generate import generate_urdf
     from kinverify.tracking.models import PinocchioDynamics
 
     if spec.dof == 0 or len(q) == 0:
         return []
-    dyn = PinocchioDynamics(generate_urdf(spec), spec.joint_names, [j.armature for j in spec.joints])
+    dyn = PinocchioDynamics(generate_urdf(spec), spec.coordinate_names, [j.armature for j in spec.joints])
     out = []
     for s, qs in enumerate(q):
         mass, gravity = dyn.mass(qs), dyn.gravity(qs)
-        for i, joint in enumerate(spec.joint_names):
+        for i, joint in enumerate(spec.coordinate_names):  # a floating base's six first
             out.append({"property": "dynamics.mass_matrix", "frame": joint, "sample": s, "value": mass[i].tolist()})
             out.append({"property": "dynamics.gravity", "frame": joint, "sample": s, "value": float(gravity[i])})
     return out

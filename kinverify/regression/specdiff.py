@@ -116,10 +116,12 @@ def diff_specs(old: ArmSpec, new: ArmSpec, atol: float = ATOL) -> list[ParamChan
     common = _names(out, "joint", list(old_joints), list(new_joints))
     if [n for n in old_joints if n in common] != common:
         out.append(ParamChange("arm", "joint order", "changed", [n for n in old_joints if n in common], common))
+    old_parent = dict(zip(old.joint_names, (old.link_names[p] for p in old.parent_indices)))
+    new_parent = dict(zip(new.joint_names, (new.link_names[p] for p in new.parent_indices)))
     for name in common:
         a, b = old_joints[name], new_joints[name]
         where = f"joint {name}"
-        for field, x, y in (("type", a.type, b.type), ("origin.xyz", a.origin.xyz, b.origin.xyz),
+        for field, x, y in (("parent", old_parent[name], new_parent[name]), ("type", a.type, b.type), ("origin.xyz", a.origin.xyz, b.origin.xyz),
                             ("origin.rpy", a.origin.rpy, b.origin.rpy), ("axis", a.axis, b.axis),
                             ("link", a.link.name, b.link.name)):
             _compare(out, where, field, x, y, atol)

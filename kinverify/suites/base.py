@@ -200,7 +200,8 @@ class SuiteResult:
 @dataclass
 class VerifyOptions:
     """``samples`` uniform configurations (plus edge configurations) drawn with ``seed``;
-    ``fd_samples``: how many of them (edges first) get finite-difference Jacobian checks.
+    ``fd_samples``: how many of them (edges first) get finite-difference Jacobian checks (fewer
+    for long chains and slow backends: see :func:`kinverify.suites.kinematics.fd_samples`).
     ``tolerances``: overrides by property name (values in the property's unit); ``gates``:
     performance properties that decide the verdict, with their goal (None: the default goal)."""
 
@@ -217,8 +218,8 @@ class VerifyOptions:
     jobs: int = 1  # worker processes (or Dask workers of a LocalCluster); see kinverify.pipeline.parallel
     executor: str = "local"  # "local" or "dask"
     scheduler: str | None = None  # Dask scheduler address; None: a LocalCluster
-    slow_samples: int | None = 100_000  # slow backends (yourdfpy) see only the first this many configurations
-    on_progress: Callable[[int, int], None] | None = None  # (configurations done, total), not pickled
+    slow_samples: int | None = 2_000  # slow backends (yourdfpy) see only the first this many configurations
+    on_progress: Callable[[int, int], None] | None = None  # (done, total) of the running suite's work, not pickled
 
 
 @dataclass

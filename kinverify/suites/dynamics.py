@@ -30,6 +30,7 @@ import dataclasses
 import numpy as np
 
 from kinverify.errors import KinverifyError
+from kinverify.model.floating import has_base
 from kinverify.pipeline.stats import ErrorStats
 from kinverify.suites.base import Finding, Property, Section, Suite, SuiteResult, VerifyContext, within
 from kinverify.tracking.models import MujocoDynamics, PinocchioDynamics
@@ -86,18 +87,21 @@ class DynamicsSuite(Suite):
         except KinverifyError as err:  # e.g. a file-mode URDF with more joints than are compared
             return SuiteResult([], Section(self.title, f"skipped: {err}"))
         spec = sources.spec
-        n_joints = len(sources.joint_names)
+        floating = has_base(sources.joint_names)
+        n_joints = len(sources.joint_names) - 6 * floating
         vmax = np.array([j.limits.velocity for j in spec.joints]) if spec is not None else np.full(n_joints, 3.0)
         effort = np.array([j.limits.effort for j in spec.joints]) if spec is not None else np.full(n_joints, 100.0)
         n = int(opts.extra.get("dynamics_samples", DEFAULT_SAMPLES))
         q = np.asarray(ctx.q[:n])
         units = _units(sources.revolute)
-        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed)
+        # with a floating base: the mass matrix and gravity in the base coordinates (tracking/models.py)
+        compared = STATE_PROPERTIES[:2] if floating else STATE_PROPERTIES
+        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed, compared, opts.on_progress)
         snapped = mj.snapped_inertia_frames()
         quirk = ("MuJoCo treats the principal inertia axes of " + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
                  + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo") if snapped else ""
         checks = []
-        for p in STATE_PROPERTIES:
+        for p in compared:
             check = self.check(ctx.options, p, "joints", PAIR, stats[p], quirk, units[p])
             tol = check.tolerance * max(1.0, scales[p])
             checks.append(dataclasses.replace(check, tolerance=tol, passed=within(check.max_error, tol)))
@@ -117,7 +121,11 @@ class DynamicsSuite(Suite):
                                            "armature (Pinocchio)", "armature MJCF"],
                       [[name, pin.damping[i], mj.damping[i], pin.friction[i], mj.friction[i],
                         f"URDF cannot express; taken from the {origin} ({arm_pin[i]:.6g})", mj.armature[i]]
-                       for i, name in enumerate(sources.joint_names)])
+                       for i, name in enumerate(sources.joint_names[6 * floating:])])
+        if floating:
+            section.notes.append("Floating base: the mass matrix and gravity are compared in the base coordinates "
+                                 "(base:x ... base:yaw, then the joints; S^T·M·S and S^T·g from each library's own base "
+                                 "velocity); Coriolis, inverse and forward dynamics are not compared for a floating base.")
         section.notes += ([quirk] if quirk else []) + [
             "Compared exactly on both sides: rigid-body dynamics and joint damping (Pinocchio's algorithms ignore "
             "model.damping, so -D·q̇ is added on its side; MuJoCo applies it as a passive force).",
@@ -129,42 +137,51 @@ class DynamicsSuite(Suite):
         return SuiteResult(checks, section, findings)
 
     @staticmethod
-    def state_errors(pin: PinocchioDynamics, mj: MujocoDynamics, q: np.ndarray, vmax, effort, seed: int = 0):
+    def state_errors(pin: PinocchioDynamics, mj: MujocoDynamics, q: np.ndarray, vmax, effort, seed: int = 0,
+                     compared=STATE_PROPERTIES, on_progress=None):
         """Max |difference| per state property over configurations ``q`` (N, n) with random
         speeds in ±vmax, accelerations in ±ACCELERATION and joint forces in ±effort. Returns the
         stats, the largest |value| per property (the scale of its tolerance) and the first
         configuration where a library gave a non-finite value (or None)."""
         rng = np.random.default_rng([seed, 0xD1])
-        stats = {p: ErrorStats() for p in STATE_PROPERTIES}
-        scales = dict.fromkeys(STATE_PROPERTIES, 0.0)
+        stats = {p: ErrorStats() for p in compared}
+        scales = dict.fromkeys(compared, 0.0)
         breakdown = None
-        for qk in q:
-            v = rng.uniform(-1.0, 1.0, len(qk)) * vmax
-            a = rng.uniform(-ACCELERATION, ACCELERATION, len(qk))
-            tau = rng.uniform(-1.0, 1.0, len(qk)) * effort
+        report = on_progress or (lambda done, total: None)
+        for k, qk in enumerate(q):
+            if k % 10 == 0:
+                report(k, len(q))
+            n = len(vmax)
+            v = rng.uniform(-1.0, 1.0, n) * vmax
+            a = rng.uniform(-ACCELERATION, ACCELERATION, n)
+            tau = rng.uniform(-1.0, 1.0, n) * effort
             mass = pin.mass(qk)
-            pairs = {
-                "dynamics.mass_matrix": (mass, mj.mass(qk)),
-                "dynamics.gravity": (pin.gravity(qk), mj.gravity(qk)),
-                "dynamics.bias": (pin.bias(qk, v), mj.bias(qk, v)),
-                "dynamics.inverse": (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),
+            terms = {
+                "dynamics.mass_matrix": lambda: (mass, mj.mass(qk)),
+                "dynamics.gravity": lambda: (pin.gravity(qk), mj.gravity(qk)),
+                "dynamics.bias": lambda: (pin.bias(qk, v), mj.bias(qk, v)),
+                "dynamics.inverse": lambda: (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),
                 # force residual of MuJoCo's acceleration in Pinocchio's equations: M·(a_mj − a_pin)
-                "dynamics.forward": (tau, tau + mass @ (mj.forward(qk, v, tau) - pin.forward(qk, v, tau))),
+                "dynamics.forward": lambda: (tau, tau + mass @ (mj.forward(qk, v, tau) - pin.forward(qk, v, tau))),
             }
+            pairs = {p: terms[p]() for p in compared}
             if not all(np.isfinite(x).all() and np.isfinite(y).all() for x, y in pairs.values()):
                 breakdown = qk if breakdown is None else breakdown
                 continue
             for prop, (x, y) in pairs.items():
                 stats[prop].update(np.array([np.abs(x - y).max()]), qk[None])
                 scales[prop] = max(scales[prop], float(np.abs(x).max()))
+        report(len(q), len(q))
         return stats, scales, breakdown
 
     def parameter_checks(self, ctx: VerifyContext, pin: PinocchioDynamics, mj: MujocoDynamics, origin: str, units) -> list:
         """Joint damping and friction (URDF vs MJCF), armature (spec vs MJCF; in file mode the
         MJCF's is what Pinocchio uses, so there is nothing to compare)."""
+        joints = ctx.sources.joint_names[6 if has_base(ctx.sources.joint_names) else 0:]
+
         def worst(a, b) -> tuple[float, str]:
             k = int(np.argmax(np.abs(a - b)))
-            return float(np.abs(a - b)[k]), ctx.sources.joint_names[k]
+            return float(np.abs(a - b)[k]), joints[k]
 
         checks = []
         for prop, urdf_vals, mjcf_vals in (("dynamics.damping", pin.damping, mj.damping),

@@ -13,6 +13,7 @@ import numpy as np
 
 from kinverify.backends.base import Backend
 from kinverify.pipeline.parallel import run_chunks
+from kinverify.pipeline.sampling import ChunkRanges
 from kinverify.pipeline.stats import ErrorStats
 from kinverify.suites.base import Property, Suite, SuiteResult, VerifyContext, VerifyOptions, tolerance, within
 from kinverify.suites.measures import finite_difference_errors, fk_errors, jacobian_errors
@@ -36,11 +37,25 @@ class Accumulator:
                 self.stats[key] = st
 
 
+# FK evaluations (2n + 1 per configuration) one backend's finite-difference checks may take: the
+# checks cover opts.fd_samples configurations up to 7 joints and fewer beyond, so their cost does
+# not grow with the chain's length
+FD_EVALUATIONS = 3_000
+SLOW_FD_EVALUATIONS = 300  # a slow backend's (yourdfpy: 20 configurations for 7 joints)
+
+
 def capped_rows(backend: Backend, opts: VerifyOptions, start: int, n: int) -> slice:
     """Slow backends (``slow = True``, e.g. yourdfpy) see only the first ``opts.slow_samples`` rows."""
-    if not getattr(backend, "slow", False) or opts.slow_samples is None:
+    if not backend.slow or opts.slow_samples is None:
         return slice(0, n)
     return slice(0, max(0, min(opts.slow_samples - start, n)))
+
+
+def fd_samples(backend: Backend, opts: VerifyOptions) -> int:
+    """Configurations (the first ones, edges first) where ``backend``'s finite differences are
+    checked: ``opts.fd_samples``, or fewer when that would take more than the FK budget."""
+    budget = SLOW_FD_EVALUATIONS if getattr(backend, "slow", False) else FD_EVALUATIONS
+    return min(opts.fd_samples, max(1, budget // (2 * len(backend.joint_names) + 1)))
 
 
 def _head(ev, k: int):
@@ -51,7 +66,7 @@ def kinematics_chunk(backends: dict[str, Backend], opts: VerifyOptions, q: np.nd
     """Errors of one chunk (rows ``start:start+len(q)`` of the samples): a pure function of its
     inputs, so chunks can run anywhere (see :mod:`kinverify.pipeline.parallel`)."""
     acc = Accumulator()
-    fd_rows = slice(0, max(0, min(opts.fd_samples - start, len(q))))
+    fd_stop = {name: max(0, min(fd_samples(b, opts) - start, len(q))) for name, b in backends.items()}
     ref_eval = backends[opts.reference].evaluate(q)
     evaluations = {opts.reference: ref_eval}  # reused below for the finite-difference checks
     for name, backend in backends.items():
@@ -67,13 +82,13 @@ def kinematics_chunk(backends: dict[str, Backend], opts: VerifyOptions, q: np.nd
         acc.add(fk_errors(ref, ev, backend.has_rotation), pair, q[rows])
         if analytic_jac:
             acc.add(jacobian_errors(ref, ev), pair, q[rows])
-        elif backend.jacobian_method and min(fd_rows.stop, rows.stop) > 0:
-            fd = slice(0, min(fd_rows.stop, rows.stop))
+        elif backend.jacobian_method and min(fd_stop[name], rows.stop) > 0:
+            fd = slice(0, min(fd_stop[name], rows.stop))
             acc.add(jacobian_errors(ref_eval, backend.evaluate(q[fd]), fd), pair, q[fd])
     for name, backend in backends.items():
         ev = evaluations.get(name)
-        if backend.jacobian_method == "analytic" and fd_rows.stop > 0 and ev is not None:
-            fd = slice(0, min(fd_rows.stop, len(ev.poses)))
+        if backend.jacobian_method == "analytic" and fd_stop[name] > 0 and ev is not None:
+            fd = slice(0, min(fd_stop[name], len(ev.poses)))
             acc.add(finite_difference_errors(backend, q[fd], ev.jacobians[fd]), (name, "finite-difference"), q[fd])
     return acc
 
@@ -94,18 +109,20 @@ class KinematicsSuite(Suite):
 
     def run(self, ctx: VerifyContext) -> SuiteResult:
         opts = ctx.options
-        n, n_fd = len(ctx.q), min(opts.fd_samples, len(ctx.q))
+        n = len(ctx.q)
         acc = Accumulator()
-        for part in run_chunks(ctx, kinematics_chunk, [(a, min(a + opts.chunk, n)) for a in range(0, n, opts.chunk)]):
+        for part in run_chunks(ctx, kinematics_chunk, ChunkRanges(n, opts.chunk)):
             acc.merge(part)
         fd_pairs, capped = {}, {}
         for name, backend in ctx.backends.items():
             pair = (opts.reference, name)
+            n_fd = min(n, fd_samples(backend, opts))
             if name != opts.reference and backend.jacobian_method == "finite-difference" and n_fd > 0:
                 fd_pairs[pair] = f"{name} Jacobian is finite-difference: compared at the FD tolerance on {n_fd} samples"
             rows = capped_rows(backend, opts, 0, n).stop
-            if name != opts.reference and rows < n:
-                capped[pair] = f"{name} is slow: compared on the first {rows} of {n} configurations (--slow-samples)"
+            if name != opts.reference and getattr(backend, "slow", False):
+                capped[pair] = (f"{name} is slow: compared on a fixed subset, the first {rows} of {n} configurations "
+                                f"(at most --slow-samples {opts.slow_samples})")
         order = [p.name for p in self.properties]
         rank = {f: i for i, f in enumerate(ctx.sources.frames)}
         checks = []

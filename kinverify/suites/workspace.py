@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from kinverify.model.floating import BASE_COORDINATES, has_base
 from kinverify.suites.base import Section, Suite, SuiteResult, VerifyContext
 
 N_POINTS = 3000
@@ -64,13 +65,20 @@ class WorkspaceSuite(Suite):
 def workspace(ctx: VerifyContext) -> SuiteResult:
     from kinverify.model.kinematics import frame_poses, link_poses
 
-    spec = ctx.sources.spec
+    spec, src = ctx.sources.spec, ctx.sources
+    # a floating base stays at its home pose: the workspace is the arm's reach from it
+    held = len(BASE_COORDINATES) if has_base(src.joint_names) else 0
+    home = np.zeros(len(src.joint_names)) if spec is None else spec.home()
     if spec is not None:
-        poses_fn, source = (lambda q: frame_poses(spec, q)), "the analytic FK"
-        base = (link_poses(spec, np.zeros(spec.dof))[0, 0] @ spec.joints[0].origin.transform)[:3, 3]
+        fk, source = (lambda q: frame_poses(spec, q)), "the analytic FK"
+        base = (link_poses(spec, home)[0, 0] @ spec.joints[0].origin.transform)[:3, 3]
     else:
         ref = ctx.backends[ctx.options.reference]
-        poses_fn, source = ref.poses, ref.name
-        base = ref.poses(np.zeros((1, len(ctx.sources.joint_names))))[0, 0, :3, 3]
-    points = sample_workspace(poses_fn, ctx.sources.lower, ctx.sources.upper, N_POINTS, ctx.options.seed)
-    return SuiteResult([], workspace_section(points, base, ctx.sources.frames[-1], source))
+        fk, source = ref.poses, ref.name
+        base = ref.poses(home[None])[0, 0, :3, 3]
+    poses_fn = (lambda q: fk(np.concatenate([np.broadcast_to(home[:held], (len(q), held)), q], axis=1))) if held else fk
+    points = sample_workspace(poses_fn, src.lower[held:], src.upper[held:], N_POINTS, ctx.options.seed)
+    section = workspace_section(points, base, src.frames[-1], source)
+    if held:
+        section.summary += " The floating base is held at its home pose."
+    return SuiteResult([], section)

@@ -78,8 +78,11 @@ def _limits(draw, joint_type: str) -> dict:
 
 
 @st.composite
-def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool = True) -> dict:
-    """The TOML structure of a random valid serial arm (1-8 joints by default)."""
+def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False,
+               floating: bool = False) -> dict:
+    """The TOML structure of a random valid arm (1-8 joints by default): a serial chain, or with
+    ``trees`` a tree in which each joint may hang from the base or any earlier joint's link; with
+    ``floating``, the base floats in some of them (its pose then leads the configuration)."""
     n = draw(st.integers(min_joints, max_joints))
     joints = []
     for i in range(n):
@@ -93,6 +96,8 @@ def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool =
             "limits": draw(_limits(jtype)),
             "link": {"name": f"l{i + 1}", "mass": draw(_floats(0.1, 5.0))},
         }
+        if trees and i > 0 and draw(st.booleans()):
+            joint["parent"] = draw(st.sampled_from(["base"] + [f"l{k}" for k in range(1, i + 1)]))
         joints.append(joint)
     tools = [{"name": "tool", "parent": f"l{n}", "xyz": draw(tool_offsets()), "rpy": draw(tool_rotations())}]
     if draw(st.booleans()):
@@ -100,15 +105,18 @@ def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool =
         tools.append({"name": "aux", "parent": f"l{parent}", "xyz": draw(tool_offsets())})
     return {
         "name": "random_arm",
-        "base": {"xyz": draw(vectors(-0.5, 0.5)), "rpy": draw(angles_rpy())},
+        "base": {"xyz": draw(vectors(-0.5, 0.5)), "rpy": draw(angles_rpy()), "link": {"name": "base"},
+                 **({"floating": True} if floating and draw(st.booleans()) else {})},
         "joints": joints,
         "tools": tools,
     }
 
 
-def arm_specs(min_joints: int = 1, max_joints: int = 8, prismatic: bool = True) -> st.SearchStrategy[ArmSpec]:
-    """Random valid :class:`ArmSpec` (random joint types, axes, origins, limits, tools)."""
-    return spec_dicts(min_joints, max_joints, prismatic).map(spec_from_dict)
+def arm_specs(min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False,
+              floating: bool = False) -> st.SearchStrategy[ArmSpec]:
+    """Random valid :class:`ArmSpec` (random joint types, axes, origins, limits, tools; with
+    ``trees``, branching chains; with ``floating``, some with a floating base)."""
+    return spec_dicts(min_joints, max_joints, prismatic, trees, floating).map(spec_from_dict)
 
 
 def _edges(lo: float, hi: float, revolute: bool) -> list[float]:
@@ -118,15 +126,16 @@ def _edges(lo: float, hi: float, revolute: bool) -> list[float]:
 
 @st.composite
 def configurations(draw, spec: ArmSpec, edge_probability: float = 0.3) -> np.ndarray:
-    """One configuration ``(n,)`` inside the limits; each coordinate is an edge value (limit,
-    zero, ±π/2 where inside) with probability ``edge_probability``, else uniform."""
+    """One configuration ``(nq,)`` inside the ranges (a floating base's six coordinates first);
+    each coordinate is an edge value (limit, zero, ±π/2 where inside) with probability
+    ``edge_probability``, else uniform."""
     q = []
-    for joint in spec.joints:
-        lo, hi = joint.limits.lower, joint.limits.upper
+    lower, upper = spec.coordinate_limits
+    for lo, hi, revolute in zip(lower, upper, spec.coordinate_revolute):
         if draw(st.floats(0, 1)) < edge_probability:
-            q.append(draw(st.sampled_from(_edges(lo, hi, joint.type == "revolute"))))
+            q.append(draw(st.sampled_from(_edges(float(lo), float(hi), revolute))))
         else:
-            q.append(draw(_floats(lo, hi)))
+            q.append(draw(_floats(float(lo), float(hi))))
     return np.array(q)
 
 
@@ -135,7 +144,7 @@ def configuration_batches(spec: ArmSpec, min_size: int = 1, max_size: int = 20) 
     return st.lists(configurations(spec), min_size=min_size, max_size=max_size).map(np.array)
 
 
-# --- reachable targets and perturbed specs (issue 6) -------------------------------------------
+# --- reachable targets and perturbed specs -------------------------------------------
 
 
 class ReachableTarget:

@@ -12,7 +12,13 @@
   otherwise include their forces. Coulomb friction is then compared as a parameter.
 
 Native conventions: Pinocchio's ``q``/``v`` follow ``joint.idx_q``/``idx_v``; MuJoCo's follow
-``jnt_qposadr``/``jnt_dofadr``. Both are permuted to the spec's joint order here.
+``jnt_qposadr``/``jnt_dofadr``. Both are permuted to the spec's joint order here. With a
+floating base (``joint_names`` starting with the six base coordinates of
+:mod:`kinverify.model.floating`), the mass matrix and gravity are given in those coordinates:
+``Sᵀ·M·S`` and ``Sᵀ·g`` with ``S`` the map from the base coordinates' rates to the library's
+base velocity (Pinocchio's free-flyer body twist; MuJoCo's free joint world linear and body
+angular velocity). The velocity-dependent terms (bias, inverse and forward dynamics) would need
+``Ṡ`` and are only defined for fixed bases here.
 """
 
 from __future__ import annotations
@@ -22,6 +28,8 @@ import numpy as np
 import pinocchio as pin
 
 from kinverify.errors import BackendError, UnknownNameError
+from kinverify.model.floating import base_transforms, has_base, velocity_map
+from kinverify.model.transforms import matrix_to_quat
 
 
 class PinocchioDynamics:
@@ -31,12 +39,21 @@ class PinocchioDynamics:
         except (ValueError, RuntimeError) as err:
             raise BackendError("pinocchio-urdf", f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
         m = self.model
+        self.floating = has_base(joint_names)
+        self._ff = None
+        if self.floating:
+            root = next((i for i in range(1, m.njoints) if m.parents[i] == 0), None)
+            if root is None or m.joints[root].shortname() != "JointModelFreeFlyer":
+                raise BackendError("pinocchio-urdf", "the configuration has a floating base but the URDF's root joint is not floating")
+            self._ff = (m.joints[root].idx_q, m.joints[root].idx_v, m.jointPlacements[root].inverse().homogeneous)
+            joint_names = joint_names[6:]
         missing = [j for j in joint_names if not m.existJointName(j)]
         if missing:
             raise UnknownNameError("joint", missing[0], [m.names[i] for i in range(1, m.njoints)])
-        if m.nv != len(joint_names):
+        if m.nv != len(joint_names) + 6 * self.floating:
             raise BackendError("pinocchio-urdf", f"dynamics needs exactly the compared joints ({len(joint_names)}), model has {m.nv} dofs")
         self.idx_v = np.array([m.joints[m.getJointId(j)].idx_v for j in joint_names])
+        self.idx_q = np.array([m.joints[m.getJointId(j)].idx_q for j in joint_names])
         self.urdf_armature = np.array(m.armature)[self.idx_v].copy()  # always 0: URDF has no field for it
         m.armature[self.idx_v] = np.asarray(armature, dtype=float)
         self.damping = np.array(m.damping)[self.idx_v].copy()
@@ -49,17 +66,44 @@ class PinocchioDynamics:
         out[self.idx_v] = x
         return out
 
+    def _q(self, q) -> np.ndarray:
+        """The model's configuration for ours (joints, after the base coordinates when floating)."""
+        q = np.asarray(q, dtype=float)
+        if not self.floating:
+            return self._in(q)
+        iq, _, placement_inv = self._ff
+        full = pin.neutral(self.model)
+        t = placement_inv @ base_transforms(q[:6])
+        full[iq:iq + 3] = t[:3, 3]
+        full[iq + 3:iq + 7] = np.roll(matrix_to_quat(t[:3, :3]), -1)  # wxyz -> xyzw
+        full[self.idx_q] = q[6:]
+        return full
+
+    def _columns(self, q) -> tuple[np.ndarray, np.ndarray | None]:
+        """Our columns among the model's velocities, and ``S`` for the base block (None if fixed)."""
+        if not self.floating:
+            return self.idx_v, None
+        iv = self._ff[1]
+        cols = np.concatenate([np.arange(iv, iv + 6), self.idx_v])
+        s = np.eye(len(cols))
+        s[:6, :6] = velocity_map(np.asarray(q, dtype=float)[:6], linear_in_body=True)
+        return cols, s
+
     def mass(self, q) -> np.ndarray:
-        M = pin.crba(self.model, self.data, self._in(q))
+        M = pin.crba(self.model, self.data, self._q(q))
         M = np.triu(M) + np.triu(M, 1).T  # crba fills the upper triangle
-        return M[np.ix_(self.idx_v, self.idx_v)]
+        cols, s = self._columns(q)
+        M = M[np.ix_(cols, cols)]
+        return M if s is None else s.T @ M @ s
 
     def bias(self, q, v) -> np.ndarray:
         """Coriolis, centrifugal and gravity forces ``h(q, q̇)`` (MuJoCo's ``qfrc_bias``)."""
         return np.asarray(pin.nonLinearEffects(self.model, self.data, self._in(q), self._in(v)))[self.idx_v]
 
     def gravity(self, q) -> np.ndarray:
-        return np.asarray(pin.computeGeneralizedGravity(self.model, self.data, self._in(q)))[self.idx_v]
+        g = np.asarray(pin.computeGeneralizedGravity(self.model, self.data, self._q(q)))
+        cols, s = self._columns(q)
+        return g[cols] if s is None else s.T @ g[cols]
 
     def inverse(self, q, v, a) -> np.ndarray:
         """Joint forces giving acceleration ``a``: RNEA plus the damping force ``D·q̇`` to overcome."""
@@ -99,6 +143,15 @@ class MujocoDynamics:
         if rigid:
             for flag in RIGID_BODY_DISABLED:
                 m.opt.disableflags |= int(getattr(mujoco.mjtDisableBit, flag))
+        self.floating, self._free = has_base(joint_names), None
+        if self.floating:
+            free = [j for j in range(m.njnt) if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)
+                    and m.body_parentid[m.jnt_bodyid[j]] == 0]
+            if len(free) != 1:
+                raise BackendError("mujoco", f"the configuration has a floating base but the MJCF has {len(free)} free "
+                                   "joints on top-level bodies (expected one)")
+            self._free = (int(m.jnt_qposadr[free[0]]), int(m.jnt_dofadr[free[0]]))
+            joint_names = joint_names[6:]
         ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joint_names]
         if min(ids) < 0:
             raise BackendError("mujoco", f"MJCF lacks joint {joint_names[ids.index(min(ids))]!r}")
@@ -126,22 +179,45 @@ class MujocoDynamics:
         d = self.data
         d.qpos[:] = self.model.qpos0
         d.qvel[:] = 0.0
+        q = np.asarray(q, dtype=float)
+        if self.floating:  # the free joint's qpos: the base's world pose, quaternion wxyz
+            t = base_transforms(q[:6])
+            a = self._free[0]
+            d.qpos[a:a + 3], d.qpos[a + 3:a + 7] = t[:3, 3], matrix_to_quat(t[:3, :3])
+            if v is not None:
+                raise ValueError("velocity-dependent dynamics of a floating base are not compared")
+            q = q[6:]
         d.qpos[self.qadr] = q
         if v is not None:
             d.qvel[self.vadr] = v
         mujoco.mj_forward(self.model, d)
 
+    def _columns(self, q) -> tuple[np.ndarray, np.ndarray | None]:
+        """Our columns among MuJoCo's dofs, and ``S`` for the base block (None if fixed)."""
+        if not self.floating:
+            return self.vadr, None
+        iv = self._free[1]
+        cols = np.concatenate([np.arange(iv, iv + 6), self.vadr])
+        s = np.eye(len(cols))
+        s[:6, :6] = velocity_map(np.asarray(q, dtype=float)[:6], linear_in_body=False)
+        return cols, s
+
     def mass(self, q) -> np.ndarray:
         self._set(q)
         mujoco.mj_fullM(self.model, self.data, self._full)
-        return self._full[np.ix_(self.vadr, self.vadr)].copy()
+        cols, s = self._columns(q)
+        M = self._full[np.ix_(cols, cols)].copy()
+        return M if s is None else s.T @ M @ s
 
     def bias(self, q, v) -> np.ndarray:
         self._set(q, v)
         return self.data.qfrc_bias[self.vadr].copy()
 
     def gravity(self, q) -> np.ndarray:
-        return self.bias(q, np.zeros(len(self.vadr)))
+        self._set(q)  # at rest: qfrc_bias is gravity alone
+        cols, s = self._columns(q)
+        g = self.data.qfrc_bias[cols].copy()
+        return g if s is None else s.T @ g
 
     def inverse(self, q, v, a) -> np.ndarray:
         """``mj_inverse``: joint forces giving ``a``, including the passive (damping) forces."""

@@ -128,7 +128,10 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
         plan = hold(quintic(trajectory.q0, trajectory.q1, trajectory.duration, 0.001), trajectory.hold)
     checks = [plan_check(spec, plan, options)]
     runs, metrics = [], []
-    for name in controllers:
+    report = (options.on_progress if options is not None else None) or (lambda done, total: None)
+    steps = len(controllers) + bool(render)  # each controller's run, then the animation
+    for k, name in enumerate(controllers):
+        report(k, steps)
         run = execute(spec, urdf, plan, name, trajectory.duration)
         m = compute_metrics(spec, run)
         runs.append(run)
@@ -159,6 +162,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
         figures += [dataclasses.replace(fig, caption=fig.caption + "; translucent green sphere: the goal of the tool") for fig in gifs]
         if reason:
             notes.append(f"{reason} (animation of {', '.join(r.controller for r in wanted)})")
+    report(steps, steps)
     deg = ", ".join(f"{math.degrees(v):.4g}" if j.type == "revolute" else f"{v:.4g} m" for v, j in zip(trajectory.q1, spec.joints))
     u = joint_unit(j.type == "revolute" for j in spec.joints)
     force = "N·m" if u == "rad" else "N" if u == "m" else "N·m|N"

@@ -14,6 +14,7 @@ from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.backends.yourdfpy_ import YourdfpyBackend
 from kinverify.errors import KinverifyError, UnknownNameError
 from kinverify.pipeline.sampling import spec_samples
+from tests.paths import MODELS
 
 TOL = 1e-9
 
@@ -33,13 +34,13 @@ def _agree(spec, q):
 
 
 @settings(max_examples=40, deadline=None)
-@given(kst.arm_specs(), kst.data())
+@given(kst.arm_specs(trees=True, floating=True), kst.data())
 def test_all_backends_agree_on_random_specs(spec, data):
     q = data.draw(kst.configuration_batches(spec, max_size=8))
     _agree(spec, q)
 
 
-@pytest.mark.parametrize("path", ["models/arm3.toml", "models/ur5e.toml", "models/panda.toml", "models/scara.toml"])
+@pytest.mark.parametrize("path", sorted(str(p) for p in MODELS.glob("*.toml")))
 def test_shipped_models_agree_at_edges_and_random_samples(path):
     spec = load_spec(path)
     _agree(spec, spec_samples(spec, 30, seed=1))
@@ -47,7 +48,7 @@ def test_shipped_models_agree_at_edges_and_random_samples(path):
 
 @pytest.mark.slow
 @settings(max_examples=300, deadline=None)
-@given(kst.arm_specs(), kst.data())
+@given(kst.arm_specs(trees=True), kst.data())
 def test_all_backends_agree_on_random_specs_sweep(spec, data):
     _agree(spec, data.draw(kst.configuration_batches(spec, max_size=20)))
 
@@ -114,3 +115,38 @@ def test_single_joint_arm(joint_type):
                                                       "limits": {"lower": -0.5, "upper": 0.5, "unit": unit}}],
                            "tools": [{"name": "tip", "xyz": [0.2, 0, 0]}]})
     _agree(spec, spec_samples(spec, 10))
+
+
+def test_capabilities_are_declared_once_on_each_backend_class():
+    """Library, Jacobian method and cost come from the adapter class: the report's versions and
+    file mode's readers of each file are derived from the registry, not kept in side lists."""
+    from kinverify.backends import available_backends, names_reading
+    from kinverify.versions import library_versions
+
+    versions = library_versions()
+    for name, info in available_backends().items():
+        cls = info.backend_class
+        assert cls.library and cls.library in versions, name
+        assert cls.jacobian_method in ("analytic", "finite-difference", None)
+    assert [n for n, i in available_backends().items() if i.backend_class.slow] == ["yourdfpy"]
+    assert names_reading("urdf") == ("pinocchio-urdf", "yourdfpy", "mujoco-urdf")
+    assert names_reading("mjcf") == ("mujoco", "pinocchio-mjcf")
+
+
+@settings(max_examples=15, deadline=None)
+@given(kst.arm_specs(max_joints=7), kst.data())
+def test_one_frame_ik_paths_equal_the_full_evaluation(spec, data):
+    """``frame_kinematics`` (IK's per-configuration path: one frame, one library call) gives the
+    pose and Jacobian ``evaluate`` gives for that frame, on Pinocchio and MuJoCo."""
+    q = data.draw(kst.configuration_batches(spec, 1, 3))
+    sources = ModelSources.from_spec(spec)
+    for backend in build_backends(sources, ["pinocchio-urdf", "pinocchio-mjcf", "mujoco", "mujoco-urdf"]):
+        ev = backend.evaluate(q)
+        for f in range(len(backend.frames)):
+            fk, log3 = backend.frame_kinematics(f)
+            for k in range(len(q)):
+                rot, pos, jac = fk(q[k])
+                np.testing.assert_allclose(rot, ev.poses[k, f, :3, :3], atol=1e-12)
+                np.testing.assert_allclose(pos, ev.poses[k, f, :3, 3], atol=1e-12)
+                np.testing.assert_allclose(jac, ev.jacobians[k, f], atol=1e-12)
+                np.testing.assert_allclose(log3(rot), log3(ev.poses[k, f, :3, :3]), atol=1e-12)

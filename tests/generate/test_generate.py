@@ -67,11 +67,16 @@ def test_shipped_models_load_in_every_library(path):
 
 
 @settings(max_examples=25, deadline=None)
-@given(kst.arm_specs())
+@given(kst.arm_specs(trees=True, floating=True))
 def test_random_specs_load_in_every_library(spec):
     mj, pin_urdf, pin_mjcf, robot = _load_everywhere(spec)
-    assert mj.nv == pin_urdf.nv == pin_mjcf.nv == len(robot.actuated_joint_names) == spec.dof
-    np.testing.assert_allclose(mj.body_mass[-spec.dof:], [j.link.inertial.mass for j in spec.joints])
+    base = 6 if spec.floating else 0  # a free joint / free-flyer (yourdfpy counts a floating joint as one)
+    assert mj.nv == pin_urdf.nv == pin_mjcf.nv == spec.dof + base
+    assert len(robot.actuated_joint_names) == spec.dof + (1 if spec.floating else 0)
+    masses = [mj.body_mass[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, j.link.name)] for j in spec.joints]
+    np.testing.assert_allclose(masses, [j.link.inertial.mass for j in spec.joints])
+    parents = [mj.body_parentid[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, j.link.name)] for j in spec.joints]
+    assert [mj.body(p).name for p in parents] == [spec.link_names[p] for p in spec.parent_indices]  # the tree, nested
 
 
 def test_arm3_actuators_fix_the_seed_defects():

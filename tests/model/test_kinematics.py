@@ -23,7 +23,7 @@ def test_seed_figure_for_arm3():
 
 
 @settings(max_examples=40, deadline=None)
-@given(kst.arm_specs(), kst.data())
+@given(kst.arm_specs(trees=True), kst.data())
 def test_geometric_jacobian_matches_finite_differences(spec, data):
     q = data.draw(kst.configuration_batches(spec, max_size=5))
     jac = geometric_jacobians(spec, frame_poses(spec, q))
@@ -32,7 +32,7 @@ def test_geometric_jacobian_matches_finite_differences(spec, data):
 
 
 @settings(max_examples=20, deadline=None)
-@given(kst.arm_specs(), kst.data())
+@given(kst.arm_specs(trees=True), kst.data())
 def test_fk_is_batched_consistently(spec, data):
     q = data.draw(kst.configuration_batches(spec, min_size=2, max_size=6))
     batch = frame_poses(spec, q)
@@ -86,18 +86,16 @@ def test_edge_samples_are_inside_the_limits():
 
 
 def _plain_chain(spec, q):
-    t = np.broadcast_to(spec.base_origin.transform, (len(q), 4, 4))
-    out = [t]
-    for i, joint in enumerate(spec.joints):
-        t = (t @ joint.origin.transform) @ joint_motion(joint, q[:, i])
-        out.append(t)
+    out = [np.broadcast_to(spec.base_origin.transform, (len(q), 4, 4))]
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+        out.append((out[parent] @ joint.origin.transform) @ joint_motion(joint, q[:, i]))
     links = np.stack(out, axis=1)
     tools = [links[:, spec.link_index(tool.parent)] @ tool.origin.transform for tool in spec.tools]
     return links, np.concatenate([links] + [tt[:, None] for tt in tools], axis=1)
 
 
 @settings(max_examples=60, deadline=None)
-@given(kst.arm_specs(max_joints=8), kst.data())
+@given(kst.arm_specs(max_joints=8, trees=True), kst.data())
 def test_batched_fk_equals_plain_chain(spec, data):
     q = data.draw(kst.configuration_batches(spec, 1, 30))
     links, frames = _plain_chain(spec, q)

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from kinverify import SpecError, load_spec, spec_from_dict
+from kinverify.model.kinematics import frame_poses, geometric_jacobians
 from kinverify.model.spec import Inertial, Joint, Limits, Link, Origin
 
 MODELS = ["models/arm3.toml", "models/ur5e.toml", "models/panda.toml", "models/scara.toml"]
@@ -131,4 +132,79 @@ def test_dh_and_origin_forms_cannot_mix():
     data = {"name": "a", "dh": {"convention": "standard", "angle_unit": "deg"},
             "joints": [{"dh": {"a": 0.1}, "xyz": [0, 0, 1], "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]}
     with pytest.raises(SpecError, match=r"joints\[0\].xyz: DH joints"):
+        spec_from_dict(data)
+
+
+def _tree(parents: list) -> dict:
+    joints = [{"name": f"j{i}", "axis": [0, 0, 1], "xyz": [0, 0, 0.1], "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+               "link": {"name": f"l{i}", "mass": 1.0}, **({"parent": p} if p else {})} for i, p in enumerate(parents)]
+    return {"name": "tree", "joints": joints}
+
+
+def test_a_joint_hangs_from_the_base_or_an_earlier_link():
+    spec = spec_from_dict(_tree([None, None, "l0", "base"]))
+    assert spec.parent_indices == (0, 1, 1, 0) and not spec.is_serial
+    assert spec.ancestors().tolist() == [[False] * 4, [True, False, False, False], [True, True, False, False],
+                                         [True, False, True, False], [False, False, False, True]]
+    assert spec_from_dict(_tree([None, "l0"])).is_serial  # naming the default parent keeps a chain
+    with pytest.raises(SpecError, match=r"joints\[1\].parent: a later joint's link 'l2'"):
+        spec_from_dict(_tree([None, "l2", None]))
+    with pytest.raises(SpecError, match=r"joints\[1\].parent: unknown link 'nowhere'"):
+        spec_from_dict(_tree([None, "nowhere"]))
+    with pytest.raises(SpecError, match=r"joints\[1\].parent: expected a string"):
+        spec_from_dict(_tree([None, 3]))
+
+
+def test_a_dh_table_describes_a_chain_only():
+    with pytest.raises(SpecError, match="dh: a DH table describes a serial chain"):
+        spec_from_dict({"name": "dh", "dh": {"convention": "standard", "angle_unit": "rad"}, "joints": [
+            {"dh": {"a": 0.1, "alpha": 0, "d": 0, "theta": 0}, "limits": {"lower": -1, "upper": 1, "unit": "rad"}},
+            {"dh": {"a": 0.1, "alpha": 0, "d": 0, "theta": 0}, "parent": "base", "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]})
+
+
+def test_the_gripper_fingers_are_branches_of_the_palm():
+    spec = load_spec("models/gripper.toml")
+    palm = spec.link_index("palm")
+    fingers = [spec.joint_names.index(n) for n in ("finger_left", "finger_right")]
+    assert [spec.parent_indices[k] for k in fingers] == [palm, palm]
+    q = np.zeros(spec.dof)
+    q[fingers] = 0.03
+    poses = frame_poses(spec, q)[0]
+    left, right = (poses[spec.frame_names.index(f), :3, 3] for f in ("fingertip_left", "fingertip_right"))
+    assert np.linalg.norm(left - right) == pytest.approx(0.06 + 0.02, abs=1e-12)
+    jac = geometric_jacobians(spec, frame_poses(spec, q))[0]
+    tip = spec.frame_names.index("fingertip_left")
+    assert np.all(jac[tip][:, fingers[1]] == 0) and np.any(jac[tip][:, fingers[0]] != 0)  # the other finger does not move it
+
+
+@pytest.mark.parametrize("override, field, words", [
+    ({"xyz": [True, False, True]}, "joints[0].xyz", "expected numbers, got [true, false, true]"),
+    ({"axis": ["0", "0", "1"]}, "joints[0].axis", "expected numbers, got ['0', '0', '1']"),
+    ({"damping": True}, "joints[0].damping", "got a boolean (true): booleans are not numbers"),
+    ({"limits": {"lower": False, "upper": 90, "unit": "deg"}}, "joints[0].limits.lower", "booleans are not numbers"),
+])
+def test_booleans_and_text_are_not_numbers(override, field, words):
+    with pytest.raises(SpecError) as err:
+        spec_from_dict(minimal(**override), file="arm.toml")
+    assert err.value.field == field and words in str(err.value) and str(err.value).startswith("arm.toml: ")
+
+
+def test_a_boolean_field_takes_only_booleans():
+    assert spec_from_dict({**minimal(), "base": {"floating": True}}).floating
+    with pytest.raises(SpecError, match=r"base.floating: expected true or false, got 1"):
+        spec_from_dict({**minimal(), "base": {"floating": 1}})
+
+
+def test_a_geometry_too_small_for_its_volume_is_a_spec_error():
+    tiny = minimal(link={"geometry": {"shape": "capsule", "radius": 1e-320, "fromto": [0, 0, 0, 0, 0, 0.3]}})
+    with pytest.raises(SpecError, match="too small or too large to derive a mass and inertia"):
+        spec_from_dict(tiny)
+
+
+def test_more_joints_than_the_documented_maximum_are_refused():
+    from kinverify.pipeline.limits import MAX_JOINTS
+
+    data = minimal()
+    data["joints"] = [dict(data["joints"][1], name=f"j{i}") for i in range(MAX_JOINTS + 1)]
+    with pytest.raises(SpecError, match=f"joints: {MAX_JOINTS + 1} joints, above the {MAX_JOINTS}"):
         spec_from_dict(data)

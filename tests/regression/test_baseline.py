@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import tomllib
 from dataclasses import replace
 from pathlib import Path
@@ -49,16 +50,16 @@ def arm3_baseline(tmp_path_factory) -> Path:
     return bl.save_baseline(load_spec(ARM3), tmp_path_factory.mktemp("bl") / "arm3.json", samples=10)
 
 
-def test_unchanged_shipped_models_pass(tmp_path):
-    for name in ("arm3", "ur5e", "panda", "scara"):
-        spec = load_spec(MODELS / f"{name}.toml")
-        result = bl_check.check(spec, bl.save_baseline(spec, tmp_path / f"{name}.json", samples=5))
-        assert result.passed and not result.moved and not result.spec_changed
-        kinematics = 4 * len(spec.frame_names) * result.samples
-        dynamics = 2 * spec.dof * result.samples
-        ik = 2 * min(bl_q.IK_TARGETS, result.samples)
-        assert result.compared == kinematics + dynamics + ik
-        assert result.explanations == []
+@pytest.mark.parametrize("name", sorted(p.stem for p in MODELS.glob("*.toml")))
+def test_unchanged_shipped_models_pass(tmp_path, name):
+    spec = load_spec(MODELS / f"{name}.toml")
+    result = bl_check.check(spec, bl.save_baseline(spec, tmp_path / f"{name}.json", samples=5))
+    assert result.passed and not result.moved and not result.spec_changed
+    kinematics = 4 * len(spec.frame_names) * result.samples
+    dynamics = 2 * spec.nq * result.samples  # mass-matrix row and gravity per coordinate
+    ik = 0 if spec.floating else 2 * min(bl_q.IK_TARGETS, result.samples)
+    assert result.compared == kinematics + dynamics + ik
+    assert result.explanations == []
 
 
 def test_a_1mm_longer_link_is_reported_at_the_right_frame_and_size(arm3_baseline):
@@ -294,3 +295,29 @@ def test_a_format_1_baseline_is_still_checked(arm3_baseline):
     assert any("no ik, dynamics records" in e for e in result.explanations)
     moved = bl_check.check(shift_joint(load_spec(ARM3), 2, 0.001), old)
     assert {m.frame for m in moved.moved if m.property == "fk.position"} == {"link3", "end_effector"}
+
+
+@pytest.mark.parametrize("section", sorted(bl.SCHEMA[2]))
+def test_a_baseline_missing_a_section_is_refused(arm3_baseline, tmp_path, capsys, section):
+    data = json.loads(arm3_baseline.read_text())
+    del data[section]
+    bad = tmp_path / "bad.json"
+    bad.write_text(bl.dumps_baseline(data))
+    assert main(["baseline", "check", str(ARM3), "--baseline", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"kinverify: error: {bad}: malformed baseline: missing {section}\n"
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d.update(fixed={}), "fixed.ik is missing (the ik inputs the baseline was saved with)"),
+    (lambda d: d.update(seed=True), "seed must be a whole number, got bool"),
+    (lambda d: d.update(records={}), "records must be a list, got dict"),
+    (lambda d: d.update(quantities=[1]), "quantities must be a list of names"),
+])
+def test_a_retyped_or_emptied_section_is_refused(arm3_baseline, tmp_path, edit, message):
+    data = json.loads(arm3_baseline.read_text())
+    edit(data)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(data))
+    with pytest.raises(InputError, match=re.escape(message)):
+        bl.read_baseline(bad)

@@ -46,7 +46,7 @@ def project(pytester, fresh_install, monkeypatch):
 def readme_example() -> str:
     """The complete test file shown in the README's pytest section."""
     text = (REPO / "README.md").read_text()
-    section = text[text.index("### kinverify in your own pytest suite"):]
+    section = text[text.index("## In your own pytest suite"):]
     return re.search(r"```python\n(.*?)```", section, re.S).group(1)
 
 
