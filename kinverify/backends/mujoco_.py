@@ -98,7 +98,7 @@ class MujocoBackend(EvaluatingBackend):
         return fk, log3
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
-        # Lean loop (issue 8): body and site poses copied with one fancy index each per
+        # Lean loop: body and site poses copied with one fancy index each per
         # configuration (d.xpos[ids], d.xmat[ids]); Jacobians written by mj_jacBody/mj_jacSite
         # straight into contiguous rows of the output; joint columns selected once per batch.
         q = self._check(q)

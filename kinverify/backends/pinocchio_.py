@@ -141,7 +141,7 @@ class PinocchioBackend(EvaluatingBackend):
         return fk, pin.log3
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
-        # Lean loop (issue 8): bound functions, results written straight into preallocated
+        # Lean loop: bound functions, results written straight into preallocated
         # arrays, joint columns selected once per batch rather than per frame.
         q = self._check(q)
         model, data, oMf = self.model, self.data, self.data.oMf

@@ -22,6 +22,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--mjcf", help="file mode: an existing MJCF")
     p.add_argument("--frames", nargs="*", default=[], metavar="URDF_FRAME=MJCF_FRAME", help="file mode: frame pairs to compare")
     p.add_argument("--joints", nargs="*", default=[], metavar="URDF_JOINT=MJCF_JOINT", help="file mode: joint pairs")
+    p.add_argument("--accept", metavar="FILE", help="file mode: reviewed accepted differences (TOML; default: "
+                   "kinverify-accepted.toml beside the URDF when present); accepted findings pass, new or changed ones fail")
+    p.add_argument("--write-accepted", metavar="FILE", help="file mode: write this run's error findings to FILE as accepted "
+                   "differences, to review (see docs/file-mode.md)")
     p.add_argument("--samples", type=_count, default=1000, help="uniform random configurations (default 1000), plus edge configurations")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--backends", help="comma-separated backend names (default: all available)")
@@ -40,7 +44,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
     p.add_argument("--profile", action="store_true", help="print one line of wall and CPU time per suite and for the report "
                    "(the JSON always holds them: timings, cpu_timings)")
-    # performance and scale (issue 8)
+    # performance and scale
     p.add_argument("--jobs", type=_count, default=1, help="worker processes for the chunks (default 1); results are identical for any N")
     p.add_argument("--executor", choices=["local", "dask"], default="local", help="run chunks here (local) or on dask.distributed (needs kinverify[dask])")
     p.add_argument("--scheduler", metavar="ADDRESS", help="with --executor dask: an existing scheduler (default: a LocalCluster of --jobs workers)")
@@ -125,16 +129,19 @@ def run(args) -> int:
             raise InputError("give either a spec MODEL or --urdf/--mjcf, not both")
         if not (args.urdf and args.mjcf):
             raise InputError("file mode needs both --urdf and --mjcf")
-        from kinverify.filemode import verify_files  # file mode (issue 7)
+        from kinverify.filemode import verify_files
         from kinverify.report.progress import VerifyProgress
 
         with VerifyProgress(console, "files") as bar:
-            bar.suite("kinematics")  # file mode runs the kinematics suite on the two files
+            bar.suite("kinematics")  # file mode: alignment, then the suites on the aligned files
             options.on_progress = bar.advance
-            result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command)
+            result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command,
+                                  accept=args.accept, write_accepted=args.write_accepted)
     else:
         if not args.model:
             raise InputError("give a spec MODEL (models/*.toml) or --urdf and --mjcf")
+        if args.accept or args.write_accepted:
+            raise InputError("--accept and --write-accepted are for file mode (--urdf and --mjcf)")
         from kinverify.report.progress import VerifyProgress
         from kinverify.model.specfile import load_spec
         from kinverify.run import verify_spec

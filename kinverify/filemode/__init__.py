@@ -1,184 +1,186 @@
 """File mode: cross-validate an existing URDF against an existing MJCF, and say what differs.
 
-``verify_files`` loads both files safely (meshes dropped), describes each through its library
-(URDF: Pinocchio, MJCF: MuJoCo), matches joints and frames, runs the kinematics pipeline with
-every library that loads each file (URDF: Pinocchio, yourdfpy, MuJoCo's URDF import; MJCF:
-MuJoCo, Pinocchio's MJCF parser) against ``pinocchio-urdf``, then diagnoses the differences.
+``verify_files`` reads both files safely (meshes dropped), describes each through its library
+(URDF: Pinocchio, MJCF: MuJoCo), matches joints and frames, aligns the two (world transform, joint
+zero offsets and signs, frame conventions: :mod:`kinverify.filemode.align`), then runs every
+suite that applies on the aligned files (kinematics with every library that reads each file,
+limits, inertia, dynamics) and reports each difference once, as a finding with its size.
+Findings decide the verdict: a failing check whose cause a finding reports is marked explained;
+accepted findings (``kinverify-accepted.toml``) pass. See docs/file-mode.md.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
+import time
 
-import numpy as np
+__all__ = ["verify_files", "diagnose_files", "FILE_SUITES"]
 
-from kinverify.backends import ModelSources, available_backends, build_backend
-from kinverify.errors import InputError, KinverifyError
-from kinverify.pipeline.sampling import sample_configurations
-from kinverify.filemode.crosscheck import MJCF_SIDE, URDF_SIDE, frame_residuals, parser_checks, top_level_pose
-from kinverify.filemode.describe import ModelDesc, describe_mjcf, describe_urdf
-from kinverify.filemode.diagnose import (ANG_TOL, POS_TOL, base_transform, diagnose_base, diagnose_dynamics, diagnose_frames, diagnose_joints,
-                       diagnose_limits, diagnose_links, diagnose_rounding, finding)
-from kinverify.filemode.loading import load_mjcf, load_urdf
-from kinverify.filemode.match import Matching, match
-from kinverify.filemode.aliased import AliasedBackend
-from kinverify.filemode.section import build_section
-from kinverify.filemode.validate import validate_inertials
-
-__all__ = ["verify_files", "diagnose_files"]
-
-DIAGNOSIS_SAMPLES = 64  # configurations for the FK evidence (residuals, parser cross-checks)
+FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics", "pictures")  # pictures: both files drawn, aligned
+ALIGN_SAMPLES = 24  # configurations (besides q = 0) the alignment fits over
 
 
-def _describe(loaded, describe, kind: str, refusals: list) -> ModelDesc:
-    try:
-        return describe(loaded.text)
-    except (ValueError, RuntimeError) as err:
-        lib = "Pinocchio" if kind == "urdf" else "MuJoCo"
-        refusals.append(finding("parser_refused", f"{lib} refuses the {kind.upper()}: {str(err).strip().splitlines()[-1]}",
-                                {"file": kind.upper(), "library": lib}))
-    if kind == "urdf":  # second opinion: MuJoCo's URDF import
-        from kinverify.backends.mujoco_ import urdf_for_mujoco
-
-        try:
-            desc = describe_mjcf(urdf_for_mujoco(loaded.text))
-            return dataclasses.replace(desc, kind="urdf", library="mujoco (URDF import)")
-        except ValueError as err:
-            raise InputError(f"--urdf: no library can load {loaded.path}: {str(err).strip().splitlines()[0]}") from None
-    raise InputError(f"--mjcf: MuJoCo cannot load {loaded.path}: {refusals[-1].message}")
-
-
-def _limits(u: ModelDesc, m: ModelDesc, matching: Matching):
-    lower, upper, revolute = [], [], []
-    for a, b, _ in matching.joints:
-        ju, jm = u.joint(a), m.joint(b)
-        span = math.pi if ju.type == "revolute" else 0.5
-        lo, up = max(ju.lower, jm.lower), min(ju.upper, jm.upper)
-        if not lo < up:  # limits do not overlap: sample the URDF's
-            lo, up = ju.lower, ju.upper
-        lower.append(lo if math.isfinite(lo) else -span)
-        upper.append(up if math.isfinite(up) else span)
-        revolute.append(ju.type == "revolute")
-    return tuple(lower), tuple(upper), tuple(revolute)
-
-
-def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()):
-    """Everything file mode knows before the kinematics pipeline runs: loaded files, descriptions,
-    matching, sources, the backends that loaded, and the findings."""
-    U, M = load_urdf(urdf), load_mjcf(mjcf)
-    refusals: list = []
-    u = _describe(U, describe_urdf, "urdf", refusals)
-    m = _describe(M, describe_mjcf, "mjcf", refusals)
-    matching = match(u, m, joints, frames)
-    lower, upper, revolute = _limits(u, m, matching)
-    sources = ModelSources(
-        name=M.name if M.name == U.name else f"{U.name}-vs-{M.name}",
-        joint_names=tuple(a for a, _, _ in matching.joints), frames=tuple(f[0] for f in matching.frames),
-        lower=lower, upper=upper, revolute=revolute, urdf=U.text, mjcf=M.text,
-        mjcf_joint_names=tuple(b for _, b, _ in matching.joints), mjcf_frames=tuple(f[1] for f in matching.frames))
-    wanted = [n for n in (options.backends if options and options.backends else URDF_SIDE + MJCF_SIDE)
-              if n in URDF_SIDE + MJCF_SIDE]
-    if not any(n in URDF_SIDE for n in wanted) or not any(n in MJCF_SIDE for n in wanted):
-        raise InputError(f"--backends: file mode needs a URDF backend ({', '.join(URDF_SIDE)}) and an MJCF backend "
-                         f"({', '.join(MJCF_SIDE)}); got {', '.join(options.backends or [])}")
-    backends = {}
-    for name in wanted:
-        info = available_backends().get(name)
-        if info is None or not info.available:
-            continue
-        try:
-            backends[name] = build_backend(name, sources)
-        except Exception as err:  # a library that fails on the user's file refuses it (e.g. yourdfpy on a planar joint)
-            side = "URDF" if name in URDF_SIDE else "MJCF"
-            why = _mimic_hint(U.text, str(err)) if name == "yourdfpy" else ""
-            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {_first_line(err)}"
-            refusals.append(finding("parser_refused", f"{name} refuses the {side}: {text}{why}", {"file": side, "backend": name}))
-    ref = next((n for n in URDF_SIDE if n in backends), None)
-    other = next((n for n in MJCF_SIDE if n in backends), None)
-    if ref is None or other is None:
-        side = "URDF" if ref is None else "MJCF"
-        raise InputError(f"no backend could load the {side}: " + "; ".join(f.message for f in refusals))
-
-    q = sample_configurations(lower, upper, revolute, DIAGNOSIS_SAMPLES, seed=options.seed if options else 0)
-    internal: list[str] = []  # kinverify's own failures in a diagnosis step: reported, the other steps still run
-
-    def step(name, fn, *args, default=None):
-        try:
-            return fn(*args)
-        except (KinverifyError, KeyboardInterrupt):
-            raise
-        except Exception as err:
-            internal.append(internal_error(f"file-mode diagnosis {name}", err))
-            return [] if default is None else default
-
-    t_base = step("base transform", base_transform, u, m, matching, default=np.eye(4))
-    residual_rows, starts, residual = step("frame residuals", frame_residuals, backends[ref], backends[other], q, t_base,
-                                           matching.frames, default=([], None, None))
-    findings = list(refusals)
-    findings += step("inertial validation", validate_inertials, U, M)
-    findings += step("base", diagnose_base, t_base, residual)
-    parser, parser_rows = step("parser cross-check", lambda: parser_checks(backends, q, m, top_level_pose(M.text)),
-                                default=([], []))
-    findings += parser
-    for side, names in (("URDF", matching.unmatched_urdf), ("MJCF", matching.unmatched_mjcf)):
-        for n in names:
-            findings.append(finding("unmatched_joint", f"joint {n} is only in the {side}: not compared, held at zero",
-                                    {"file": side}, joint=n))
-    if starts:
-        findings.append(starts)
-    differing = {f[0] for f, row in zip(matching.frames, residual_rows) if row[3] > POS_TOL or row[4] > ANG_TOL}
-    kin = step("joints", diagnose_joints, u, m, matching, t_base, differing) + step("frames", diagnose_frames, u, m, matching)
-    findings += kin
-    findings += step("rounding", diagnose_rounding, kin, U.text, M.original, u, m, matching)
-    findings += step("limits", diagnose_limits, u, m, matching)
-    links, link_rows = step("links", diagnose_links, u, m, matching, default=([], []))
-    findings += links
-    dyn, dyn_notes = step("dynamics", diagnose_dynamics, u, m, matching, default=([], []))
-    findings += dyn
-    notes = list(U.warnings + M.warnings) + [f"URDF: {s}" for s in u.skipped] + [f"MJCF: {s}" for s in m.skipped]
-    notes += [f"joint dynamics in one file only: {n}" for n in dyn_notes]
-    section = build_section(U, M, matching, findings, notes, residual_rows, parser_rows, link_rows, ref, other)
-    return dict(sources=sources, backends=backends, reference=ref, findings=findings, notes=notes, section=section,
-                urdf=U, mjcf=M, matching=matching, base=t_base, internal_errors=internal)
-
-
-def internal_error(where: str, err: Exception) -> str:
-    from kinverify.run import internal_error as describe
-
-    return describe(where, err)
-
-
-def _first_line(err: Exception) -> str:
-    lines = str(err).strip().splitlines()
-    return lines[0] if lines else type(err).__name__
-
-
-def _mimic_hint(urdf_text: str, message: str) -> str:
-    import xml.etree.ElementTree as ET
-
-    mimic = [j.get("name") for j in ET.fromstring(urdf_text).iter("joint") if j.find("mimic") is not None]
-    hits = [n for n in mimic if repr(n) in message]
-    return f" ({', '.join(hits)}: <mimic> joint, which yourdfpy drives from its leader and does not expose)" if hits else ""
-
-
-def verify_files(urdf: str, mjcf: str, options, frames=(), joints=(), command: str = ""):
-    """File mode of ``kinverify verify``: the kinematics checks plus the diagnosis, as a VerifyResult."""
-    from kinverify.run import VerifyOptions, verify
+def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> dict:
+    """Everything file mode knows before the suites run: both files read and described, matched,
+    aligned, with each library's reading built; the findings so far."""
+    from kinverify.filemode import build, parts
+    from kinverify.filemode.context import FileModeInfo
+    from kinverify.filemode.crosscheck import cross_check, top_level_pose
+    from kinverify.filemode.diagnose import alignment_findings, convention_findings, finding, length_units
+    from kinverify.filemode.geometry import reach
+    from kinverify.filemode.match import match
+    from kinverify.filemode.precision import floors, mjcf_precision, urdf_precision
+    from kinverify.pipeline.sampling import sample_configurations
+    from kinverify.run import VerifyOptions
 
     options = options or VerifyOptions()
-    diag = diagnose_files(urdf, mjcf, options, frames, joints)
-    # MJCF-side backends are seen under the URDF's frame names so the checks pair frames by name.
-    sources = diag["sources"]
-    extra = [b if n in URDF_SIDE else AliasedBackend(b, sources.frames) for n, b in diag["backends"].items()]
-    suites = [s for s in ("kinematics", "pictures") if options.suites is None or s in options.suites]  # pictures: the overlay
-    opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]], suites=suites)
-    result = verify(sources, opts, extra_backends=extra, source=f"{urdf} + {mjcf}", command=command)
-    result.sections["filemode"] = diag["section"]
-    result.findings = diag["findings"] + result.findings
-    result.notes += diag["notes"]
-    result.internal_errors = diag["internal_errors"] + result.internal_errors
-    result.model_info["files"] = {"urdf": urdf, "mjcf": mjcf}
-    result.model_info["joint_pairs"] = [list(p) for p in diag["matching"].joints]
-    result.model_info["frame_pairs"] = [list(p) for p in diag["matching"].frames]
+    wanted = build.side_names(options)
+    findings, internal = [], []
+    U, urdf_text, u, library = build.read_urdf(urdf, findings)
+    M, mjcf_text, m, free = build.read_mjcf(mjcf, findings)
+    matching = match(u, m, joints, frames)
+    precision = (urdf_precision(U.text), mjcf_precision(M.original))
+    fl = floors(*precision, matching.frames, reach(u), len(matching.independent))
+    lower, upper, revolute = build.sample_ranges(u, matching.independent)
+    q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)
+    al, poses = build.run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal)
+    poses_u, poses_m = build.zero_poses(poses, al)
+    info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), poses_u, poses_m,
+                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original))
+
+    tol = info.tol
+    twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: parts.frame_twins(info, tol), ([], []))
+    matching.frames += new_pairs
+    build.add_frames(al, new_pairs)
+    compared = [a for a, _, _ in matching.frames]
+    if free:
+        findings.append(finding("floating_base", f"the MJCF's free base ({', '.join(free)}) is held at the identity pose, where "
+                                "the URDF's root link is: both bases at the same pose (the MJCF's initial base pose is the free "
+                                "joint's starting value, not a property of the robot)", {"file": "MJCF", "bodies": free}))
+    kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
+    units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
+    info.inertials_explained_by = units[0].kind if units else ""
+    findings += units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol)
+                                  + convention_findings(al, kinds, tol), [])
+    findings += twins
+    from kinverify.filemode.validate import validate_inertials
+
+    findings += _guarded(internal, "inertial validation", lambda: validate_inertials(U, M), [])
+    backends = build.build_backends(info, urdf_text, mjcf_text, wanted, tol, findings)
+    worst = max([tol(f) for f in compared] or [(1e-9, 1e-9)])
+    backends, parser, parser_rows = _guarded(
+        internal, "parser cross-check",
+        lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text), build.rebuild_mjcf), (backends, [], []))
+    findings += parser
+    findings += _guarded(internal, "couplings", lambda: _couplings(u, m, matching), [])
+    ref = next((n for n in ("pinocchio-urdf", "mujoco-urdf", "yourdfpy") if n in backends), None)
+    other = next((n for n in ("mujoco", "pinocchio-mjcf") if n in backends), None)
+    if ref is None or other is None:
+        from kinverify.errors import InputError
+
+        raise InputError(f"no library could read the {'URDF' if ref is None else 'MJCF'}: "
+                         + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
+    notes = list(U.warnings + M.warnings) + [f"URDF: {s}" for s in u.skipped] + [f"MJCF: {s}" for s in m.skipped] + info.notes
+    notes.append(f"written precision: {precision[0].describe()}; {precision[1].describe()}")
+    return dict(urdf=U, mjcf=M, urdf_text=urdf_text, mjcf_text=mjcf_text, info=info, matching=matching, alignment=al,
+                backends=backends, reference=ref, findings=findings, notes=notes, parser_rows=parser_rows,
+                internal=internal, lower=lower, upper=upper, revolute=revolute)
+
+
+def mjcf_angle_unit(mjcf_text: str) -> str:
+    """The MJCF's ``<compiler angle>``: "degree" (MuJoCo's default) or "radian"."""
+    import xml.etree.ElementTree as ET
+
+    compiler = ET.fromstring(mjcf_text).find("compiler")
+    return "degree" if compiler is None else compiler.get("angle", "degree")
+
+
+def _guarded(internal: list, what: str, fn, default):
+    """``fn()``, or ``default`` with an internal error recorded when it fails (kinverify's bug)."""
+    from kinverify.errors import KinverifyError
+
+    try:
+        return fn()
+    except (KinverifyError, KeyboardInterrupt):
+        raise
+    except Exception as err:
+        internal.append(f"file mode, {what}: {type(err).__name__}: {err}")
+        return default
+
+
+def _couplings(u, m, matching) -> list:
+    """Couplings (URDF <mimic>, MJCF <equality joint>) that differ, or that one file lacks."""
+    from kinverify.filemode.diagnose import finding
+
+    out = []
+    to_u = {b: a for a, b, _ in matching.joints}
+    mine = {c.follower: c for c in u.couplings}
+    theirs = {}
+    for c in m.couplings:
+        f, lead = to_u.get(c.follower), to_u.get(c.leader)
+        if f is None or lead is None:
+            continue
+        if f in mine and mine[f].leader == lead or lead not in mine:
+            theirs[f] = (lead, c.multiplier, c.offset, c)
+        else:  # the MJCF states it the other way round: leader = (follower − offset) / multiplier
+            theirs[lead] = (f, 1 / c.multiplier, -c.offset / c.multiplier, c) if c.multiplier else (f, 0.0, 0.0, c)
+    for f in sorted(set(mine) | set(theirs)):
+        a, b = mine.get(f), theirs.get(f)
+        if a is None or b is None:
+            side = "URDF" if a is not None else "MJCF"
+            lead = a.leader if a is not None else b[0]
+            out.append(finding("coupling_one_file", f"joint {f} follows {lead} in the {side} only ({(a or b[3]).source}); the "
+                               "other file leaves it free: compared as coupled", {"file": side, "leader": lead}, joint=f))
+        elif a.leader != b[0] or abs(a.multiplier - b[1]) > 1e-9 or abs(a.offset - b[2]) > 1e-9:
+            out.append(finding("coupling_difference", f"joint {f}: {f} = {a.multiplier:g}·{a.leader} + {a.offset:g} in the URDF, "
+                               f"{b[1]:g}·{b[0]} + {b[2]:g} in the MJCF", {"urdf": [a.multiplier, a.offset],
+                                                                          "mjcf": [b[1], b[2]]}, joint=f))
+    return out
+
+
+def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), command: str = "", accept=None,
+                 write_accepted=None):
+    """File mode of ``kinverify verify``: the suites on the aligned files and the findings, as a
+    VerifyResult. ``accept``: an accepted-differences TOML file (default: ``kinverify-accepted.toml``
+    beside the URDF, when present); ``write_accepted``: write this run's error findings there."""
+    from kinverify.backends import ModelSources
+    import kinverify.filemode.accepted as acc
+    from kinverify.run import VerifyOptions, verify
+
+    t0 = time.perf_counter()
+    options = options or VerifyOptions()
+    entries = acc.load(accept) if accept else (acc.load(p) if (p := acc.default_path(urdf)) else [])
+    internal: list[str] = []
+    diag = _guarded(internal, "reading the files", lambda: diagnose_files(urdf, mjcf, options, frames, joints), None)
+    if diag is None:
+        return _failed(urdf, mjcf, options, internal, command)
+    info, U, M = diag["info"], diag["urdf"], diag["mjcf"]
+    al, matching = info.alignment, info.matching
+    name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
+    sources = ModelSources(name, tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
+                           tuple(diag["upper"]), tuple(diag["revolute"]), urdf=diag["urdf_text"], mjcf=diag["mjcf_text"],
+                           mjcf_joint_names=tuple(matching.mjcf_name(a) for a in al.independent),
+                           mjcf_frames=tuple(b for _, b, _ in matching.frames))
+    selected = [s for s in FILE_SUITES if options.suites is None or s in options.suites]
+    opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]],
+                               suites=[s for s in selected if s != "dynamics"], extra={**options.extra, "filemode": info})
+    result = verify(sources, opts, extra_backends=list(diag["backends"].values()), source=f"{urdf} + {mjcf}", command=command)
+    result.internal_errors = diag["internal"] + result.internal_errors
+    from kinverify.filemode.finish import finish
+
+    _guarded(result.internal_errors, "findings",
+             lambda: finish(result, diag, sources, opts, "dynamics" in selected, entries, write_accepted, urdf), None)
+    result.duration_s = time.perf_counter() - t0
     return result
+
+
+def _failed(urdf: str, mjcf: str, options, internal: list[str], command: str):
+    """The result of a run kinverify itself could not complete (verdict ``error``, exit 3)."""
+    from pathlib import Path
+
+    from kinverify.results import VerifyResult
+    from kinverify.versions import library_versions
+
+    return VerifyResult(model=f"{Path(urdf).stem}-vs-{Path(mjcf).stem}", source=f"{urdf} + {mjcf}", seed=options.seed,
+                        samples=0, joint_names=[], frames=[], backends=[], checks=[], versions=library_versions(),
+                        command=command, internal_errors=internal, model_info={"files": {"urdf": urdf, "mjcf": mjcf}})

@@ -136,9 +136,9 @@ def _read_asset(path: Path) -> Path:
     return path
 
 
-def load_urdf(path: str) -> LoadedFile:
+def load_urdf(path: str, keep_meshes: bool = True) -> LoadedFile:
     """URDF without the mesh visuals/collisions whose files are absent (kinematics and inertials
-    are untouched); meshes that exist are kept with absolute paths."""
+    are untouched); meshes that exist are kept with absolute paths (``keep_meshes=False``: none)."""
     text, root = read_xml(path, "urdf")
     dropped = kept = 0
     base = Path(path).resolve().parent
@@ -148,7 +148,7 @@ def load_urdf(path: str) -> LoadedFile:
                 mesh = el.find("geometry/mesh")
                 if mesh is None:
                     continue
-                found = resolve_asset(mesh.get("filename", ""), base)
+                found = resolve_asset(mesh.get("filename", ""), base) if keep_meshes else None
                 if found is None:
                     link.remove(el)
                     dropped += 1
@@ -163,7 +163,7 @@ def load_urdf(path: str) -> LoadedFile:
     return LoadedFile(str(path), "urdf", text, cleaned, root.get("name") or Path(path).stem, warnings)
 
 
-def load_mjcf(path: str) -> LoadedFile:
+def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     """MJCF with mesh geoms, mesh assets and file textures removed from the XML tree, then checked
     by compiling it with MuJoCo (``MjSpec``).
 
@@ -175,7 +175,7 @@ def load_mjcf(path: str) -> LoadedFile:
     _route_mujoco_warnings(mujoco)
     text, root = read_xml(path, "mjcf")
     name = root.get("model") or Path(path).stem
-    kept = _resolve_mesh_assets(root, Path(path).resolve().parent)
+    kept = _resolve_mesh_assets(root, Path(path).resolve().parent) if keep_meshes else set()
     dropped, massless = _drop_meshes(root, kept)
     warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped, their files are absent"] if dropped else []
     if kept:

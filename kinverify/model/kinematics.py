@@ -76,7 +76,7 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
     """World poses of the base link and every joint's link, ``(N, n + 1, 4, 4)`` (written into
     ``out[:, :n + 1]`` when given).
 
-    Batched (issue 8): each joint's local transform ``origin @ motion(q_i)`` for all N
+    Batched: each joint's local transform ``origin @ motion(q_i)`` for all N
     configurations is one small matrix product ``(N, 3) @ (3, 16)`` of ``(1, sin, cos)`` with
     constants (:func:`joint_local_coefficients`), then one stacked 4×4 product per joint, on
     contiguous buffers.

@@ -35,7 +35,11 @@ def advice(c: Check) -> str:
 
 
 def _vector(values, fmt: str) -> str:
-    return "[" + ", ".join(format(v, fmt) if math.isfinite(v) else str(v) for v in values) + "]"
+    """``[a, b, c]``; components below 1e-9 of the largest are written 0 (round-off, not a value)."""
+    values = [float(v) for v in values]
+    big = max((abs(v) for v in values if math.isfinite(v)), default=0.0)
+    values = [0.0 if math.isfinite(v) and abs(v) < 1e-9 * big else v for v in values]
+    return "[" + ", ".join(format(v + 0.0, fmt) if math.isfinite(v) else str(v) for v in values) + "]"
 
 
 def configuration(q, revolute: list[bool]) -> dict[str, str]:

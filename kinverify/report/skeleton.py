@@ -22,13 +22,15 @@ def _poses(raw) -> list[np.ndarray | None]:
     return [None if p is None else np.asarray(p, float) for p in raw]
 
 
-def _aligned(poses, t_inv: np.ndarray):
-    return [None if p is None else t_inv @ p for p in poses]
+def _moved(poses, t: np.ndarray):
+    """Each pose moved by ``t`` (left-multiplied)."""
+    return [None if p is None else t @ p for p in poses]
 
 
 def panels(data: dict, alignment=None, keys=("home", "worst")) -> list[tuple[str, dict[str, list]]]:
-    """(title, {backend: poses}) per panel: each configuration of ``keys``; with an alignment,
-    the first also as written."""
+    """(title, {backend: poses}) per panel: each configuration of ``keys``; with an alignment
+    (file mode, where the MJCF side arrives already mapped into the URDF's world), the first also
+    as written: the MJCF side moved back by ``T_mjcf_from_urdf``."""
     poses = data.get("poses") or {}
     out = []
     t = None if alignment is None else np.asarray(alignment, float)
@@ -42,8 +44,7 @@ def panels(data: dict, alignment=None, keys=("home", "worst")) -> list[tuple[str
         drawn = {b: _poses(p) for b, p in poses[key].items()}
         if moved and other in drawn:
             if key == keys[0]:
-                out.append((f"{title}, as written", dict(drawn)))
-            drawn[other] = _aligned(drawn[other], np.linalg.inv(t))
+                out.append((f"{title}, as written", {**drawn, other: _moved(drawn[other], t)}))
             title += ", bases aligned"
         out.append((title, drawn))
     return out

@@ -19,7 +19,7 @@ def fk_errors(reference: Evaluation, other: Evaluation, with_rotation: bool = Tr
     pairs = [(j, ref_index[f]) for j, f in enumerate(other.frames) if f in ref_index]
     if not pairs:
         return {}
-    # All matched frames at once (issue 8): one gather and one vectorised measure per property.
+    # All matched frames at once: one gather and one vectorised measure per property.
     mine, ref = [j for j, _ in pairs], [i for _, i in pairs]
     a = reference.poses[:, ref] if ref != list(range(reference.poses.shape[1])) else reference.poses
     b = other.poses[:, mine] if mine != list(range(other.poses.shape[1])) else other.poses
@@ -43,7 +43,7 @@ def jacobian_errors(reference: Evaluation, other: Evaluation, rows: slice | None
     pairs = [(j, ref_index[f]) for j, f in enumerate(other.frames) if f in ref_index]
     if not pairs:
         return {}
-    # All matched frames at once (issue 8).
+    # All matched frames at once.
     mine, ref = [j for j, _ in pairs], [i for _, i in pairs]
     a = ref_jac if ref == list(range(ref_jac.shape[1])) else ref_jac[:, ref]
     b = other.jacobians if mine == list(range(other.jacobians.shape[1])) else other.jacobians[:, mine]

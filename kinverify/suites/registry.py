@@ -9,13 +9,17 @@ from kinverify.suites.base import Property, Suite
 from kinverify.suites.diagnosis import DiagnosisSuite
 from kinverify.suites.dynamics import DynamicsSuite
 from kinverify.suites.ik import IKSuite
+from kinverify.suites.inertia import InertiaSuite
 from kinverify.suites.kinematics import KinematicsSuite
+from kinverify.suites.limits import LimitsSuite
 from kinverify.suites.pictures import PicturesSuite
 from kinverify.suites.tracking import TrackingSuite
 from kinverify.suites.workspace import WorkspaceSuite
 
 SUITES: tuple[type[Suite], ...] = (
     KinematicsSuite,
+    LimitsSuite,  # joint limits, URDF vs MJCF
+    InertiaSuite,  # mass and inertia of each rigid body, URDF vs MJCF
     IKSuite,
     DynamicsSuite,
     TrackingSuite,

@@ -144,7 +144,7 @@ def configuration_batches(spec: ArmSpec, min_size: int = 1, max_size: int = 20) 
     return st.lists(configurations(spec), min_size=min_size, max_size=max_size).map(np.array)
 
 
-# --- reachable targets and perturbed specs (issue 6) -------------------------------------------
+# --- reachable targets and perturbed specs -------------------------------------------
 
 
 class ReachableTarget:

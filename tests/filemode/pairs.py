@@ -1,14 +1,13 @@
-"""Committed test pairs for file mode: a generated URDF/MJCF pair and deliberate mutations of it.
-
-Each mutation is a text edit of one file and the finding kind kinverify must report for it.
-Generated in the test (nothing large is committed).
-"""
+"""Test pairs for file mode: a generated URDF/MJCF pair (models/*.toml) and deliberate edits of one
+file, each standing for what real pairs differ by. Generated in the test (nothing large is
+committed); each edit is a text edit of the XML, as a maintainer would make it."""
 
 from __future__ import annotations
 
 import math
 import re
-from pathlib import Path
+
+import numpy as np
 
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
@@ -20,105 +19,152 @@ def generated_pair(model: str = "panda") -> tuple[str, str]:
     return generate_urdf(spec), generate_mjcf(spec)
 
 
-def _sub_once(pattern: str, repl, text: str) -> str:
+def sub_once(pattern: str, repl, text: str) -> str:
     new, n = re.subn(pattern, repl, text, count=1, flags=re.S)
-    assert n == 1, f"mutation pattern not found: {pattern}"
+    assert n == 1, f"pattern not found: {pattern}"
     return new
 
 
-def _body_attr(mjcf: str, body: str, attr: str, fn) -> str:
-    return _sub_once(rf'(<body name="{body}"[^>]*? {attr}=")([^"]*)(")', lambda m: m[1] + fn(m[2]) + m[3], mjcf)
+def body_attr(mjcf: str, body: str, attr: str, fn) -> str:
+    return sub_once(rf'(<body name="{body}"[^>]*? {attr}=")([^"]*)(")', lambda m: m[1] + fn(m[2]) + m[3], mjcf)
 
 
-def _joint_attr(text: str, joint: str, attr: str, fn) -> str:
-    return _sub_once(rf'(<joint name="{joint}"[^>]*? {attr}=")([^"]*)(")', lambda m: m[1] + fn(m[2]) + m[3], text)
+def joint_attr(text: str, joint: str, attr: str, fn) -> str:
+    return sub_once(rf'(<joint name="{joint}"[^>]*? {attr}=")([^"]*)(")', lambda m: m[1] + fn(m[2]) + m[3], text)
 
 
-def _nums(fn):
-    return lambda s: " ".join(repr(v) for v in fn([float(x) for x in s.split()]))
+def nums(fn):
+    return lambda s: " ".join(repr(float(v)) for v in fn([float(x) for x in s.split()]))
 
 
-def base_rotation(urdf, mjcf):
-    """The MJCF mounts the arm turned 45° about z (inside the zero-pose mount body)."""
-    q = f'quat="{math.cos(math.pi / 8)!r} 0 0 {math.sin(math.pi / 8)!r}"'
-    return urdf, _sub_once(r'(<body name="panda_link0" pos="[^"]*")', lambda m: f"{m[1]} {q}", mjcf)
+def quat_z(angle: float) -> str:
+    return f"{math.cos(angle / 2)!r} 0 0 {math.sin(angle / 2)!r}"
 
 
-def axis_flip(urdf, mjcf):
-    return urdf, _joint_attr(mjcf, "panda_joint3", "axis", _nums(lambda v: [-x for x in v]))
+# --- the world and the joints' conventions ---------------------------------------------------
+
+def turned_world(urdf, mjcf, angle=math.pi / 4, xyz=None):
+    """The MJCF mounts the robot turned about z (and moved by ``xyz``) in its world."""
+    pose = f'quat="{quat_z(angle)}"' + (f' pos="{" ".join(repr(float(v)) for v in xyz)}"' if xyz is not None else "")
+    return urdf, mjcf.replace('<body name="world_mount">', f'<body name="world_mount" {pose}>', 1)
 
 
-def offset_1mm(urdf, mjcf):
-    return urdf, _body_attr(mjcf, "panda_link3", "pos", _nums(lambda v: [v[0] + 1e-3, v[1], v[2]]))
+def turned_half(urdf, mjcf):
+    """The world turned by π about z, as two public industrial-arm pairs do."""
+    return turned_world(urdf, mjcf, math.pi)
 
 
-def degrees_as_radians(urdf, mjcf):
-    return urdf, _joint_attr(mjcf, "panda_joint1", "range", _nums(lambda v: [round(math.degrees(x), 4) for x in v]))
+def offset_zero(urdf, mjcf, joint="panda_joint4", offset=0.1):
+    """The MJCF's joint zero sits ``offset`` further (``ref``), its range in its own coordinates."""
+    mjcf = joint_attr(mjcf, joint, "range", nums(lambda v: [x + offset for x in v]))
+    return urdf, sub_once(rf'(<joint name="{joint}" )', lambda m: m[1] + f'ref="{offset!r}" ', mjcf)
+
+
+def flipped_axis(urdf, mjcf, joint="panda_joint3"):
+    """The MJCF's axis reversed (its range reversed with it: the same physical limits)."""
+    mjcf = joint_attr(mjcf, joint, "range", nums(lambda v: [-v[1], -v[0]]))
+    return urdf, joint_attr(mjcf, joint, "axis", nums(lambda v: [-x for x in v]))
+
+
+def renamed_joints(urdf, mjcf):
+    """The MJCF names its joints J1...J7 (and its actuators and sensors refer to them so)."""
+    return urdf, re.sub(r'"panda_joint(\d)"', r'"J\1"', mjcf)
+
+
+# --- links and frames -------------------------------------------------------------------------
+
+TOOL = dict(mass=0.4, com=np.array([0.01, 0.0, 0.03]), inertia=np.diag([2e-4, 3e-4, 1e-4]))
+
+
+def merged_fixed_link(urdf, mjcf):
+    """The URDF keeps a tool as a fixed link on link 3 of arm3; the MJCF merges its mass into link3."""
+    t = TOOL
+    ixx, iyy, izz = (float(x) for x in np.diag(t["inertia"]))
+    link = (f'<link name="tool"><inertial><origin xyz="{" ".join(repr(float(x)) for x in t["com"])}" rpy="0 0 0"/>'
+            f'<mass value="{t["mass"]!r}"/><inertia ixx="{ixx!r}" iyy="{iyy!r}" izz="{izz!r}" ixy="0" ixz="0" iyz="0"/>'
+            '</inertial></link>'
+            '<joint name="tool_mount" type="fixed"><parent link="link3"/><child link="tool"/>'
+            '<origin xyz="0 0 0" rpy="0 0 0"/></joint>')
+    urdf = urdf.replace("</robot>", link + "</robot>")
+
+    def merge(match):
+        mass, com = float(match["mass"]), np.array([float(x) for x in match["pos"].split()])
+        full = [float(x) for x in match["full"].split()]
+        inertia = np.array([[full[0], full[3], full[4]], [full[3], full[1], full[5]], [full[4], full[5], full[2]]])
+        total = mass + t["mass"]
+        c = (mass * com + t["mass"] * t["com"]) / total
+        i = sum(ii + mm * ((r @ r) * np.eye(3) - np.outer(r, r)) for mm, cc, ii in ((mass, com, inertia), (t["mass"], t["com"], t["inertia"]))
+                for r in [cc - c])
+        full = " ".join(repr(float(x)) for x in (i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]))
+        return f'<inertial pos="{" ".join(repr(float(x)) for x in c)}" mass="{float(total)!r}" fullinertia="{full}"/>'
+    return urdf, sub_once(r'(?<=<body name="link3" )(.*?)<inertial pos="(?P<pos>[^"]*)" mass="(?P<mass>[^"]*)" '
+                          r'fullinertia="(?P<full>[^"]*)"/>', lambda m: m[1] + merge(m), mjcf)
+
+
+def extra_flange(urdf, mjcf):
+    """The URDF has a massless tool flange 16.5 mm beyond its flange; the MJCF has none."""
+    flange = ('<link name="tool_flange"/><joint name="tool_flange_mount" type="fixed"><parent link="flange"/>'
+              '<child link="tool_flange"/><origin xyz="0 0 0.0165" rpy="0 0 0"/></joint>')
+    return urdf.replace("</robot>", flange + "</robot>"), mjcf
+
+
+def gripper_in_mjcf(urdf, mjcf):
+    """The MJCF has a one-finger gripper on link 7 that the URDF lacks."""
+    gripper = ('<body name="gripper_finger" pos="0 0 0.05"><joint name="gripper_joint" type="slide" axis="0 1 0" '
+               'range="0 0.04"/><inertial pos="0 0 0.02" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>')
+    return urdf, sub_once(r'(<body name="panda_link7"[^>]*>)', lambda m: m[1] + gripper, mjcf)
+
+
+# --- values -----------------------------------------------------------------------------------
+
+def rounded_mjcf(urdf, mjcf):
+    """The MJCF written back by MuJoCo (MjSpec.to_xml: 6 significant digits, inertias as
+    principal moments and a quaternion), as machine-converted files are."""
+    import mujoco
+
+    return urdf, mujoco.MjSpec.from_string(mjcf).to_xml()
+
+
+def degrees_mjcf(urdf, mjcf):
+    """The MJCF drops ``<compiler angle="radian">``: MuJoCo reads its ranges in degrees."""
+    return urdf, mjcf.replace(' angle="radian"', "", 1)
+
+
+def grams_mjcf(urdf, mjcf):
+    """The MJCF's masses written in grams."""
+    return urdf, re.sub(r'(<inertial [^>]*mass=")([^"]*)(")', lambda m: m[1] + repr(float(m[2]) * 1000) + m[3], mjcf)
+
+
+def heavier_link(urdf, mjcf):
+    """The URDF's panda_link4 is 20 % heavier (its inertia tensor unchanged)."""
+    return sub_once(r'(<link name="panda_link4">.*?<mass value=")([^"]*)(")', lambda m: m[1] + repr(1.2 * float(m[2])) + m[3],
+                    urdf), mjcf
 
 
 def swapped_inertia(urdf, mjcf):
-    """fullinertia="ixx iyy izz ixy ixz iyz" with x and y exchanged (same tensor, axes swapped)."""
+    """The MJCF's panda_link3 fullinertia with x and y exchanged (same moments, axes swapped)."""
     def swap(v):
         ixx, iyy, izz, ixy, ixz, iyz = v
         return [iyy, ixx, izz, ixy, iyz, ixz]
-    return urdf, _sub_once(r'(<body name="panda_link3".*?fullinertia=")([^"]*)(")',
-                           lambda m: m[1] + _nums(swap)(m[2]) + m[3], mjcf)
+    return urdf, sub_once(r'(<body name="panda_link3".*?fullinertia=")([^"]*)(")', lambda m: m[1] + nums(swap)(m[2]) + m[3], mjcf)
 
 
-def extra_joint(urdf, mjcf):
-    gripper = ('<body name="gripper_finger" pos="0 0 0.05"><joint name="gripper_joint" type="slide" axis="0 1 0" '
-               'range="0 0.04"/><inertial pos="0 0 0" mass="0.001" diaginertia="1e-7 1e-7 1e-7"/></body>')
-    return urdf, _sub_once(r'(<body name="panda_link7"[^>]*>)', lambda m: m[1] + gripper, mjcf)
-
-
-def rounded_rpy(urdf, mjcf):
-    """The URDF writes 1.5708 for π/2 in one joint origin."""
-    return _sub_once(r'(<joint name="panda_joint3".*?<origin [^>]*rpy=")([^"]*)(")',
-                     lambda m: m[1] + m[2].replace("1.5707963267948966", "1.5708") + m[3], urdf), mjcf
-
-
-def zero_offset(urdf, mjcf):
-    """The MJCF joint's zero is 0.1 rad away (``ref``)."""
-    return urdf, _sub_once(r'(<joint name="panda_joint4" )', lambda m: m[1] + 'ref="0.1" ', mjcf)
-
-
-def type_change(urdf, mjcf):
-    """The MJCF makes the last joint prismatic."""
-    return urdf, _joint_attr(mjcf, "panda_joint7", "type", lambda t: "slide")
-
-
-def _urdf_link_mass(urdf: str, link: str, fn) -> str:
-    return _sub_once(rf'(<link name="{link}">.*?<mass value=")([^"]*)(")', lambda m: m[1] + repr(fn(float(m[2]))) + m[3], urdf)
-
-
-def heavier_urdf_link(urdf, mjcf):
-    """The URDF's panda_link4 is 20 % heavier (its inertia tensor unchanged)."""
-    return _urdf_link_mass(urdf, "panda_link4", lambda m: 1.2 * m), mjcf
-
-
-def upper_limit_further(urdf, mjcf):
+def upper_limit(urdf, mjcf):
     """The URDF lets panda_joint2 go 0.2 rad further up."""
-    return _sub_once(r'(<joint name="panda_joint2".*?<limit [^>]*upper=")([^"]*)(")',
-                     lambda m: m[1] + repr(float(m[2]) + 0.2) + m[3], urdf), mjcf
+    return sub_once(r'(<joint name="panda_joint2".*?<limit [^>]*upper=")([^"]*)(")',
+                    lambda m: m[1] + repr(float(m[2]) + 0.2) + m[3], urdf), mjcf
 
 
 def friction_added(urdf, mjcf):
     """The MJCF gives panda_joint5 0.3 N·m of Coulomb friction (frictionloss) the URDF lacks."""
-    return urdf, _joint_attr(mjcf, "panda_joint5", "frictionloss", lambda v: "0.3")
+    return urdf, joint_attr(mjcf, "panda_joint5", "frictionloss", lambda v: "0.3")
 
 
-# mutation, expected finding kind, joint/link/frame it must name (URDF names)
-MUTATIONS = [
-    (base_rotation, "base_transform", None),
-    (axis_flip, "axis_sign_flip", "panda_joint3"),
-    (offset_1mm, "axis_position", "panda_joint3"),
-    (degrees_as_radians, "limits_degrees_as_radians", "panda_joint1"),
-    (swapped_inertia, "inertia_rotated", "panda_link3"),
-    (extra_joint, "unmatched_joint", "gripper_joint"),
-    (rounded_rpy, "rounding", "panda_joint3"),
-    (zero_offset, "zero_offset", "panda_joint4"),
-    (type_change, "type_difference", "panda_joint7"),
-    (heavier_urdf_link, "mass_difference", "panda_link4"),
-    (upper_limit_further, "limit_difference", "panda_joint2"),
-    (friction_added, "friction_difference", "panda_joint5"),
-]
+def moved_axis(urdf, mjcf):
+    """The MJCF's panda_link3 (and joint 3's axis with it) 1 mm further along x."""
+    return urdf, body_attr(mjcf, "panda_link3", "pos", nums(lambda v: [v[0] + 1e-3, v[1], v[2]]))
+
+
+def slide_joint(urdf, mjcf):
+    """The MJCF makes panda_joint7 prismatic."""
+    return urdf, joint_attr(mjcf, "panda_joint7", "type", lambda t: "slide")

@@ -147,8 +147,9 @@ def test_an_mjcf_lacking_one_of_the_urdf_joints_fails(tmp_path):
     # the joint, and the actuator and sensor that act on it
     mjcf = "\n".join(line for line in mjcf.splitlines() if 'name="joint3"' not in line and 'joint="joint3"' not in line)
     result = verify_files(*write_pair(tmp_path, urdf, mjcf), FAST)
-    missing = [f for f in result.findings if f.kind == "unmatched_joint"]
+    missing = [f for f in result.findings if f.kind == "extra_parts"]
     assert [(f.subject, f.severity, f.values["file"]) for f in missing] == [("joint3", "error", "URDF")]
+    assert not [f for f in result.findings if f.kind == "lumped_links"]  # link3 is in both files: no merged links
     assert result.verdict == "fail" and result.exit_code == 1
 
 

@@ -98,14 +98,19 @@ def test_turned_base_is_drawn_overlaid_and_named(turned):
     page, result = turned
     pictures = result.sections["pictures"].data
     assert pictures["other"] == "mujoco" and set(pictures["poses"]["worst"]) == {result.backends[0], "mujoco"}
-    # the ghosted MJCF skeleton is the URDF's turned by π about z: the overlay shows the turn
+    # the MJCF side arrives aligned (on the URDF side); the "as written" panel turns it back by π about z
     turn = np.diag([-1.0, -1.0, 1.0, 1.0])
     for key in ("home", "worst"):
         urdf_side = np.array(pictures["poses"][key][result.backends[0]])
         mjcf_side = np.array(pictures["poses"][key]["mujoco"])
-        np.testing.assert_allclose(mjcf_side, turn @ urdf_side, atol=1e-9)
+        np.testing.assert_allclose(mjcf_side, urdf_side, atol=1e-9)
+    alignment = np.array(result.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"])
+    np.testing.assert_allclose(alignment, turn, atol=1e-9)
+    written = dict(panels(pictures, alignment.tolist()))["home pose, as written"]
+    origins = lambda poses: np.array([p for p in poses if p is not None])[:, :3, 3]
+    np.testing.assert_allclose(origins(written["mujoco"]), origins(written[result.backends[0]]) * [-1, -1, 1], atol=1e-9)
     first_screen = _text(page[:page.index('<section id="matrix">')])
-    assert "The MJCF's base is the URDF's turned by 180° about [0, 0, 1]." in first_screen
+    assert "The MJCF's base is the URDF's turned by 180° about [0, 0, 1] (panels" in first_screen
     assert "pinocchio-urdf solid, mujoco ghosted over it" in first_screen
     assert '<figure class="plot answer-picture"><svg' in page
 

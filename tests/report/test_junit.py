@@ -38,7 +38,7 @@ def test_the_junit_file_counts_the_same_checks_as_the_json(tmp_path):
     found = cases(out["xml"])
     assert len(found) == len(groups)
     assert sum(int(case._elem.get("assertions")) for _, case in found) == len(data["checks"])
-    assert [name for name, _ in dict.fromkeys((n, None) for n, _ in found)] == ["kinematics", "ik", "dynamics"]
+    assert [name for name, _ in dict.fromkeys((n, None) for n, _ in found)] == ["kinematics", "limits", "inertia", "ik", "dynamics"]
     assert all(case.is_passed for _, case in found)
     names = {case.name for _, case in found}
     assert "fk.position [analytic vs mujoco]" in names

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from functools import lru_cache
 from typing import Callable
 
@@ -24,7 +25,9 @@ from kinverify.pipeline.sampling import Samples
 from kinverify.suites.base import Check, VerifyContext, VerifyOptions
 from kinverify.suites.dynamics import DynamicsSuite
 from kinverify.suites.ik import IKSuite
+from kinverify.suites.inertia import InertiaSuite
 from kinverify.suites.kinematics import KinematicsSuite
+from kinverify.suites.limits import LimitsSuite
 from kinverify.tracking.execute import Run
 from kinverify.tracking.metrics import CRITERIA, compute_metrics
 from kinverify.tracking.quintic import hold, quintic
@@ -219,6 +222,35 @@ def tracking_plan(delta, tolerances):
     return plan_check(spec, plan, VerifyOptions(tolerances=dict(tolerances)))
 
 
+def _edit_urdf(pattern: str, delta: float) -> Callable[[str], str]:
+    """Add ``delta`` to the first number the (one-group) ``pattern`` captures in arm3's URDF."""
+    def edit(urdf: str) -> str:
+        new, n = re.subn(pattern, lambda m: m[0].replace(m[1], repr(float(m[1]) + delta), 1), urdf, count=1, flags=re.S)
+        assert n == 1, pattern
+        return new
+    return edit
+
+
+# one side's statement of a parameter, in arm3's URDF (link1 sits unrotated at q = 0)
+URDF_EDITS = {
+    "limits.position": r'<joint name="joint1".*?upper="([^"]+)"',
+    "limits.effort": r'<joint name="joint1".*?effort="([^"]+)"',
+    "limits.velocity": r'<joint name="joint1".*?velocity="([^"]+)"',
+    "inertia.mass": r'<link name="link1">.*?<mass value="([^"]+)"',
+    "inertia.com": r'<link name="link1">.*?<origin xyz="([^ "]+)',
+    "inertia.tensor": r'<link name="link1">.*?ixx="([^"]+)"',
+}
+
+
+def urdf_parameter(prop: str, suite) -> Callable[[float, dict], Check]:
+    """The suite on arm3 with the URDF's statement of ``prop`` moved by delta (in its unit)."""
+    def probe(delta, tolerances):
+        ctx = context([analytic()], tolerances)
+        sources = dataclasses.replace(ctx.sources, urdf=_edit_urdf(URDF_EDITS[prop], delta)(ctx.sources.urdf))
+        return find(suite().run(dataclasses.replace(ctx, sources=sources)).checks, prop)
+    return probe
+
+
 PROBES: dict[str, Callable[[float, dict], Check]] = {
     "fk.position": kinematics("fk.position", position=1),
     "fk.rotation": kinematics("fk.rotation", rotation=1),
@@ -240,6 +272,8 @@ PROBES: dict[str, Callable[[float, dict], Check]] = {
     "ik.unreachable": ik("ik.unreachable"),
     **{f"tracking.{c}": tracking(c) for c in CRITERIA},
     "tracking.plan": tracking_plan,
+    **{p: urdf_parameter(p, LimitsSuite) for p in ("limits.position", "limits.effort", "limits.velocity")},
+    **{p: urdf_parameter(p, InertiaSuite) for p in ("inertia.mass", "inertia.com", "inertia.tensor")},
 }
 
 # Properties whose error is a count over a few items (k/n): probed at a tolerance on the grid so
@@ -263,4 +297,9 @@ MUST_CATCH = {
     "tracking.computed-torque": 1e-3,  # rad RMS
     "tracking.pd+gravity": 0.5, "tracking.position": 0.5, "tracking.seed-pid": 0.5,  # half the move
     "tracking.plan": 1e-9,
+    "limits.position": 1e-6,  # rad: a bound 1 µrad apart
+    "limits.effort": 1e-6, "limits.velocity": 1e-6,  # N·m, rad/s
+    "inertia.mass": 1e-6,  # kg: a milligram
+    "inertia.com": 1e-6,  # m: a micrometre
+    "inertia.tensor": 1e-8,  # kg·m²
 }

@@ -1,0 +1,217 @@
+"""Suite ``limits``: joint limits as the URDF (Pinocchio) and the MJCF (MuJoCo) state them.
+
+- ``limits.position``: lower and upper bounds, in the MJCF's coordinates (file mode: the URDF's
+  bounds carried through the joint's sign and zero offset); a joint limited in one file only
+  differs by ``inf``;
+- ``limits.effort``: URDF ``<limit effort>`` against the largest force MuJoCo's actuators can put
+  on the joint (``forcerange``; ``ctrlrange × gain`` for a motor; times ``gear`` and a fixed
+  tendon's coefficient); an actuator without a force bound differs by ``inf``. Not compared for
+  a joint one file gives no limit;
+- ``limits.velocity``: the spec's velocity limit against the URDF's (MJCF has no such field).
+
+In file mode each difference above tolerance is also one finding, grouped by cause (limits read
+in degrees, one file unlimited, actuators without a force bound, the same pair of values), and
+limits rounded at the written precision are one ``rounding`` finding per file.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from kinverify.suites.base import Finding, Property, Section, Suite, SuiteResult, VerifyContext, tolerance, within
+
+DEGREE = 180 / math.pi
+UNIT_RATIO = 2e-3  # relative closeness to 180/π for limits written in the other unit
+
+
+def _unit(revolute: bool, prop: str) -> str:
+    return {"limits.position": "rad" if revolute else "m", "limits.velocity": "rad/s" if revolute else "m/s",
+            "limits.effort": "N·m" if revolute else "N"}[prop]
+
+
+def mapped_bounds(lower: float, upper: float, sign: int, offset: float) -> tuple[float, float]:
+    """URDF bounds in the MJCF's coordinates (q_mjcf = sign · q + offset)."""
+    lo, up = (lower, upper) if sign > 0 else (-upper, -lower)
+    return lo + offset, up + offset
+
+
+def _error(x: float | None, y: float | None) -> float | None:
+    if x is None or y is None:
+        return None
+    if x == y:
+        return 0.0
+    return math.inf if not (math.isfinite(x) and math.isfinite(y)) else abs(x - y)
+
+
+class LimitsSuite(Suite):
+    name = "limits"
+    title = "Joint limits: URDF vs MJCF"
+    properties = (
+        Property("limits.position", "rad", 1e-9, compares="lower and upper bounds, URDF <limit> vs MJCF range (file mode: "
+                 "through the joint's sign and zero offset); limited in one file only: inf"),
+        Property("limits.effort", "N·m", 1e-9, compares="URDF <limit effort> vs the force the MJCF's actuators can exert "
+                 "(forcerange, or ctrlrange × gain for a motor, × gear and tendon coefficient); no force bound: inf"),
+        Property("limits.velocity", "rad/s", 1e-9, compares="spec velocity limit vs URDF <limit velocity> (MJCF has none)"),
+    )
+
+    def run(self, ctx: VerifyContext) -> SuiteResult:
+        from kinverify.filemode.context import file_view
+
+        info = file_view(ctx)
+        if info is None:
+            return SuiteResult([], Section(self.title, "skipped: needs both a URDF and an MJCF"))
+        rows = self.measure(ctx, info)
+        checks = []
+        for prop in [p.name for p in self.properties]:
+            measured = [r for r in rows if r[prop] is not None]
+            if not measured:
+                continue
+            tol = tolerance(ctx.options, self.property(prop))
+            floor = info.floor(prop, info.floors.limit) if prop == "limits.position" else 0.0
+            worst = max(measured, key=lambda r: r[prop])
+            revolute = {r["revolute"] for r in measured}
+            unit = _unit(True, prop) if revolute == {True} else _unit(False, prop) if revolute == {False} else \
+                f"{_unit(True, prop)}|{_unit(False, prop)}"
+            limit = max(tol, floor)
+            note = f"largest at {worst['joint']}" + (f"; tolerance raised to the written precision ({floor:.2g})" if floor > tol else "")
+            check = self.value_check(ctx.options, prop, "joints", worst["pair"], worst[prop], note=note, unit=unit,
+                                     samples=len(measured))
+            checks.append(dataclasses.replace(check, tolerance=limit, passed=within(worst[prop], limit)))
+        findings = limit_findings(rows, info, {c.property: c.tolerance for c in checks}) if info.file_mode else []
+        section = Section(self.title, f"{len(rows)} joints; {sum(c.passed for c in checks)} of {len(checks)} checks pass.")
+        section.table("Joint limits (MJCF coordinates)", ["joint (URDF / MJCF)", "lower URDF", "lower MJCF", "upper URDF",
+                                                          "upper MJCF", "effort URDF", "effort MJCF", "MJCF effort from"],
+                      [[r["label"], r["lower"][0], r["lower"][1], r["upper"][0], r["upper"][1], r["effort"][0], r["effort"][1],
+                        r["effort_how"]] for r in rows])
+        if info.file_mode:
+            velocity = [r for r in rows if r["velocity_urdf"] is not None]
+            if velocity:
+                section.notes.append("URDF velocity limits (the MJCF has no such field): " + ", ".join(
+                    f"{r['joint']} {r['velocity_urdf']:g}" for r in velocity))
+            silent = [r["joint"] for r in rows if r["limits.effort"] is None]
+            if silent:
+                section.notes.append("effort not compared (one file states none): " + ", ".join(silent))
+        return SuiteResult(checks, section, findings)
+
+    @staticmethod
+    def measure(ctx: VerifyContext, info) -> list[dict]:
+        """One row per matched joint: bounds and efforts side by side, and each property's error."""
+        spec = ctx.sources.spec
+        spec_joints = {j.name: j for j in spec.joints} if spec is not None else {}
+        rows = []
+        for jm in info.alignment.joints:
+            ju, jmj = info.u.joint(jm.urdf), info.m.joint(jm.mjcf)
+            lo, up = mapped_bounds(ju.lower, ju.upper, jm.sign, jm.offset)
+            pos = [_error(lo, jmj.lower), _error(up, jmj.upper)]
+            row = {"joint": jm.urdf, "mjcf": jm.mjcf, "label": jm.urdf if jm.urdf == jm.mjcf else f"{jm.urdf} / {jm.mjcf}",
+                   "revolute": ju.type == "revolute", "pair": ("urdf", "mjcf"), "lower": (lo, jmj.lower),
+                   "upper": (up, jmj.upper), "effort": (ju.effort, jmj.effort), "effort_how": jmj.effort_how,
+                   "limits.position": max(pos), "limits.effort": _error(ju.effort, jmj.effort),
+                   "limits.velocity": None, "velocity_urdf": ju.velocity}
+            if jm.urdf in spec_joints and ju.velocity is not None:
+                row["limits.velocity"] = abs(spec_joints[jm.urdf].limits.velocity - ju.velocity)
+            rows.append(row)
+        return rows
+
+
+def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
+    """Differences above tolerance as findings, one per cause; rounding as one info per file."""
+    from kinverify.filemode.diagnose import finding
+    from kinverify.filemode.inertials import rounded_side
+
+    out, rounded, degrees, unlimited, other = [], [], [], {}, []
+    tol = tolerances.get("limits.position", 1e-9)
+    for r in rows:
+        err = r["limits.position"]
+        if err is None or err == 0:
+            continue
+        pairs = [r["lower"], r["upper"]]
+        if math.isinf(err):
+            side = "URDF" if any(math.isinf(x) and not math.isinf(y) for x, y in pairs) else "MJCF"
+            unlimited.setdefault(side, []).append(r)
+        elif err <= tol:
+            if err > 1e-9:
+                rounded.append(r)
+        elif all(y == x or (x != 0 and abs(abs(y / x) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs) or \
+                all(y == x or (y != 0 and abs(abs(x / y) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs):
+            degrees.append(r)
+        else:
+            other.append(r)
+    unit = lambda r: "rad" if r["revolute"] else "m"  # noqa: E731
+    for r in other:
+        out.append(finding("limit_difference", f"joint {r['label']}: limits [{r['lower'][0]:.6g}, {r['upper'][0]:.6g}] in the URDF, "
+                           f"[{r['lower'][1]:.6g}, {r['upper'][1]:.6g}] in the MJCF (MJCF coordinates): {r['limits.position']:.4g} "
+                           f"{unit(r)} apart", {"urdf": [r["lower"][0], r["upper"][0]], "mjcf": [r["lower"][1], r["upper"][1]],
+                                                "checks": [["limits.position", "joints"]]},
+                           magnitude=r["limits.position"], unit=unit(r), prop="limits.position", joint=r["joint"], mjcf_joint=r["mjcf"]))
+    for side, group in unlimited.items():
+        out.append(finding("limit_difference", f"{len(group)} joints are unlimited in the {side} and limited in the other file: "
+                           + ", ".join(f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, "
+                                       f"{r['upper'][0 if side == 'MJCF' else 1]:.6g}]" for r in group),
+                           {"unlimited_in": side, "urdf": [[r["lower"][0], r["upper"][0]] for r in group],
+                            "mjcf": [[r["lower"][1], r["upper"][1]] for r in group], "checks": [["limits.position", "joints"]]},
+                           magnitude=math.inf, unit="rad", prop="limits.position",
+                           joint=[r["joint"] for r in group], mjcf_joint=[r["mjcf"] for r in group]))
+    if degrees:
+        big = "MJCF" if max(abs(x) for r in degrees for x in (r["lower"][1], r["upper"][1]) if math.isfinite(x)) > \
+            max(abs(x) for r in degrees for x in (r["lower"][0], r["upper"][0]) if math.isfinite(x)) else "URDF"
+        how = {("URDF", "degree"): "the MJCF's ranges are written in radians, but without <compiler angle=\"radian\"> "
+                                   "MuJoCo reads them in degrees",
+               ("URDF", "radian"): "the URDF's limits are written in degrees (URDF limits are radians)",
+               ("MJCF", "radian"): "the MJCF's ranges are written in degrees, but <compiler angle=\"radian\"> makes "
+                                   "MuJoCo read them in radians"}.get((big, info.mjcf_angle),
+                                                                       "one file's limits are the other's in degrees")
+        out.append(finding("limit_units", f"{how}: {len(degrees)} joints' limits differ by the factor 180/π: "
+                           + ", ".join(r["label"] for r in degrees),
+                           {"file": "MJCF" if "MJCF" in how.split(" ")[1] else big,
+                            "urdf": [[r["lower"][0], r["upper"][0]] for r in degrees],
+                            "mjcf": [[r["lower"][1], r["upper"][1]] for r in degrees], "checks": [["limits.position", "joints"]]},
+                           magnitude=max(r["limits.position"] for r in degrees), unit="rad", prop="limits.position",
+                           joint=[r["joint"] for r in degrees], mjcf_joint=[r["mjcf"] for r in degrees]))
+    by_side: dict[str, list[dict]] = {}
+    for r in rounded:
+        x, y = max((r["lower"], r["upper"]), key=lambda p: abs(p[0] - p[1]))
+        by_side.setdefault(rounded_side(x, y), []).append(r)
+    for side, group in by_side.items():
+        largest = max(r["limits.position"] for r in group)
+        precision = next((p for p in info.precision if p.file == side), None)
+        how = precision.describe(["limit"]) if precision is not None else "both files round them"
+        out.append(finding("rounding", f"{len(group)} joints' limits agree to {largest:.2g} only, rounded where written: {how} "
+                           f"(within the written precision, {tol:.2g}): " + ", ".join(r["label"] for r in group),
+                           {"file": side, "joints": [r["joint"] for r in group], "largest": largest},
+                           magnitude=largest, unit="rad", prop="limits.position"))
+    out += effort_findings(rows, tolerances.get("limits.effort", 1e-9))
+    return out
+
+
+def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
+    from kinverify.filemode.diagnose import finding
+
+    groups: dict[tuple, list[dict]] = {}
+    for r in rows:
+        err = r["limits.effort"]
+        if err is None or err <= tol:
+            continue
+        u, m = r["effort"]
+        key = ("unbounded", math.isinf(m)) if math.isinf(err) else ("values", round(u, 9), round(m, 9))
+        groups.setdefault(key, []).append(r)
+    out = []
+    for key, group in groups.items():
+        unit = "N·m" if all(r["revolute"] for r in group) else "N" if not any(r["revolute"] for r in group) else "N·m|N"
+        names = {"joint": [r["joint"] for r in group], "mjcf_joint": [r["mjcf"] for r in group]}
+        values = {"urdf": [r["effort"][0] for r in group], "mjcf": [r["effort"][1] for r in group],
+                  "mjcf_from": [r["effort_how"] for r in group], "checks": [["limits.effort", "joints"]]}
+        if key[0] == "unbounded":
+            side = "MJCF" if key[1] else "URDF"
+            msg = (f"{len(group)} joints: the {side}'s actuators put no bound on the joint force ("
+                   + "; ".join(f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'URDF'}" for r in group[:3])
+                   + ("; …" if len(group) > 3 else "") + "), the other file limits it to "
+                   + ", ".join(f"{r['effort'][0 if side == 'MJCF' else 1]:g}" for r in group) + f" {unit}")
+            out.append(finding("effort_difference", msg, values, magnitude=math.inf, unit=unit, prop="limits.effort", **names))
+        else:
+            u, m = group[0]["effort"]
+            msg = (f"{', '.join(r['label'] for r in group)}: effort limit {u:g} {unit} in the URDF, {m:g} {unit} in the MJCF "
+                   f"({group[0]['effort_how']})" + (f": ×{m / u:.4g}" if u else ""))
+            out.append(finding("effort_difference", msg, values, magnitude=abs(u - m), unit=unit, prop="limits.effort", **names))
+    return out

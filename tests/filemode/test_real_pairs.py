@@ -1,0 +1,131 @@
+"""The real pairs in ../shared/real-robots (skipped when absent; never copied here): each known
+difference found once, by value, with the right verdict, and nothing above information that is
+not a real difference (the ground truth a maintainer's reading of each pair gives).
+
+``KINVERIFY_REAL_ROBOTS`` points elsewhere when the folder is not beside the project."""
+
+from __future__ import annotations
+
+import math
+import os
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kinverify.filemode import verify_files
+from kinverify.run import VerifyOptions
+from tests.paths import REAL_ROBOTS
+
+REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
+FILES = {"panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
+         "z1": ("z1_erd.urdf", "z1_menagerie.xml"), "go2": ("go2_erd.urdf", "go2_menagerie.xml")}
+OPTIONS = VerifyOptions(samples=12, fd_samples=4, extra={"dynamics_samples": 20})
+
+
+@lru_cache(maxsize=None)
+def result(robot: str):
+    folder = REAL / robot
+    if not folder.is_dir():
+        pytest.skip(f"{folder} absent")
+    return verify_files(*(str(folder / f) for f in FILES[robot]), OPTIONS)
+
+
+def findings(robot: str, kind: str) -> list:
+    return [f for f in result(robot).findings if f.kind == kind]
+
+
+def one(robot: str, kind: str):
+    hits = findings(robot, kind)
+    assert len(hits) == 1, [(f.kind, f.label) for f in result(robot).findings]
+    return hits[0]
+
+
+def serious(robot: str) -> list[tuple[str, str]]:
+    return sorted((f.kind, f.severity) for f in result(robot).findings if f.severity != "info")
+
+
+@pytest.mark.parametrize("robot", list(FILES))
+def test_every_library_reads_each_file_and_every_failing_check_has_its_finding(robot):
+    r = result(robot)
+    assert r.verdict == "fail" and r.exit_code == 1 and not r.internal_errors
+    assert {"pinocchio-urdf", "yourdfpy", "mujoco-urdf", "mujoco", "pinocchio-mjcf"} <= set(r.backends)
+    assert not r.failed, [(c.property, c.frame, c.backends, c.max_error) for c in r.failed]
+    assert not findings(robot, "parser_refused") and not findings(robot, "disagreement_starts")
+    assert np.allclose(r.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"], np.eye(4), atol=1e-12)
+
+
+def test_panda_differs_in_joint_damping_and_the_finger_force_only():
+    assert serious("panda") == [("damping_difference", "error"), ("damping_difference", "error"),
+                                ("effort_difference", "error"), ("inexpressible", "warning")]
+    arm, fingers = sorted(findings("panda", "damping_difference"), key=lambda f: len(f.subject), reverse=True)
+    assert (arm.values["urdf"], arm.values["mjcf"]) == (0.003, 1.0) and arm.subject.count("panda_joint") == 7
+    assert (fingers.values["urdf"], fingers.values["mjcf"]) == (0.3, 1.0)
+    effort = one("panda", "effort_difference")  # 100 N per finger vs actuator8's ±100 N on a tendon of coefficient 0.5
+    assert effort.values["urdf"] == [100.0, 100.0] and effort.values["mjcf"] == [50.0, 50.0] and "tendon split" in effort.message
+    assert one("panda", "inexpressible").magnitude == pytest.approx(0.1)
+
+
+def test_panda_rounding_convention_and_tool_frame_are_information():
+    rounding = one("panda", "rounding")  # the hand quaternion: −π/4 written to 7 decimals
+    assert rounding.subject == "panda_hand" and rounding.values["rotation_rad"] == pytest.approx(3.49e-8, rel=0.01)
+    assert rounding.values["position_m"] == pytest.approx(1.4e-9, rel=0.05)
+    finger = one("panda", "frame_convention")
+    assert finger.subject == "panda_rightfinger" and finger.magnitude == pytest.approx(math.pi, abs=1e-6)
+    tcp = one("panda", "frame_twin")
+    assert tcp.subject == "panda_hand_tcp" and tcp.magnitude == pytest.approx(0.1034, abs=1e-12)
+    assert one("panda", "joint_names").values["pairs"][0][:2] == ["panda_joint1", "joint1"]
+
+
+def test_iiwa14_has_three_swapped_inertias_damping_and_unbounded_actuators():
+    assert serious("iiwa14") == [("damping_difference", "error"), ("effort_difference", "error")] + \
+        [("inertia_rotated", "error")] * 3
+    swaps = {f.subject: f.magnitude for f in findings("iiwa14", "inertia_rotated")}
+    assert swaps == pytest.approx({"iiwa_link_1": 3e-4, "iiwa_link_2": 0.0194, "iiwa_link_4": 0.0104}, rel=1e-9)
+    assert all(f.values["axes"] and "90°" in f.message for f in findings("iiwa14", "inertia_rotated"))
+    effort = one("iiwa14", "effort_difference")
+    assert effort.magnitude == math.inf and effort.values["urdf"] == [320.0, 320.0, 176.0, 176.0, 110.0, 40.0, 40.0]
+    assert one("iiwa14", "damping_difference").values == {"urdf": 0.5, "mjcf": 0.0, "checks": [["dynamics.damping", "parameters"]]}
+
+
+def test_iiwa14_limits_rounding_end_effector_and_drake_rotors_are_information():
+    limits = one("iiwa14", "rounding")
+    assert limits.values["file"] == "MJCF" and limits.magnitude == pytest.approx(4.9e-6, rel=0.01)
+    twins = {f.subject: f for f in findings("iiwa14", "frame_twin")}
+    assert twins["iiwa_link_ee_kuka"].other == "attachment_site" and twins["iiwa_link_ee_kuka"].magnitude < 1e-12
+    assert twins["iiwa_link_ee"].values["rotation_rad"] == pytest.approx(math.pi / 2, abs=1e-9)
+    assert one("iiwa14", "format_extension").magnitude == pytest.approx(160 ** 2 * 1.321e-4, rel=1e-9)
+
+
+def test_z1_lacks_the_gripper_in_the_mjcf_and_bounds_no_torque():
+    assert serious("z1") == [("effort_difference", "error"), ("extra_parts", "error")]
+    gripper = one("z1", "extra_parts")
+    assert gripper.values["file"] == "URDF" and gripper.values["joints"] == ["jointGripper"]
+    assert {p["name"]: p["mass"] for p in gripper.values["links"]} == {"gripperStator": 0.52603655, "gripperMover": 0.27621302}
+    assert gripper.magnitude == pytest.approx(0.80224957, abs=1e-8)
+    effort = one("z1", "effort_difference")
+    assert effort.magnitude == math.inf and effort.values["urdf"] == [30.0, 60.0, 30.0, 30.0, 30.0, 30.0]
+    total = one("z1", "total_mass")
+    assert (total.values["urdf"], total.values["mjcf"]) == pytest.approx((5.22096983, 4.418719), abs=1e-9)
+    assert {f.values["file"] for f in findings("z1", "rounding")} == {"MJCF"}  # limits and inertials, 6 digits
+
+
+def test_go2_differs_in_rotor_masses_calves_and_joint_dynamics():
+    assert serious("go2") == [("damping_difference", "error"), ("extra_parts", "error"), ("friction_difference", "error"),
+                              ("inexpressible", "warning"), ("mass_difference", "error")]
+    rotors = one("go2", "extra_parts")
+    assert len(rotors.values["links"]) == 12 and all(p["name"].endswith("_rotor") and p["mass"] == 0.089
+                                                     for p in rotors.values["links"])
+    assert rotors.magnitude == pytest.approx(1.068, abs=1e-9)
+    calves = one("go2", "mass_difference")
+    assert calves.subject == "FL_calf, FR_calf, RL_calf, RR_calf"
+    assert calves.magnitude == pytest.approx(0.047352, abs=1e-9) and calves.values["com_distance_m"] == pytest.approx(6.5e-3, abs=1e-4)
+    assert (one("go2", "damping_difference").values["mjcf"], one("go2", "friction_difference").values["mjcf"]) == (2.0, 0.2)
+    assert one("go2", "total_mass").values["difference_kg"] == pytest.approx(-0.878592, abs=1e-9)
+
+
+def test_go2_free_base_is_fixed_at_the_same_pose_in_both_files():
+    assert one("go2", "floating_base").severity == "info"
+    assert one("go2", "frame_twin").subject == "radar"  # only in the URDF
+    assert "imu" in result("go2").frames
