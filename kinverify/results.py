@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from kinverify.suites.base import Check, Finding, Section, _plain
+from kinverify.suites.base import EXPLAINED, PERFORMANCE, Check, Finding, Section, _plain
 
 SCHEMA_VERSION = 2
 VERDICTS = {"pass": 0, "fail": 1, "error": 3}  # verdict -> exit code (2 is bad input, before any result)
@@ -71,7 +71,12 @@ class VerifyResult:
     @property
     def missed_goals(self) -> list[Check]:
         """Performance checks below their goal that do not decide the verdict."""
-        return [c for c in self.checks if not c.passed and not c.counts]
+        return [c for c in self.checks if not c.passed and not c.counts and c.kind == PERFORMANCE]
+
+    @property
+    def explained(self) -> list[Check]:
+        """Failing checks whose cause a finding reports (the finding decides the verdict)."""
+        return [c for c in self.checks if not c.passed and c.kind == EXPLAINED]
 
     @property
     def failing_findings(self) -> list[Finding]:

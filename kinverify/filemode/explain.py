@@ -20,9 +20,7 @@ from __future__ import annotations
 import dataclasses
 
 from kinverify.filemode.diagnose import finding
-from kinverify.suites.base import Check, Finding, within
-
-EXPLAINED = "explained"  # Check.kind of a failing check whose cause a finding reports
+from kinverify.suites.base import EXPLAINED, Check, Finding, within
 KINEMATIC = ("fk.position", "fk.rotation", "jacobian.linear", "jacobian.angular")
 STATE = ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias", "dynamics.inverse", "dynamics.forward")
 

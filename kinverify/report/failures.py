@@ -123,13 +123,26 @@ def _chain(result: VerifyResult, col: str, ref: str, rank) -> dict[str, Any]:
                                           for f in frames]}
 
 
-def fmt_value(v) -> str:
+def _numbers(v):
+    if isinstance(v, (list, tuple)):
+        for x in v:
+            yield from _numbers(x)
+    elif isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
+        yield abs(v)
+
+
+def fmt_value(v, floor: float = 0.0) -> str:
+    """A finding's value for a table cell; in a vector or matrix, entries below 1e-12 of its
+    largest are round-off and written 0."""
     if isinstance(v, bool):
         return "yes" if v else "no"
     if isinstance(v, float):
-        return f"{v:.6g}"
+        return "0" if abs(v) < floor else f"{v:.6g}"
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(fmt_value(x) for x in v) + "]"
+        floor = max(floor, 1e-12 * max(_numbers(v), default=0.0))
+        return "[" + ", ".join(fmt_value(x, floor) for x in v) + "]"
+    if isinstance(v, dict):  # e.g. a rigid body's inertial: "mass 5.76; com [0, -0.03, 0.2775]; ..."
+        return "; ".join(f"{k} {fmt_value(x)}" for k, x in v.items())
     return "" if v is None else str(v)
 
 
@@ -142,7 +155,11 @@ def side_by_side(f: Finding) -> tuple[list[tuple[str, str, str]], list[tuple[str
         if key == "urdf" or key.startswith("urdf_"):
             twin = "mjcf" + key[4:]
             if twin in values:
-                pairs.append((key[5:].replace("_", " ") or f.property or "value", fmt_value(value), fmt_value(values[twin])))
+                a, b = value, values[twin]
+                if isinstance(a, dict) and isinstance(b, dict):  # only what differs, side by side
+                    keys = [k for k in a if k in b and k != "links" and fmt_value(a[k]) != fmt_value(b[k])] or list(a)
+                    a, b = {k: a[k] for k in keys if k in a}, {k: b[k] for k in keys if k in b}
+                pairs.append((key[5:].replace("_", " ") or f.property or "value", fmt_value(a), fmt_value(b)))
                 continue
         elif (key == "mjcf" or key.startswith("mjcf_")) and ("urdf" + key[4:]) in values:
             continue

@@ -186,7 +186,7 @@ def render_html(result: VerifyResult) -> str:
         r=result, exit_meaning=EXIT_MEANING[result.verdict], compared=compared(result),
         failing=fail_view.failure_groups(result), findings=fail_view.findings_summary(result),
         finding_groups=finding_groups, top_findings=top, other_findings=others,
-        groups=groups, legend=matrix.legend(), suites=suites_view(result, groups),
+        groups=groups, legend=matrix.legend(bool(result.explained)), suites=suites_view(result, groups),
         pictures=pictures_view(result, marks), filemode=result.sections.get("filemode"),
         filemode_view=_section_view("filemode", result.sections["filemode"]) if "filemode" in result.sections else None,
         run_notes=run_notes(result), distributions=Markup(dist) if dist else None,

@@ -17,7 +17,7 @@ import xml.etree.ElementTree as ET
 from collections import defaultdict
 
 from kinverify.results import VerifyResult
-from kinverify.suites.base import Check
+from kinverify.suites.base import EXPLAINED, Check
 from kinverify.suites.registry import SUITES
 
 SUITE_OF = {p.name: s.name for s in SUITES for p in s.properties}
@@ -68,6 +68,9 @@ def junit_xml(result: VerifyResult) -> str:
                 ET.SubElement(case, "failure", {"type": "disagreement", "message": text}).text = text + (
                     f"\nnote: {first.note}" if first.note else "")
                 counts["failures"] += 1
+            elif first.kind == EXPLAINED:
+                ET.SubElement(case, "skipped", {"message": f"explained by a finding (the finding counts): {text}"})
+                counts["skipped"] += 1
             else:
                 ET.SubElement(case, "skipped", {"message": f"below its goal (performance, not counted): {text}"})
                 counts["skipped"] += 1

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 from kinverify.report.units import display_unit, revolute
 from kinverify.results import VerifyResult
-from kinverify.suites.base import PERFORMANCE, Check
+from kinverify.suites.base import EXPLAINED, PERFORMANCE, Check
 
 
 def reference(result: VerifyResult) -> str:
@@ -64,6 +64,7 @@ def severity(c: Check) -> int:
 _AGREE = [(-9.0, (27, 94, 32)), (-6.0, (67, 160, 71)), (-3.0, (165, 214, 167)), (-1.0, (205, 232, 190)), (0.0, (255, 241, 118))]
 _PERF = [(-3.0, (21, 101, 192)), (-1.0, (100, 181, 246)), (0.0, (227, 242, 253))]
 FAIL_COLOUR, BELOW_GOAL_COLOUR, NAN_COLOUR = (198, 40, 40), (255, 179, 0), (120, 120, 120)
+EXPLAINED_COLOUR = (225, 190, 231)  # a difference a finding reports (the finding's purple, light)
 
 
 def _interp(stops, x: float) -> tuple[int, int, int]:
@@ -76,11 +77,14 @@ def _interp(stops, x: float) -> tuple[int, int, int]:
     return stops[-1][1]
 
 
-def colour(r: float, passed: bool, performance: bool, counts: bool = True) -> tuple[str, str]:
+def colour(r: float, passed: bool, performance: bool, counts: bool = True, explained: bool = False) -> tuple[str, str]:
     """(background, text colour) of a cell of ratio ``r``: greens for agreement, blues for a
-    performance goal met, red for a failure that counts, amber for a goal missed (not counted)."""
+    performance goal met, red for a failure that counts, amber for a goal missed (not counted),
+    light purple for a difference a finding reports (``explained``)."""
     if r != r:
         rgb = NAN_COLOUR
+    elif not passed and explained:
+        rgb = EXPLAINED_COLOUR
     elif not passed:
         rgb = FAIL_COLOUR if counts else BELOW_GOAL_COLOUR
     else:
@@ -129,7 +133,7 @@ class Cell:
 
     def style(self) -> str:
         w = self.worst
-        bg, fg = colour(ratio(w), self.passed, w.kind == PERFORMANCE, w.counts)
+        bg, fg = colour(ratio(w), self.passed, w.kind == PERFORMANCE, w.counts, w.kind == EXPLAINED)
         return f"background:{bg};color:{fg}"
 
     @property
@@ -142,7 +146,8 @@ class Cell:
         n_fail = sum(not c.passed for c in self.checks)
         limit = "goal" if w.kind == PERFORMANCE else "tolerance"
         verdict = ("all pass" if not n_fail else f"{n_fail} of {len(self.checks)} "
-                   + ("below goal" if w.kind == PERFORMANCE and not w.counts else "fail"))
+                   + ("below goal" if w.kind == PERFORMANCE and not w.counts
+                      else "differ as a finding says" if w.kind == EXPLAINED else "fail"))
         return (f"{w.property}: {' vs '.join(w.backends)} at {w.frame}: {w.max_error:.3g} {display_unit(w.unit, self.revolute)} "
                 f"({limit} {w.tolerance:.3g}); {len(self.checks)} check{'s' if len(self.checks) != 1 else ''}, {verdict}")
 
@@ -220,8 +225,9 @@ def layout(groups: list[Group]) -> list[list[Group]]:
     return [s for s in stacks if s]
 
 
-def legend() -> list[dict[str, str]]:
-    """Swatches for the legend: agreement ratios, performance, failures."""
+def legend(explained: bool = False) -> list[dict[str, str]]:
+    """Swatches for the legend: agreement ratios, performance, failures (and, when the run has
+    them, differences a finding reports)."""
     items = [(1e-9, True, False, "≤ 1e-9 of tolerance"), (1e-6, True, False, "1e-6"), (1e-3, True, False, "1e-3"),
              (0.5, True, False, "near tolerance"), (10, False, False, "fails"),
              (1e-3, True, True, "performance: goal met"), (10, False, True, "below goal (not counted)")]
@@ -229,4 +235,7 @@ def legend() -> list[dict[str, str]]:
     for r, passed, perf, label in items:
         bg, fg = colour(r, passed, perf, counts=not perf)
         out.append({"style": f"background:{bg};color:{fg}", "label": label, "performance": perf})
+    if explained:
+        bg, fg = colour(10, False, False, counts=False, explained=True)
+        out.append({"style": f"background:{bg};color:{fg}", "label": "differs as a finding says", "performance": False})
     return out

@@ -17,6 +17,7 @@ from rich.table import Table
 from rich.text import Text
 
 from kinverify.report.matrix import column_of, reference
+from kinverify.suites.base import EXPLAINED, PERFORMANCE
 from kinverify.results import VerifyResult
 from kinverify.report.units import display_unit, revolute as revolute_of
 from kinverify.suites.base import PERFORMANCE, Check, joint_unit
@@ -68,9 +69,12 @@ def suite_lines(result: VerifyResult) -> list[tuple[str, str, str, str]]:
             continue
         checks = [c for c in result.checks if suite_of.get(c.property) == s.name]
         failed = [c for c in checks if c.decisive_failure]
-        missed = [c for c in checks if not c.passed and not c.counts]
+        missed = [c for c in checks if not c.passed and not c.counts and c.kind == PERFORMANCE]
+        explained = [c for c in checks if not c.passed and c.kind == EXPLAINED]
         if failed:
             mark, what = "[bold red]✗[/]", f"[red]{len(failed)} of {len(checks)} checks fail[/]"
+        elif explained:
+            mark, what = "[yellow]![/]", f"{len(checks) - len(explained)} of {len(checks)} checks pass"
         elif checks:
             mark, what = "[green]✓[/]", f"{len(checks)} checks pass"
         else:
@@ -78,6 +82,8 @@ def suite_lines(result: VerifyResult) -> list[tuple[str, str, str, str]]:
             mark, what = "·", escape(_first_sentence(sec.summary)) if sec is not None and sec.summary else "report only"
         if missed:
             what += f", [yellow]{len(missed)} below goal[/]"
+        if explained:
+            what += f", {len(explained)} differ as a finding says (the finding counts)"
         lines.append((mark, s.name, what, f"[dim]{result.timings[s.name]:.1f} s[/]"))
     return lines
 

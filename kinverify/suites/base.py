@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # only for annotations: suites never need the backends module
     from kinverify.backends import Backend, ModelSources
 
 AGREEMENT, PERFORMANCE = "agreement", "performance"
+EXPLAINED = "explained"  # a failing check whose cause a finding reports (file mode): shown, the finding counts
 SEVERITIES = ("error", "warning", "info")
 Kind = Literal["agreement", "performance"]
 Severity = Literal["error", "warning", "info"]

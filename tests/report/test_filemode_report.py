@@ -149,3 +149,28 @@ def test_turn_is_described_in_plain_words():
     assert describe_offset(make_transform(np.eye(3), [0.1, 0, 0])) == "moved by [0.1, 0, 0] m"
     both = describe_offset(make_transform(rpy_to_matrix([math.pi / 2, 0, 0]), [0, 0, 0.5]))
     assert both == "turned by 90° about [1, 0, 0] and moved by [0, 0, 0.5] m"
+
+
+def test_checks_a_finding_explains_are_not_called_missed_goals(tmp_path):
+    """A swapped inertia fails inertia.tensor; the inertia finding explains it: the page, the
+    terminal verdict and JUnit call it explained, never a performance goal missed."""
+    from junitparser import JUnitXml
+
+    from tests.filemode.pairs import generated_pair, swapped_inertia
+
+    urdf, mjcf = swapped_inertia(*generated_pair("panda"))
+    (tmp_path / "p.urdf").write_text(urdf)
+    (tmp_path / "p.xml").write_text(mjcf)
+    out = {k: tmp_path / f"r.{k}" for k in ("html", "json", "xml")}
+    code = main(["verify", "--urdf", str(tmp_path / "p.urdf"), "--mjcf", str(tmp_path / "p.xml"), "--samples", "10", "--quiet",
+                 "--report", str(out["html"]), "--json", str(out["json"]), "--junit", str(out["xml"])])
+    assert code == 1
+    result = VerifyResult.from_dict(json.loads(out["json"].read_text()))
+    assert result.explained and not result.missed_goals and not result.failed
+    assert {c.property for c in result.explained} >= {"inertia.tensor"}
+    banner = _text(out["html"].read_text()[:out["html"].read_text().index('<section id="matrix">')])
+    n = len(result.explained)
+    assert f"{n} check{'s' if n != 1 else ''} differ" in banner and "performance goal" not in banner
+    skipped = [case for suite in JUnitXml.fromfile(str(out["xml"])) for case in suite
+               if case.result and case.result[0]._tag == "skipped"]
+    assert skipped and all("explained by a finding" in case.result[0].message for case in skipped)
