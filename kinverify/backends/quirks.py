@@ -15,7 +15,8 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
          "rad) is never written over the scene graph's initial identity edge, so it is dropped",
          "the adapter re-seats every joint transform once after loading; origin rotations of a few "
          "1e-9 rad can still come out up to their own size off along longer paths (cause not isolated), "
-         "so kinverify.strategies draws origin rotations of 0 or at least 1e-6 rad"),
+         "so kinverify.strategies draws origin rotations (each angle, and the turn the three make "
+         "together) of 0 or at least 1e-6 rad"),
         ("no Jacobian", "finite differences of its FK, compared at the finite-difference tolerance"),
     ],
     "pinocchio-mjcf": [

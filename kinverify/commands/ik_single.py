@@ -78,18 +78,20 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
             print(f"closed form: {'reachable' if res.reachable else 'unreachable'}, closest approach {res.closest_distance:.3e} m")
         return 1
     solutions = _distinct(sol.q[ok], sources.revolute)
+    for i, q in enumerate(solutions):  # the answer first: the confirming libraries take seconds to import
+        pos, rot = residuals(model.poses(q[None]), target[None], position_only)
+        print(f"solution {i + 1}: q = {_fmt(q)} rad  residual {pos[0]:.2e} m" + ("" if position_only else f", {rot[0]:.2e} rad"),
+              flush=True)
     others = [b for b in build_backends(sources) if b.name != name and frame in b.frames]
     all_confirmed = True
     for i, q in enumerate(solutions):
-        pos, rot = residuals(model.poses(q[None]), target[None], position_only)
-        print(f"solution {i + 1}: q = {_fmt(q)} rad  residual {pos[0]:.2e} m" + ("" if position_only else f", {rot[0]:.2e} rad"))
         confirmed, disagree = [], []
         for other in others:
             p = other.evaluate(q[None], with_jacobians=False).poses[:, other.frames.index(frame)]
             e_pos, e_rot = residuals(p, target[None], position_only or not other.has_rotation)
             agrees = e_pos[0] <= tol_pos and e_rot[0] <= tol_rot
             (confirmed if agrees else disagree).append(f"{other.name} ({max(e_pos[0], e_rot[0]):.1e})")
-        print(f"  confirmed by: {', '.join(confirmed) or 'none'}" + (f"; DISAGREE: {', '.join(disagree)}" if disagree else ""))
+        print(f"solution {i + 1} confirmed by: {', '.join(confirmed) or 'none'}" + (f"; DISAGREE: {', '.join(disagree)}" if disagree else ""))
         all_confirmed &= not disagree
     if closed is not None and args.all_solutions:
         res = closed.solve(xyz)

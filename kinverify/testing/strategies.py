@@ -48,10 +48,19 @@ TINY_ROTATION = 1e-6  # rad: yourdfpy can lose origin rotations of ~1e-8 (backen
 
 @st.composite
 def angles_rpy(draw) -> list[float]:
-    """Roll, pitch, yaw with special values (0, ±π/2, π); each angle is 0 or at least 1e-6 rad."""
+    """Roll, pitch, yaw with special values (0, ±π/2, π); each angle is 0 or at least 1e-6 rad,
+    and so is the rotation they make together (π, π, π − 5e-9 is a turn of 5e-9 rad)."""
     special = st.sampled_from([0.0, math.pi / 2, -math.pi / 2, math.pi])
     angles = [draw(st.one_of(special, _floats(-math.pi, math.pi))) for _ in range(3)]
-    return [0.0 if abs(a) < TINY_ROTATION else a for a in angles]
+    angles = [0.0 if abs(a) < TINY_ROTATION else a for a in angles]
+    return [0.0, 0.0, 0.0] if _turn(angles) < TINY_ROTATION else angles
+
+
+def _turn(rpy) -> float:
+    """The angle [rad] of the rotation roll, pitch, yaw make together."""
+    from kinverify.model.transforms import rotation_log, rpy_to_matrix
+
+    return float(np.linalg.norm(rotation_log(rpy_to_matrix(rpy))))
 
 
 # MuJoCo places a site within ~1e-6 m / 1e-6 rad of its body exactly at the body frame
@@ -64,7 +73,7 @@ def tool_offsets() -> st.SearchStrategy[list[float]]:
 
 
 def tool_rotations() -> st.SearchStrategy[list[float]]:
-    return angles_rpy().map(lambda v: [0.0, 0.0, 0.0] if max(abs(x) for x in v) < SITE_SNAP else v)
+    return angles_rpy().map(lambda v: [0.0, 0.0, 0.0] if max(abs(x) for x in v) < SITE_SNAP or _turn(v) < SITE_SNAP else v)
 
 
 @st.composite
