@@ -25,7 +25,7 @@ import numpy as np
 
 from kinverify.model.floating import BASE_COORDINATES, base_coordinates, base_limits, base_transforms, rate_matrices
 
-ADDED_ROOT = "kinverify_world"  # the link added above a URDF root link read as floating
+ADDED_ROOT = "world"  # the link added above a URDF root link read as floating (MuJoCo's URDF import: the world)
 ADDED_JOINT = "kinverify_floating_base"
 
 
