@@ -26,7 +26,11 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     from kinverify.filemode import build, parts
     from kinverify.filemode.context import FileModeInfo
     from kinverify.filemode.crosscheck import cross_check, top_level_pose
+    import numpy as np
+
     from kinverify.filemode.diagnose import alignment_findings, convention_findings, finding, length_units
+    from kinverify.filemode.floating import base_findings, base_samples
+    from kinverify.model.floating import BASE_REVOLUTE, base_limits
     from kinverify.filemode.geometry import reach
     from kinverify.filemode.match import match
     from kinverify.filemode.precision import floors, mjcf_precision, urdf_precision
@@ -36,9 +40,11 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     options = options or VerifyOptions()
     wanted = build.side_names(options)
     findings, internal = [], []
-    U, urdf_text, u, library = build.read_urdf(urdf, findings)
     M, mjcf_text, m, free = build.read_mjcf(mjcf, findings)
+    U, urdf_text, u, library, base = build.read_urdf(urdf, findings, free)
     matching = match(u, m, joints, frames)
+    if base.floating:  # the URDF's link above its floating root stays in the world: not the robot's
+        matching.frames = [p for p in matching.frames if not (base.urdf.kind == "floating" and p[0] == base.urdf.root)]
     precision = (urdf_precision(U.text), mjcf_precision(M.original))
     fl = floors(*precision, matching.frames, reach(u), len(matching.independent))
     lower, upper, revolute = build.sample_ranges(u, matching.independent)
@@ -46,28 +52,30 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     al, poses = build.run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal)
     poses_u, poses_m = build.zero_poses(poses, al)
     info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), poses_u, poses_m,
-                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original))
+                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original), base_coordinates=base.floating)
 
     tol = info.tol
     twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: parts.frame_twins(info, tol), ([], []))
     matching.frames += new_pairs
     build.add_frames(al, new_pairs)
     compared = [a for a, _, _ in matching.frames]
-    if free:
-        findings.append(finding("floating_base", f"the MJCF's free base ({', '.join(free)}) is held at the identity pose, where "
-                                "the URDF's root link is: both bases at the same pose (the MJCF's initial base pose is the free "
-                                "joint's starting value, not a property of the robot)", {"file": "MJCF", "bodies": free}))
+    if base.kind:
+        findings.append(finding(base.kind, base.message, {"urdf": base.urdf.kind, "urdf_root": base.urdf.root,
+                                                          "mjcf_free_bodies": free}))
     kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
     units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
     info.inertials_explained_by = units[0].kind if units else ""
-    findings += units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol)
-                                  + convention_findings(al, kinds, tol), [])
+    findings += units or _guarded(internal, "alignment findings", lambda: base_findings(
+        alignment_findings(u, m, matching, al, compared, tol), base) + convention_findings(al, kinds, tol), [])
     findings += twins
     from kinverify.filemode.validate import validate_inertials
 
     findings += _guarded(internal, "inertial validation", lambda: validate_inertials(U, M), [])
-    backends = build.build_backends(info, urdf_text, mjcf_text, wanted, tol, findings)
+    texts = (base.urdf_text, M.text) if base.floating else (urdf_text, mjcf_text)
+    backends = build.build_backends(info, *texts, wanted, tol, findings)
     worst = max([tol(f) for f in compared] or [(1e-9, 1e-9)])
+    if base.floating:  # the libraries' readings cross-checked at random base poses too
+        q = np.concatenate([base_samples(len(q), options.seed), q], axis=1)
     backends, parser, parser_rows = _guarded(
         internal, "parser cross-check",
         lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text), build.rebuild_mjcf), (backends, [], []))
@@ -82,6 +90,10 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
                          + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
     notes = list(U.warnings + M.warnings) + [f"URDF: {s}" for s in u.skipped] + [f"MJCF: {s}" for s in m.skipped] + info.notes
     notes.append(f"written precision: {precision[0].describe()}; {precision[1].describe()}")
+    if base.floating:
+        urdf_text, mjcf_text = texts
+        lower, upper = [*base_limits(np.zeros(3))[0], *lower], [*base_limits(np.zeros(3))[1], *upper]
+        revolute = [*BASE_REVOLUTE, *revolute]
     return dict(urdf=U, mjcf=M, urdf_text=urdf_text, mjcf_text=mjcf_text, info=info, matching=matching, alignment=al,
                 backends=backends, reference=ref, findings=findings, notes=notes, parser_rows=parser_rows,
                 internal=internal, lower=lower, upper=upper, revolute=revolute)
@@ -145,6 +157,7 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     beside the URDF, when present); ``write_accepted``: write this run's error findings there."""
     from kinverify.backends import ModelSources
     import kinverify.filemode.accepted as acc
+    from kinverify.model.floating import BASE_COORDINATES
     from kinverify.run import VerifyOptions, verify
 
     t0 = time.perf_counter()
@@ -157,9 +170,10 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     info, U, M = diag["info"], diag["urdf"], diag["mjcf"]
     al, matching = info.alignment, info.matching
     name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
-    sources = ModelSources(name, tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
+    base = BASE_COORDINATES if info.base_coordinates else ()
+    sources = ModelSources(name, base + tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
                            tuple(diag["upper"]), tuple(diag["revolute"]), urdf=diag["urdf_text"], mjcf=diag["mjcf_text"],
-                           mjcf_joint_names=tuple(matching.mjcf_name(a) for a in al.independent),
+                           mjcf_joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
                            mjcf_frames=tuple(b for _, b, _ in matching.frames))
     selected = [s for s in FILE_SUITES if options.suites is None or s in options.suites]
     opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]],

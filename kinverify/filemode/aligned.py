@@ -2,14 +2,18 @@
 files after what alignment explains: the independent joints in (followers of a coupling computed
 from their leaders), the other file's joint values out (``q_mjcf = s·q + o``), poses brought into
 the URDF's world (``left = T⁻¹``) and each frame's constant convention removed (``· C``), under
-the URDF's frame names."""
+the URDF's frame names. With a floating base (``inner`` built on the six base coordinates first,
+:mod:`kinverify.filemode.floating`) the base coordinates lead ``q``: the MJCF side gets the base
+pose ``T·B·T⁻¹`` in its world (``T = left⁻¹``), its Jacobian's base columns chained through it."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from kinverify.backends.base import BackendBase, Evaluation
+from kinverify.filemode.floating import conjugated
 from kinverify.filemode.alignment import Alignment
+from kinverify.model.floating import BASE_COORDINATES
 
 
 class AlignedBackend(BackendBase):
@@ -21,7 +25,8 @@ class AlignedBackend(BackendBase):
                  constants: list[np.ndarray] | None = None) -> None:
         self.inner, self.alignment, self.mode = inner, alignment, mode
         self.name, self.frames = inner.name, tuple(frames)
-        self.joint_names = tuple(alignment.independent)
+        self.floating = bool(getattr(inner, "floating", False))
+        self.joint_names = BASE_COORDINATES * self.floating + tuple(alignment.independent)
         self.has_rotation, self.jacobian_method = inner.has_rotation, inner.jacobian_method
         self.slow = getattr(inner, "slow", False)
         self.left = np.eye(4) if left is None else np.asarray(left, dtype=float)
@@ -32,11 +37,29 @@ class AlignedBackend(BackendBase):
             e = alignment.expansion()
             self.chain = e * alignment.signs[:, None] if mode == "mjcf" else e  # d q_inner / d q
 
+    def _conjugates(self) -> bool:
+        return self.floating and self.mode == "mjcf" and not np.array_equal(self.left, np.eye(4))
+
     def _inner_q(self, q: np.ndarray) -> np.ndarray:
+        if self.floating:
+            base = conjugated(np.linalg.inv(self.left), q[:, :6])[0] if self._conjugates() else q[:, :6]
+            return np.concatenate([base, self._joints_q(q[:, 6:])], axis=1)
+        return self._joints_q(q)
+
+    def _joints_q(self, q: np.ndarray) -> np.ndarray:
         if self.mode == "independent":
             return q
         full = self.alignment.expand(q)
         return self.alignment.to_mjcf(full) if self.mode == "mjcf" else full
+
+    def _chain(self, jac: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """Jacobian columns of the inner coordinates (N, F, 6, n_inner) as ours."""
+        if not self.floating:
+            return jac @ self.chain
+        base = jac[..., :6]
+        if self._conjugates():
+            base = base @ conjugated(np.linalg.inv(self.left), q[:, :6])[1][:, None]
+        return np.concatenate([base, jac[..., 6:] @ self.chain], axis=-1)
 
     def _poses(self, poses: np.ndarray) -> np.ndarray:
         out = self.left @ poses
@@ -54,7 +77,7 @@ class AlignedBackend(BackendBase):
         poses = self._poses(ev.poses)
         jac = None
         if ev.jacobians is not None:
-            jac = ev.jacobians @ self.chain  # (N, F, 6, n)
+            jac = self._chain(ev.jacobians, q)  # (N, F, 6, n)
             rot = self.left[:3, :3]
             lin, ang = rot @ jac[..., :3, :], rot @ jac[..., 3:, :]
             if self.constants is not None:  # the frame origin moved by the constant: v' = v + ω × r

@@ -17,7 +17,9 @@ from kinverify.filemode.aligned import AlignedBackend
 from kinverify.filemode.crosscheck import MJCF_SIDE, URDF_SIDE
 from kinverify.filemode.describe import ModelDesc, describe_mjcf, describe_urdf
 from kinverify.filemode.diagnose import finding
+from kinverify.filemode.floating import UrdfBase, decide, fixed_urdf, floating_urdf, urdf_base
 from kinverify.filemode.loading import load_mjcf, load_urdf
+from kinverify.model.floating import BASE_COORDINATES
 from kinverify.filemode.match import Matching
 
 OPEN_RANGE = {"revolute": math.pi, "prismatic": 0.5}  # sampled range of a joint without limits
@@ -28,23 +30,45 @@ def _last_line(err: Exception) -> str:
     return lines[-1] if lines else type(err).__name__
 
 
-def read_urdf(path: str, findings: list):
-    """The loaded URDF, its prepared text, its description and the library that read it."""
+def read_urdf(path: str, findings: list, free=()):
+    """The loaded URDF, its prepared text, its description, the library that read it and the
+    floating-base decision (:class:`BaseDecision`) against the MJCF's ``free`` top-level bodies.
+    The text and description have a floating root fixed (at the identity when both files float:
+    the base coordinates at zero; else at its origin)."""
     from kinverify.backends.mujoco_ import urdf_for_mujoco
     from kinverify.filemode.prepare import prepare_urdf
 
     loaded = load_urdf(path)
-    text = prepare_urdf(loaded.text)
+    base = urdf_base(loaded.text)
+    floating, kind, message = decide(base, list(free))
+    fixed = fixed_urdf(loaded.text, keep_origin=not floating)
+    decision = BaseDecision(floating, kind, message, base, list(free),
+                            prepare_urdf(floating_urdf(loaded.text)) if floating else "")
+    text = prepare_urdf(fixed)
     try:
-        return loaded, text, describe_urdf(loaded.text), "pinocchio"
+        return loaded, text, describe_urdf(fixed), "pinocchio", decision
     except (ValueError, RuntimeError) as err:
         findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {_last_line(err)}; read with MuJoCo's URDF "
                                 "import instead", {"file": "URDF", "library": "pinocchio"}))
     try:
         desc = dataclasses.replace(describe_mjcf(urdf_for_mujoco(text)), kind="urdf", library="mujoco (URDF import)")
-        return loaded, text, desc, "mujoco"
+        return loaded, text, desc, "mujoco", decision
     except ValueError as err:
         raise InputError(f"--urdf: no library can load {path}: {_last_line(err)}") from None
+
+
+@dataclasses.dataclass
+class BaseDecision:
+    """Whether the base pose is compared as coordinates, and the finding that says why (see
+    :func:`kinverify.filemode.floating.decide`); ``urdf_text``: the URDF with its floating root
+    (one added above the root link when the URDF left it unstated), for the libraries."""
+
+    floating: bool
+    kind: str
+    message: str
+    urdf: UrdfBase
+    free: list
+    urdf_text: str = ""
 
 
 def read_mjcf(path: str, findings: list):
@@ -108,8 +132,10 @@ def add_frames(al: Alignment, pairs) -> None:
 
 
 def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: list) -> dict:
-    """Every library that reads each file, through the alignment (URDF side: couplings only)."""
+    """Every library that reads each file, through the alignment (URDF side: couplings only); with
+    the base coordinates first when both files float (``info.base_coordinates``)."""
     al, matching = info.alignment, info.matching
+    base = list(BASE_COORDINATES) if info.base_coordinates else []
     frames_u = [a for a, _, _ in matching.frames]
     frames_m = [b for _, b, _ in matching.frames]
     all_u = [j.urdf for j in al.joints]
@@ -131,11 +157,11 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
             klass = getattr(importlib.import_module(info_b.module, "kinverify.backends"), info_b.cls)
             if name in URDF_SIDE:
                 independent = name == "yourdfpy"  # yourdfpy drives <mimic> joints from their leaders itself
-                inner = klass.from_urdf(urdf_text, al.independent if independent else all_u, frames_u, name=name)
+                inner = klass.from_urdf(urdf_text, base + (al.independent if independent else all_u), frames_u, name=name)
                 out[name] = AlignedBackend(inner, al, frames_u, "independent" if independent else "urdf")
             else:
-                keep = _readable_frames(klass, mjcf_text, all_m, frames_m, name)
-                inner = klass.from_mjcf(mjcf_text, all_m, [frames_m[i] for i in keep], name=name)
+                keep = _readable_frames(klass, mjcf_text, base + all_m, frames_m, name)
+                inner = klass.from_mjcf(mjcf_text, base + all_m, [frames_m[i] for i in keep], name=name)
                 out[name] = AlignedBackend(inner, al, [frames_u[i] for i in keep], "mjcf", tinv, [constants[i] for i in keep])
                 if len(keep) < len(frames_m):
                     missing = [frames_m[i] for i in range(len(frames_m)) if i not in keep]

@@ -25,7 +25,7 @@ class FileModeInfo:
     alignment: Alignment
     floors: Floors = field(default_factory=Floors)
     precision: tuple[Precision, Precision] = (Precision("URDF"), Precision("MJCF"))
-    floating: bool = False  # a free base, fixed at the identity for the comparison
+    floating: bool = False  # a free base (its body's inertia is compared, not welded to the world)
     poses_u: dict[str, np.ndarray] = field(default_factory=dict)  # URDF frames at the aligned zero
     poses_m: dict[str, np.ndarray] = field(default_factory=dict)  # MJCF frames there, in the URDF's world
     user_tolerances: frozenset = frozenset()  # properties set with --tolerance: no floor applies
@@ -34,6 +34,7 @@ class FileModeInfo:
     inertials_explained_by: str = ""  # a finding that explains every inertial difference (a length unit)
     inertial_results: list = field(default_factory=list)  # the rigid bodies compared (set by the inertia suite)
     mjcf_angle: str = "radian"  # the MJCF's <compiler angle>
+    base_coordinates: bool = False  # both files float: the base pose leads the compared coordinates
 
     @property
     def joint_pairs(self) -> list[tuple[str, str]]:

@@ -29,13 +29,14 @@ SEVERITY = {
     "base_transform": "error", "zero_offset": "error", "axis_sign_flip": "error", "axis_direction": "error",
     "axis_position": "error", "type_difference": "error", "frame_offset": "error", "disagreement_starts": "error",
     "coupling_difference": "error", "extra_parts": "error", "length_units": "error", "mass_units": "error",
+    "floating_one_file": "error",
     # limits, inertials, joint dynamics
     "limit_difference": "error", "limit_units": "error", "effort_difference": "error",
     "mass_difference": "error", "com_difference": "error", "inertia_difference": "error", "inertia_rotated": "error",
     "damping_difference": "error", "friction_difference": "error", "dynamics_difference": "error",
     # worth knowing
     "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
-    "coupling_one_file": "warning", "base_inertial_difference": "warning",
+    "coupling_one_file": "warning", "base_inertial_difference": "warning", "base_frame_offset": "warning",
     # choices and artefacts
     "frame_convention": "info", "rounding": "info", "parser_quirk": "info", "joint_names": "info",
     "lumped_links": "info", "frame_twin": "info", "total_mass": "info", "floating_base": "info",

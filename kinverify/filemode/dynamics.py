@@ -2,7 +2,9 @@
 alignment, and after the differences other findings report.
 
 - Both files over every matched joint (followers of a coupling included, at their coupled value),
-  joints present in one file only locked at zero, a free base fixed (see :mod:`prepare`).
+  joints present in one file only locked at zero; a base both files float is six coordinates
+  in front (:mod:`kinverify.filemode.floating`: mass matrix and gravity compared), any other free
+  base fixed (see :mod:`prepare`).
 - MuJoCo is read through the joint map (``q_mjcf = s·q + o``, forces and velocities times ``s``)
   with gravity turned by the world transform.
 - What a finding already reports is substituted on the Pinocchio side before comparing: the
@@ -19,6 +21,9 @@ import numpy as np
 
 from kinverify.backends import ModelSources
 from kinverify.filemode.diagnose import finding
+from kinverify.filemode.floating import conjugated
+from kinverify.filemode.inertials import ROOT
+from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE
 from kinverify.filemode.prepare import lock_mjcf_joints, lock_urdf_joints
 from kinverify.suites.base import VerifyContext
 from kinverify.suites.dynamics import DynamicsSuite
@@ -26,10 +31,13 @@ from kinverify.tracking.models import MujocoDynamics, PinocchioDynamics
 
 
 class AlignedMujoco:
-    """MuJoCo's dynamics of the MJCF seen in the URDF's joint coordinates."""
+    """MuJoCo's dynamics of the MJCF seen in the URDF's joint coordinates (``T``: the world
+    transform, for a floating base's coordinates: :func:`kinverify.filemode.floating.conjugated`)."""
 
-    def __init__(self, inner: MujocoDynamics, signs: np.ndarray, offsets: np.ndarray, gravity: np.ndarray) -> None:
+    def __init__(self, inner: MujocoDynamics, signs: np.ndarray, offsets: np.ndarray, gravity: np.ndarray,
+                 t: np.ndarray | None = None) -> None:
         self.inner, self.s, self.o = inner, signs, offsets
+        self.t = None if t is None or np.array_equal(t, np.eye(4)) else t
         inner.model.opt.gravity[:] = gravity
         self.armature, self.damping, self.friction = inner.armature, inner.damping, inner.friction
 
@@ -37,13 +45,31 @@ class AlignedMujoco:
         return self.inner.snapped_inertia_frames()
 
     def _q(self, q):
-        return self.s * np.asarray(q) + self.o
+        q = np.asarray(q, dtype=float)
+        if not self.inner.floating:
+            return self.s * q + self.o
+        base = q[:6] if self.t is None else conjugated(self.t, q[:6])[0][0]
+        return np.concatenate([base, self.s * q[6:] + self.o])
+
+    def _jac(self, q) -> np.ndarray:
+        """d q_mjcf / d q: the signs, after the base block when floating."""
+        if not self.inner.floating:
+            return np.diag(self.s)
+        out = np.zeros((len(self.s) + 6,) * 2)
+        out[:6, :6] = np.eye(6) if self.t is None else conjugated(self.t, np.asarray(q, dtype=float)[:6])[1][0]
+        out[6:, 6:] = np.diag(self.s)
+        return out
 
     def mass(self, q):
-        return self.s[:, None] * self.inner.mass(self._q(q)) * self.s[None, :]
+        if not self.inner.floating:
+            return self.s[:, None] * self.inner.mass(self._q(q)) * self.s[None, :]
+        j = self._jac(q)
+        return j.T @ self.inner.mass(self._q(q)) @ j
 
     def gravity(self, q):
-        return self.s * self.inner.gravity(self._q(q))
+        if not self.inner.floating:
+            return self.s * self.inner.gravity(self._q(q))
+        return self._jac(q).T @ self.inner.gravity(self._q(q))
 
     def bias(self, q, v):
         return self.s * self.inner.bias(self._q(q), self.s * v)
@@ -87,15 +113,19 @@ class FileDynamicsSuite(DynamicsSuite):
 
     def context(self, ctx: VerifyContext) -> VerifyContext:
         info, al = self.info, self.info.alignment
-        u_names = [j.urdf for j in al.joints]
-        m_names = [j.mjcf for j in al.joints]
+        base = BASE_COORDINATES if info.base_coordinates else ()
+        u_names = base + tuple(j.urdf for j in al.joints)
+        m_names = base + tuple(j.mjcf for j in al.joints)
+        revolute = BASE_REVOLUTE[:len(base)] + tuple(j.type == "revolute" for j in al.joints)
         src = ctx.sources
-        sources = ModelSources(src.name, tuple(u_names), src.frames, (), (), tuple(j.type == "revolute" for j in al.joints),
+        sources = ModelSources(src.name, u_names, src.frames, (), (), revolute,
                                None, lock_urdf_joints(src.urdf, info.matching.unmatched_urdf + info.u.held),
-                               lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf + info.m.held), tuple(m_names),
+                               lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf + info.m.held), m_names,
                                src.mjcf_frames)
         n = int(ctx.options.extra.get("dynamics_samples", 100))
-        return VerifyContext(sources, {}, al.expand(np.asarray(ctx.q[:n])), ctx.options)
+        q = np.asarray(ctx.q[:n])
+        q = np.concatenate([q[:, :len(base)], al.expand(q[:, len(base):])], axis=1)
+        return VerifyContext(sources, {}, q, ctx.options)
 
     def run(self, ctx: VerifyContext):
         return super().run(self.context(ctx))
@@ -105,25 +135,26 @@ class FileDynamicsSuite(DynamicsSuite):
         mj = MujocoDynamics(ctx.sources.mjcf, ctx.sources.mjcf_joint_names, rigid=True)
         pin = PinocchioDynamics(ctx.sources.urdf, ctx.sources.joint_names, mj.armature)
         self._substitute_inertia(pin)
-        extra = np.array([mj.damping[k] - pin.damping[k] if j.urdf in self.damping_joints else 0.0
-                          for k, j in enumerate(al.joints)])
+        extra = np.array([0.0] * 6 * pin.floating + [mj.damping[k] - pin.damping[k] if j.urdf in self.damping_joints else 0.0
+                                                     for k, j in enumerate(al.joints)])
         gravity = al.T[:3, :3] @ np.array([0.0, 0.0, -9.81])
-        return DampingSubstituted(pin, extra), AlignedMujoco(mj, al.signs, al.offsets, gravity), "MJCF"
+        return DampingSubstituted(pin, extra), AlignedMujoco(mj, al.signs, al.offsets, gravity, al.T), "MJCF"
 
     def _substitute_inertia(self, pin: PinocchioDynamics) -> None:
         """The MJCF's inertial (common frame, aligned zero) for each rigid body a finding reports."""
         import pinocchio
 
         model, data = pin.model, pin.data
-        q = np.zeros(model.nq)
         full = self.info.alignment.expand(np.zeros((1, len(self.info.alignment.independent))))[0]
-        for k, j in enumerate(self.info.alignment.joints):
-            q[model.joints[model.getJointId(j.urdf)].idx_q] = full[k]
+        q = pin._q(np.concatenate([np.zeros(6 * pin.floating), full]))  # a floating base at the identity
         pinocchio.forwardKinematics(model, data, q)
         for key, inertial in self.groups.items():
-            if not model.existJointName(key):
+            if key == ROOT and pin.floating:
+                jid = next(i for i in range(1, model.njoints) if model.parents[i] == 0)  # the free-flyer
+            elif model.existJointName(key):
+                jid = model.getJointId(key)
+            else:
                 continue
-            jid = model.getJointId(key)
             pose = data.oMi[jid]
             rot = pose.rotation
             lever = rot.T @ (inertial.com - pose.translation)

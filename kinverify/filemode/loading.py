@@ -68,13 +68,13 @@ def read_xml(path: str, kind: str) -> tuple[str, ET.Element]:
 
 
 MOVABLE = {"urdf": ("revolute", "continuous", "prismatic"), "mjcf": ("hinge", "slide")}
-FLOATING_URDF = ("floating", "planar")
+PLANAR_URDF = ("planar",)  # a planar root (three coordinates in a plane) is not compared
 
 
 def check_supported(root: ET.Element, kind: str, path) -> None:
     """What kinverify cannot compare yet, refused in one place with one line: a URDF whose root
-    joint is floating or planar (a floating base), and models above the documented size
-    (:mod:`kinverify.pipeline.limits`)."""
+    joint is planar, and models above the documented size (:mod:`kinverify.pipeline.limits`).
+    A floating root is compared (:mod:`kinverify.filemode.floating`)."""
     if kind == "urdf":
         links = root.findall("link")
         joints = root.findall("joint")
@@ -82,9 +82,9 @@ def check_supported(root: ET.Element, kind: str, path) -> None:
         roots = {l.get("name") for l in links} - children
         for joint in joints:
             parent = joint.find("parent")
-            if joint.get("type") in FLOATING_URDF and parent is not None and parent.get("link") in roots:
-                raise InputError(f"--urdf: {path}: joint {joint.get('name')!r} is {joint.get('type')}: unsupported: floating base "
-                                 f"(kinverify compares fixed-base models; make the root joint fixed to compare the rest)")
+            if joint.get("type") in PLANAR_URDF and parent is not None and parent.get("link") in roots:
+                raise InputError(f"--urdf: {path}: joint {joint.get('name')!r} is {joint.get('type')}: unsupported: planar base "
+                                 f"(kinverify compares fixed and floating bases; make the root joint fixed or floating)")
         bodies, movable = len(links), sum(j.get("type") in MOVABLE["urdf"] for j in joints)
     else:
         # bodies MuJoCo will make: <body> elements, plus those <composite>/<flexcomp> generate

@@ -1,8 +1,9 @@
-"""Files that used to crash file mode or pass when they should not: a floating base, a joint
+"""Files that used to crash file mode or pass when they should not: a planar base, a joint
 named like a link, a huge file, non-physical inertials, a joint missing from one file."""
 
 from __future__ import annotations
 
+import json
 import re
 import time
 from pathlib import Path
@@ -32,13 +33,19 @@ def one_line_exit_2(capsys, argv) -> str:
     return err
 
 
-def test_a_floating_root_joint_is_unsupported_in_one_line(tmp_path, capsys):
+def test_a_floating_root_joint_is_compared_and_a_planar_root_refused_in_one_line(tmp_path, capsys):
     urdf, mjcf = generated_pair("arm3")
-    urdf = urdf.replace('<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">')
-    u, m = write_pair(tmp_path, urdf, mjcf)
-    err = one_line_exit_2(capsys, ["verify", "--urdf", u, "--mjcf", m, "--json", f"{tmp_path}/r.json"])
-    assert f"{u}: joint 'world_to_base' is floating: unsupported: floating base" in err
-    assert not (tmp_path / "r.json").exists()
+    floating = urdf.replace('<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">')
+    u, m = write_pair(tmp_path, floating, mjcf)
+    # the MJCF's robot is welded to the world: the one difference, the rest compared with the base fixed
+    assert main(["verify", "--urdf", u, "--mjcf", m, "--samples", "8", "--quiet", "--json", f"{tmp_path}/r.json"]) == 1
+    errors = [f["kind"] for f in json.loads((tmp_path / "r.json").read_text())["findings"] if f["severity"] == "error"]
+    assert errors == ["floating_one_file"]
+    planar = urdf.replace('<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="planar">')
+    u, m = write_pair(tmp_path, planar, mjcf)
+    err = one_line_exit_2(capsys, ["verify", "--urdf", u, "--mjcf", m, "--json", f"{tmp_path}/p.json"])
+    assert f"{u}: joint 'world_to_base' is planar: unsupported: planar base" in err
+    assert not (tmp_path / "p.json").exists()
 
 
 def test_a_multi_dof_joint_inside_the_chain_is_refused_by_the_library_that_cannot_read_it(tmp_path):
