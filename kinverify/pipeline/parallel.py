@@ -160,6 +160,11 @@ def stop_workers(pool, timeout: float = 5.0) -> None:
         if proc.is_alive():
             proc.kill()
             proc.join(timeout)
+    # the executor's manager thread sees its workers gone and ends: wait for it here, or at exit it
+    # writes to a wake-up pipe already closed ("Exception ignored ... Bad file descriptor")
+    manager = getattr(pool, "_executor_manager_thread", None)
+    if manager is not None:
+        manager.join(timeout)
 
 
 def _dask_results(fn, payload: Payload, chunks, opts) -> Iterator:
