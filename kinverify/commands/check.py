@@ -122,6 +122,7 @@ def check_pair(urdf: Path, mjcf: Path, options) -> tuple[int, str]:
 
 def run(args) -> int:
     import os
+    import sys
 
     from kinverify.errors import InputError, KinverifyError
     from kinverify.run import VerifyOptions
@@ -143,7 +144,7 @@ def run(args) -> int:
             code, line = check_spec(path, options, args) if kind == "spec" else check_pair(path, other, options)
         except KinverifyError as err:  # the message names the file
             message = " ".join(str(err).split())
-            print(f"error: {message}" if str(path) in message else f"{label}: error: {message}", flush=True)
+            print(f"error: {message}" if str(path) in message else f"{label}: error: {message}", file=sys.stderr, flush=True)
             worst = max(worst, 2)
             continue
         except (KeyboardInterrupt, OSError):
