@@ -23,7 +23,7 @@ import warnings
 
 from kinverify import __version__
 
-COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff")
+COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff", "check")
 ISSUES = "the kinverify issue tracker"
 # argument -> how messages name it; these name files a command reads
 INPUTS = {"model": "the spec MODEL", "urdf": "--urdf", "mjcf": "--mjcf", "results": "RESULTS", "baseline": "--baseline",
