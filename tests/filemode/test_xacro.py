@@ -65,5 +65,8 @@ def test_options_and_detection():
         parse_pairs(["nope"], "--package")
     with pytest.raises(InputError, match="not a folder"):
         compile_xacro(XACRO, {"my_arm_description": "/no/such/folder"})
-    assert is_xacro("robot.urdf.xacro") and is_xacro("r.urdf", '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">')
+    declared = '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
+    assert is_xacro("robot.urdf.xacro") and is_xacro("r.urdf", declared + '<xacro:property name="a" value="1"/></robot>')
+    assert is_xacro("r.urdf", declared + '<link name="${prefix}base"/></robot>')
     assert not is_xacro("r.urdf", "<robot name='r'/>")
+    assert not is_xacro("r.urdf", declared + '<link name="base"/></robot>')  # xacro's output keeps the declaration
