@@ -25,7 +25,7 @@ from kinverify.filemode.diagnose import finding
 
 __all__ = ["audit_file", "AUDIT_SUITES"]
 
-AUDIT_SUITES = ("kinematics",)
+AUDIT_SUITES = ("kinematics", "dynamics")  # dynamics: Pinocchio against MuJoCo on the file (audit_dynamics)
 CHECK_SAMPLES = 64  # configurations (after the edges) each library is first compared on, to name elements
 SIDE = {"urdf": "URDF", "mjcf": "MJCF"}
 ELEMENT = {"urdf": "link", "mjcf": "body"}
@@ -138,6 +138,46 @@ def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference
     return section
 
 
+def _dynamics(result, kind: str, text: str, top, sources, al, opts, kept: dict, notes: list, desc, scale: float) -> None:
+    """Pinocchio's and MuJoCo's dynamics of the file, when both read it (the suite's checks and
+    section), on every 1-DOF joint (a coupling's follower at its leader's value)."""
+    from kinverify.errors import KinverifyError
+    from kinverify.filemode.audit_dynamics import PAIRS, AuditDynamicsSuite, inertial_findings
+    from kinverify.pipeline.sampling import Samples
+    from kinverify.run import internal_error
+    from kinverify.suites.base import VerifyContext
+
+    missing = [n for n in PAIRS[kind] if n not in kept]
+    if missing:
+        notes.append(f"dynamics not compared: {', '.join(missing)} did not read the file")
+        return
+    if kind == "urdf" and desc.library == "pinocchio":
+        try:
+            result.findings += inertial_findings(text, desc, scale)
+        except Exception as err:  # our bug: say so, keep the rest
+            result.internal_errors.append(internal_error("inertials", err))
+    suite = AuditDynamicsSuite(kind, text, top)
+    t0 = time.perf_counter()
+    try:
+        q = Samples(sources.lower, sources.upper, sources.revolute, max(opts.samples, 1), opts.seed)
+        n = int(opts.extra.get("dynamics_samples", 100))
+        every = dataclasses.replace(sources, joint_names=tuple(j.urdf for j in al.joints),
+                                    revolute=tuple(j.type == "revolute" for j in al.joints))
+        out = suite.run(VerifyContext(every, {}, al.expand(np.asarray(q[:n])), opts))
+    except KinverifyError as err:  # e.g. joints held at neutral: the models have more coordinates than compared
+        notes.append(f"dynamics not compared: {err}")
+        return
+    except Exception as err:  # our bug: say so, keep the rest
+        result.internal_errors.append(internal_error("suite dynamics", err))
+        return
+    finally:
+        result.timings["dynamics"] = time.perf_counter() - t0
+    result.checks += out.checks
+    result.findings += out.findings
+    if out.section is not None:
+        result.sections["dynamics"] = out.section
+
+
 def audit_file(path: str, kind: str, options=None, command: str = "", packages=None, xacro_args=None):
     """The one-file audit of ``kind`` ("urdf" or "mjcf") as a :class:`~kinverify.results.VerifyResult`."""
     from kinverify.backends import ModelSources
@@ -198,8 +238,11 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
                            mjcf_joint_names=tuple(al.independent) if kind == "mjcf" else None,
                            mjcf_frames=frames if kind == "mjcf" else None)
     suites = [s for s in AUDIT_SUITES if options.suites is None or s in options.suites]
-    opts = dataclasses.replace(options, reference=reference, backends=[reference], suites=suites)
+    opts = dataclasses.replace(options, reference=reference, backends=[reference], suites=[s for s in suites if s != "dynamics"])
     result = verify(sources, opts, extra_backends=list(kept.values()), source=str(path), command=command)
+    if "dynamics" in suites:
+        quirk = top if any(f.kind == "parser_quirk" for f in findings) else None
+        _dynamics(result, kind, text, quirk, sources, al, opts, kept, notes, desc, scale)
     result.findings = findings + result.findings
     result.notes += notes
     section = _section(kind, str(path), wanted, backends, kept, reference, rows, findings, notes)

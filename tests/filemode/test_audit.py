@@ -6,6 +6,7 @@ the library; Pinocchio's dropped top-level pose (pinocchio#2782) is information,
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 import xml.etree.ElementTree as ET
@@ -64,6 +65,41 @@ def test_a_top_level_body_pose_is_pinocchios_known_quirk_reported_as_information
     assert result.verdict == "pass" and "pinocchio-mjcf" in result.backends  # compared with the pose put back
     assert all(c.passed for c in result.checks if "pinocchio-mjcf" in c.backends)
     assert "pinocchio#2782" in statuses(result)["pinocchio-mjcf"]
+
+
+def test_dynamics_of_one_file_in_pinocchio_and_mujoco(tmp_path):
+    urdf, mjcf = generated_pair("panda")
+    for kind, text, pair in (("urdf", urdf, ("pinocchio-urdf", "mujoco-urdf")), ("mjcf", mjcf, ("mujoco", "pinocchio-mjcf"))):
+        result = audit(tmp_path, text, kind, kind)
+        dynamics = [c for c in result.checks if c.property.startswith("dynamics.")]
+        assert {c.property for c in dynamics} >= {"dynamics.mass_matrix", "dynamics.gravity", "dynamics.forward"}
+        assert all(c.passed and c.backends == pair for c in dynamics) and result.verdict == "pass"
+        assert pair[0] in result.sections["dynamics"].title
+
+
+def test_a_tilted_top_level_body_tilts_gravity_in_pinocchios_reading_and_is_put_back(tmp_path):
+    """Pinocchio's MJCF parser drops the top-level body's rotation, so its world is that body's:
+    gravity there is the MJCF's gravity turned back, or gravity torques differ by newtons."""
+    _, mjcf = generated_pair("panda")
+    tilted = mjcf.replace('<body name="world_mount">',
+                          f'<body name="world_mount" quat="{math.cos(0.15)!r} {math.sin(0.15)!r} 0 0">', 1)
+    result = audit(tmp_path, tilted, "mjcf")
+    assert [f.kind for f in result.findings] == ["parser_quirk"]
+    (gravity,) = [c for c in result.checks if c.property == "dynamics.gravity"]
+    assert gravity.passed and gravity.max_error < 1e-9 and result.verdict == "pass"
+
+
+def test_a_link_without_inertial_is_read_with_mass_by_mujocos_urdf_import(tmp_path):
+    """MuJoCo's URDF import gives a link without ``<inertial>`` the mass of its geometry (density
+    1000); Pinocchio reads it massless: one finding naming the library and the link."""
+    urdf, _ = generated_pair("panda")
+    bare = re.sub(r'(<link name="panda_link3">)\s*<inertial>.*?</inertial>', r"\1", urdf, count=1, flags=re.S)
+    result = audit(tmp_path, bare, "urdf")
+    (wrong,) = [f for f in result.findings if f.fails]
+    assert (wrong.kind, wrong.subject, wrong.property, wrong.values["backend"]) == (
+        "parser_disagreement", "panda_link3", "inertia.mass", "mujoco-urdf")
+    assert wrong.values["pinocchio-urdf"] == 0.0 and wrong.values["mujoco-urdf"] > 0.1
+    assert not [c for c in result.failed if not c.property.startswith("dynamics.")]  # kinematics agree
 
 
 def test_a_library_reading_the_file_differently_fails_naming_the_library_and_the_link(tmp_path):
