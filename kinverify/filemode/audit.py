@@ -8,7 +8,9 @@ Jacobians: the kinematics suite), and where a library reads the file differently
 names the library and the first element (link or body, with the joint it moves with) it places
 elsewhere. A library refusing the file is a ``parser_refused`` warning; Pinocchio's MJCF parser
 dropping the top-level body's pose (pinocchio#2782) is a ``parser_quirk`` info, compared after
-putting the pose back. Only libraries that genuinely disagree fail the verdict.
+putting the pose back. Where Pinocchio and MuJoCo both read the file, their dynamics are compared
+too (:mod:`kinverify.filemode.audit_dynamics`). Only libraries that genuinely disagree fail the
+verdict.
 """
 
 from __future__ import annotations
