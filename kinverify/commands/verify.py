@@ -165,7 +165,7 @@ def run(args) -> int:
             from kinverify.filemode.loading import given_packages, load_urdf
 
             with given_packages(packages, xacro_args):
-                load_urdf(args.urdf, keep_meshes=False)  # bad input (xacro, packages) is exit 2 before any progress
+                load_urdf(args.urdf, keep_meshes=False, packages=packages, xacro_args=xacro_args)  # bad input: exit 2 first
                 with VerifyProgress(console, "files") as bar:
                     bar.suite("kinematics")  # file mode: alignment, then the suites on the aligned files
                     options.on_progress = bar.advance

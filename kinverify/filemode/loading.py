@@ -167,14 +167,14 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
     from kinverify.filemode.xacro import compile_xacro, is_xacro
 
     packages = _GIVEN["packages"] if packages is None else packages
-    xacro_args = _GIVEN["xacro_args"] if xacro_args is None else xacro_args
+    given_here, xacro_args = xacro_args, _GIVEN["xacro_args"] if xacro_args is None else xacro_args
     text, root = read_xml(path, "urdf")
     compiled: list[str] = []
     if is_xacro(path, text):
         text, compiled = compile_xacro(path, packages, xacro_args)
         text, root = read_xml(path, "urdf", text)
         compiled.insert(0, f"URDF compiled from xacro ({Path(path).name})")
-    elif xacro_args:
+    elif given_here:  # arguments for this very file (a block's arguments are for its xacro files)
         raise InputError(f"--xacro-arg: {path} is not a xacro file (no .xacro suffix, no xacro namespace)")
     dropped = kept = 0
     base = Path(path).resolve().parent

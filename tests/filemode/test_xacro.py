@@ -127,3 +127,14 @@ def test_ik_solves_on_the_compiled_chain(capsys):
     code = main(["ik", "--urdf", str(XACRO), "--tip", "link3", "--target", "0.1", "0.1", "0.9", "--xacro-arg", "table_height=0.5"])
     out = capsys.readouterr().out
     assert code in (0, 1) and "root -> link3" in out and "3 joints" in out
+
+
+def test_diff_compiles_xacro_and_finds_the_generated_arm3(tmp_path, capsys):
+    from kinverify.cli import main
+
+    plain = tmp_path / "arm3.urdf"
+    plain.write_text(generate_urdf(load_spec(MODELS / "arm3.toml")))
+    report = str(tmp_path / "d.html")
+    assert main(["diff", str(XACRO), str(plain), "--samples", "10", "--report", report]) == 0
+    assert "IDENTICAL" in capsys.readouterr().out
+    assert main(["diff", str(XACRO), str(plain), "--samples", "10", "--report", report, "--xacro-arg", "table_height=0.5"]) == 1
