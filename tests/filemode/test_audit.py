@@ -22,7 +22,7 @@ from kinverify.run import VerifyOptions
 from tests.filemode.pairs import generated_pair, turned_world
 from tests.paths import REAL_ROBOTS
 
-OPTIONS = VerifyOptions(samples=20, fd_samples=4)
+OPTIONS = VerifyOptions(samples=20, fd_samples=4, extra={"dynamics_samples": 20})
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
 REAL_FILES = [f"{robot}/{name}" for robot, names in {
     "panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
