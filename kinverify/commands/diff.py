@@ -21,6 +21,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--samples", type=int, default=None, help="uniform configurations after the edges (default 200)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--report", help="HTML report path (default reports/diff-<old>-<new>.html; .json for JSON)")
+    p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
+                   help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)")
+    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
+                   help="for .xacro URDFs: a <xacro:arg> value (repeatable)")
     return p
 
 
@@ -49,7 +53,11 @@ def run(args) -> int:
         raise InputError(f"{spec} is a spec and {other} {kind}: diff compares two files of one kind "
                          f"(generate the spec's files with `kinverify generate {spec}` to compare files)")
     else:
-        result = diff_files(args.old, args.new, samples, args.seed)
+        from kinverify.filemode.loading import given_packages
+        from kinverify.filemode.xacro import parse_pairs
+
+        with given_packages(parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")):
+            result = diff_files(args.old, args.new, samples, args.seed)
     console = Console() if sys.stdout.isatty() else Console(width=160)
     doc = diff_document(result, args.old, args.new)
     print_document(doc, console)

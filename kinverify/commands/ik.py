@@ -30,6 +30,10 @@ def add_parser(sub):
     p.add_argument("--urdf", metavar="FILE", help="an existing URDF; the chain from --base to --tip is solved")
     p.add_argument("--base", metavar="LINK", help="with --urdf: the chain's base link (default: the URDF's root link)")
     p.add_argument("--tip", metavar="LINK", help="with --urdf: the chain's tip link")
+    p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
+                   help="with a .xacro --urdf: where ROS package NAME is (repeatable; $(find NAME), package://NAME)")
+    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
+                   help="with a .xacro --urdf: a <xacro:arg> value (repeatable)")
     p.add_argument("--target", nargs="+", metavar="X", help="one target position X Y Z [m]")
     p.add_argument("--rpy", nargs="+", metavar="R", help="its orientation roll pitch yaw [rad] (URDF fixed-axis XYZ)")
     p.add_argument("--targets", metavar="FILE.npy", help="N×4×4 poses of the tip in the base frame [m], solved together")
@@ -90,8 +94,8 @@ def run(args) -> int:
         raise InputError("give --target X Y Z or --targets FILE.npy" if not args.target else "give --target or --targets, not both")
     if args.urdf and not args.tip:
         raise InputError("--urdf needs --tip LINK (and --base LINK, default the root link)")
-    if not args.urdf and (args.base or args.tip):
-        raise InputError("--base and --tip go with --urdf")
+    if not args.urdf and (args.base or args.tip or args.package or args.xacro_arg):
+        raise InputError("--base, --tip, --package and --xacro-arg go with --urdf")
     for flag, value in (("--initial", args.initial), ("--position-only", args.position_only), ("--per-target", args.per_target)):
         if value and not args.targets:
             raise InputError(f"{flag} goes with --targets")
@@ -152,6 +156,21 @@ def _batch(args) -> int:
     return 0 if data["solved"] == data["targets"] else 1
 
 
+def _urdf_text(args) -> str:
+    """The --urdf file's text; a xacro file compiled first (``--package``, ``--xacro-arg``)."""
+    from kinverify.errors import InputError
+    from kinverify.filemode.xacro import compile_xacro, is_xacro, parse_pairs
+    from kinverify.ik.files import read_text
+
+    text = read_text(args.urdf, "--urdf")
+    packages, xacro_args = parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")
+    if is_xacro(args.urdf, text):
+        return compile_xacro(args.urdf, packages, xacro_args)[0]
+    if xacro_args:
+        raise InputError(f"--xacro-arg: {args.urdf} is not a xacro file")
+    return text
+
+
 def _batch_model(args):
     """``(FrameModel, lower, upper, joint names, label)`` of the URDF chain or the spec's frame."""
     import numpy as np
@@ -162,7 +181,7 @@ def _batch_model(args):
     if args.urdf:
         from kinverify.ik.files import read_text
 
-        text = read_text(args.urdf, "--urdf")
+        text = _urdf_text(args)
         chain = SerialChain.from_urdf(text, args.base, args.tip, args.urdf)
         where = f"{args.urdf}: {args.base or 'root'} -> {args.tip}"
         if args.per_target:

@@ -1,6 +1,9 @@
 """``kinverify verify``: cross-validate every backend, print a table, write HTML + JSON.
 
 Spec mode: ``kinverify verify MODEL.toml``. File mode: ``kinverify verify --urdf R.urdf --mjcf R.xml``.
+One-file audit: ``kinverify verify --urdf R.urdf`` (or ``--mjcf R.xml``) alone: every library that
+reads that file, compared with each other. A ``.xacro`` URDF is compiled first (``--package``,
+``--xacro-arg``).
 """
 
 from __future__ import annotations
@@ -13,13 +16,18 @@ from kinverify.errors import InputError
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("verify", help="cross-validate all backends on a spec, or a URDF against an MJCF",
+    p = sub.add_parser("verify", help="cross-validate all backends on a spec, a URDF against an MJCF, or one file's readers",
                        description="Generate URDF and MJCF from MODEL (or read --urdf and --mjcf), load them in every "
-                       "available backend and compare every property against the analytic reference. "
+                       "available backend and compare every property against the analytic reference. With only --urdf "
+                       "or only --mjcf: a one-file audit, every library that reads that file compared with the others. "
                        "Exit 0 when all agree, 1 when a check fails, 2 on bad input.")
     p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf/--mjcf")
-    p.add_argument("--urdf", help="file mode: an existing URDF")
-    p.add_argument("--mjcf", help="file mode: an existing MJCF")
+    p.add_argument("--urdf", help="file mode: an existing URDF (or .xacro); alone: audit it with every library reading URDF")
+    p.add_argument("--mjcf", help="file mode: an existing MJCF; alone: audit it with MuJoCo and Pinocchio's MJCF parser")
+    p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
+                   help="where ROS package NAME is (repeatable): resolves package://NAME and xacro's $(find NAME)")
+    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
+                   help="a xacro <xacro:arg> value for a .xacro --urdf (repeatable)")
     p.add_argument("--frames", nargs="*", default=[], metavar="URDF_FRAME=MJCF_FRAME", help="file mode: frame pairs to compare")
     p.add_argument("--joints", nargs="*", default=[], metavar="URDF_JOINT=MJCF_JOINT", help="file mode: joint pairs")
     p.add_argument("--accept", metavar="FILE", help="file mode: reviewed accepted differences (TOML; default: "
@@ -111,6 +119,24 @@ def profile_line(result, report_s: float, total_s: float) -> str:
     return f"profile: {', '.join(parts)}; report {report_s:.2f} s; total {total_s:.2f} s"
 
 
+def _audit(args, options, console, command: str, packages: dict, xacro_args: dict):
+    """``verify --urdf X`` or ``verify --mjcf Y`` alone: the one-file audit."""
+    from kinverify.filemode.audit import audit_file
+    from kinverify.report.progress import VerifyProgress
+
+    for flag, given in (("--frames", args.frames), ("--joints", args.joints), ("--accept", args.accept),
+                        ("--write-accepted", args.write_accepted)):
+        if given:
+            raise InputError(f"{flag} pairs a URDF with an MJCF: give both --urdf and --mjcf, or drop {flag} for a one-file audit")
+    if args.mjcf and (packages or xacro_args):
+        raise InputError("--package and --xacro-arg go with --urdf")
+    kind, path = ("urdf", args.urdf) if args.urdf else ("mjcf", args.mjcf)
+    with VerifyProgress(console, "audit") as bar:
+        bar.suite("kinematics")
+        options.on_progress = bar.advance
+        return audit_file(path, kind, options, command=command, packages=packages, xacro_args=xacro_args)
+
+
 def run(args) -> int:
     import shlex
     import time
@@ -127,21 +153,31 @@ def run(args) -> int:
     if args.urdf or args.mjcf:
         if args.model:
             raise InputError("give either a spec MODEL or --urdf/--mjcf, not both")
-        if not (args.urdf and args.mjcf):
-            raise InputError("file mode needs both --urdf and --mjcf")
-        from kinverify.filemode import verify_files
+        from kinverify.filemode.xacro import parse_pairs
         from kinverify.report.progress import VerifyProgress
 
-        with VerifyProgress(console, "files") as bar:
-            bar.suite("kinematics")  # file mode: alignment, then the suites on the aligned files
-            options.on_progress = bar.advance
-            result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints, command=command,
-                                  accept=args.accept, write_accepted=args.write_accepted)
+        packages, xacro_args = parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")
+        if not (args.urdf and args.mjcf):
+            result = _audit(args, options, console, command, packages, xacro_args)
+        else:
+            from kinverify.filemode import verify_files
+
+            from kinverify.filemode.loading import given_packages, load_urdf
+
+            with given_packages(packages, xacro_args):
+                load_urdf(args.urdf, keep_meshes=False, packages=packages, xacro_args=xacro_args)  # bad input: exit 2 first
+                with VerifyProgress(console, "files") as bar:
+                    bar.suite("kinematics")  # file mode: alignment, then the suites on the aligned files
+                    options.on_progress = bar.advance
+                    result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints,
+                                          command=command, accept=args.accept, write_accepted=args.write_accepted)
     else:
         if not args.model:
-            raise InputError("give a spec MODEL (models/*.toml) or --urdf and --mjcf")
+            raise InputError("give a spec MODEL (models/*.toml), --urdf and/or --mjcf")
         if args.accept or args.write_accepted:
             raise InputError("--accept and --write-accepted are for file mode (--urdf and --mjcf)")
+        if args.package or args.xacro_arg:
+            raise InputError("--package and --xacro-arg go with --urdf")
         from kinverify.report.progress import VerifyProgress
         from kinverify.model.specfile import load_spec
         from kinverify.run import verify_spec

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import warnings
 import xml.etree.ElementTree as ET
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,17 +37,18 @@ class LoadedFile:
     warnings: tuple[str, ...] = field(default_factory=tuple)
 
 
-def read_xml(path: str, kind: str) -> tuple[str, ET.Element]:
-    """The file's text and its root element; :class:`InputError` on anything unsafe or wrong."""
+def read_xml(path: str, kind: str, text: str | None = None) -> tuple[str, ET.Element]:
+    """The file's text and its root element; :class:`InputError` on anything unsafe or wrong.
+    ``text``: what the file compiled to (xacro), checked the same way under the file's name."""
     p = Path(path)
-    if not p.is_file():
+    if text is None and not p.is_file():
         raise InputError(f"--{kind}: {path} is not a file")
     try:
-        size = p.stat().st_size
+        size = p.stat().st_size if text is None else len(text.encode())
         if size > MAX_MODEL_BYTES:
             raise InputError(f"--{kind}: {path} is {size / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB kinverify "
                              "reads (see docs/robustness.md)")
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8") if text is None else text
     except (OSError, UnicodeDecodeError) as err:
         raise InputError(f"--{kind}: cannot read {path}: {err}") from None
     try:
@@ -113,12 +115,16 @@ def _product(counts: str | None) -> int:
     return out
 
 
-def resolve_asset(filename: str, base: Path) -> Path | None:
-    """The file a mesh reference names, if it exists: ``package://pkg/rel`` as ``<dir>/pkg/rel``
-    or ``<dir>/rel`` with ``<dir>`` named ``pkg``, for the model's folder and each folder above it;
-    ``file://`` and plain paths relative to ``base``. None when absent."""
+def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = None) -> Path | None:
+    """The file a mesh reference names, if it exists: ``package://pkg/rel`` as ``<PATH>/rel`` for
+    ``packages`` ``{pkg: PATH}`` (``--package``), else as ``<dir>/pkg/rel`` or ``<dir>/rel`` with
+    ``<dir>`` named ``pkg``, for the model's folder and each folder above it; ``file://`` and plain
+    paths relative to ``base``. None when absent."""
     if filename.startswith("package://"):
         package, _, rel = filename[len("package://"):].partition("/")
+        given = Path((packages or {}).get(package, "")).expanduser() / rel if package in (packages or {}) else None
+        if given is not None and given.is_file():
+            return _read_asset(given)
         for folder in (base, *base.parents):
             for candidate in (folder / package / rel, folder / rel if folder.name == package else None):
                 if candidate is not None and candidate.is_file():
@@ -136,10 +142,40 @@ def _read_asset(path: Path) -> Path:
     return path
 
 
-def load_urdf(path: str, keep_meshes: bool = True) -> LoadedFile:
+_GIVEN: dict[str, dict[str, str]] = {"packages": {}, "xacro_args": {}}  # set by :func:`given_packages`
+
+
+@contextmanager
+def given_packages(packages: dict[str, str] | None = None, xacro_args: dict[str, str] | None = None):
+    """Within this block, every :func:`load_urdf` (also file mode's) resolves packages from
+    ``packages`` (``--package``) and compiles xacro with ``xacro_args`` (``--xacro-arg``)."""
+    before = dict(_GIVEN)
+    _GIVEN.update(packages=dict(packages or {}), xacro_args=dict(xacro_args or {}))
+    try:
+        yield
+    finally:
+        _GIVEN.update(before)
+
+
+def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | None = None,
+              xacro_args: dict[str, str] | None = None) -> LoadedFile:
     """URDF without the mesh visuals/collisions whose files are absent (kinematics and inertials
-    are untouched); meshes that exist are kept with absolute paths (``keep_meshes=False``: none)."""
+    are untouched); meshes that exist are kept with absolute paths (``keep_meshes=False``: none).
+    A xacro file (``.xacro``, or the xacro namespace) is compiled first (:mod:`kinverify.filemode.xacro`)
+    with ``packages`` (``--package NAME=PATH``) and ``xacro_args`` (``--xacro-arg NAME=VALUE``);
+    ``original`` is then the compiled URDF."""
+    from kinverify.filemode.xacro import compile_xacro, is_xacro
+
+    packages = _GIVEN["packages"] if packages is None else packages
+    given_here, xacro_args = xacro_args, _GIVEN["xacro_args"] if xacro_args is None else xacro_args
     text, root = read_xml(path, "urdf")
+    compiled: list[str] = []
+    if is_xacro(path, text):
+        text, compiled = compile_xacro(path, packages, xacro_args)
+        text, root = read_xml(path, "urdf", text)
+        compiled.insert(0, f"URDF compiled from xacro ({Path(path).name})")
+    elif given_here:  # arguments for this very file (a block's arguments are for its xacro files)
+        raise InputError(f"--xacro-arg: {path} is not a xacro file (no .xacro suffix, no xacro namespace)")
     dropped = kept = 0
     base = Path(path).resolve().parent
     for link in root.iter("link"):
@@ -148,15 +184,15 @@ def load_urdf(path: str, keep_meshes: bool = True) -> LoadedFile:
                 mesh = el.find("geometry/mesh")
                 if mesh is None:
                     continue
-                found = resolve_asset(mesh.get("filename", ""), base) if keep_meshes else None
+                found = resolve_asset(mesh.get("filename", ""), base, packages) if keep_meshes else None
                 if found is None:
                     link.remove(el)
                     dropped += 1
                 else:
                     mesh.set("filename", str(found))
                     kept += 1
-    warnings = (f"URDF: {dropped} mesh visual/collision elements skipped, their files are absent (meshes are not "
-                "needed for kinematics and dynamics)",) if dropped else ()
+    warnings = tuple(compiled) + ((f"URDF: {dropped} mesh visual/collision elements skipped, their files are absent "
+                                   "(meshes are not needed for kinematics and dynamics)",) if dropped else ())
     if kept:
         warnings += (f"URDF: {kept} mesh references resolved to existing files and kept",)
     cleaned = ET.tostring(root, encoding="unicode")

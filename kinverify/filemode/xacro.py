@@ -20,11 +20,15 @@ from kinverify.errors import InputError
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 
+XACRO_USE = re.compile(r"<\w+:(include|macro|property|arg|if|unless|call|element|attribute|insert_block)\b|\$[({]")
+
+
 def is_xacro(path: str | Path, text: str | None = None) -> bool:
-    """A ``.xacro`` file, or a URDF that declares the xacro namespace."""
+    """A ``.xacro`` file, or a URDF that declares the xacro namespace and uses it (macros,
+    properties, ``${...}``, ``$(...)``): xacro's own output keeps the declaration and is plain URDF."""
     if str(path).endswith(".xacro"):
         return True
-    return text is not None and XACRO_NAMESPACE in text[:4096]
+    return text is not None and XACRO_NAMESPACE in text[:4096] and XACRO_USE.search(text) is not None
 
 
 def parse_pairs(items, flag: str) -> dict[str, str]:

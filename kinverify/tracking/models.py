@@ -34,10 +34,7 @@ from kinverify.model.transforms import matrix_to_quat
 
 class PinocchioDynamics:
     def __init__(self, urdf: str, joint_names, armature) -> None:
-        try:
-            self.model = pin.buildModelFromXML(urdf)
-        except (ValueError, RuntimeError) as err:
-            raise BackendError("pinocchio-urdf", f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
+        self.model = self.build_model(urdf)
         m = self.model
         self.floating = has_base(joint_names)
         self._ff = None
@@ -60,6 +57,14 @@ class PinocchioDynamics:
         self.friction = np.array(m.friction)[self.idx_v].copy()
         self.data = m.createData()
         self._perm = np.argsort(self.idx_v)  # model order -> ours
+
+    @staticmethod
+    def build_model(urdf: str):
+        """Pinocchio's model of the text (a subclass may read another format)."""
+        try:
+            return pin.buildModelFromXML(urdf)
+        except (ValueError, RuntimeError) as err:
+            raise BackendError("pinocchio-urdf", f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
 
     def _in(self, x) -> np.ndarray:
         out = np.empty(len(self.idx_v))

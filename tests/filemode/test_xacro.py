@@ -4,13 +4,14 @@ arm; what xacro cannot resolve is one line naming the file."""
 
 from __future__ import annotations
 
+import json
 import xml.etree.ElementTree as ET
 
 import pytest
 
 from kinverify.errors import InputError
 from kinverify.filemode.xacro import compile_xacro, is_xacro, parse_pairs
-from kinverify.generate import generate_urdf
+from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
 from tests.paths import MODELS, ROOT
 
@@ -65,5 +66,75 @@ def test_options_and_detection():
         parse_pairs(["nope"], "--package")
     with pytest.raises(InputError, match="not a folder"):
         compile_xacro(XACRO, {"my_arm_description": "/no/such/folder"})
-    assert is_xacro("robot.urdf.xacro") and is_xacro("r.urdf", '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">')
+    declared = '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
+    assert is_xacro("robot.urdf.xacro") and is_xacro("r.urdf", declared + '<xacro:property name="a" value="1"/></robot>')
+    assert is_xacro("r.urdf", declared + '<link name="${prefix}base"/></robot>')
     assert not is_xacro("r.urdf", "<robot name='r'/>")
+    assert not is_xacro("r.urdf", declared + '<link name="base"/></robot>')  # xacro's output keeps the declaration
+
+
+# --- wired in: verify (file mode and one-file audit) and ik read xacro -------------------------
+
+def _verify(tmp_path, capsys, *argv) -> tuple[int, dict, str]:
+    from kinverify.cli import main
+
+    out = tmp_path / "out.json"
+    code = main(["verify", *argv, "--samples", "20", "--quiet", "--json", str(out), "--report", str(tmp_path / "out.html")])
+    captured = capsys.readouterr()
+    return code, (json.loads(out.read_text()) if out.exists() else {}), captured.err.strip()
+
+
+def test_the_example_verifies_against_the_mjcf_kinverify_generates_for_arm3(tmp_path, capsys):
+    mjcf = tmp_path / "arm3.xml"
+    mjcf.write_text(generate_mjcf(load_spec(MODELS / "arm3.toml")))
+    code, data, _ = _verify(tmp_path, capsys, "--urdf", str(XACRO), "--mjcf", str(mjcf),
+                            "--package", f"my_arm_description={PACKAGE}")
+    assert code == 0 and data["verdict"] == "pass" and not [f for f in data["findings"] if f["severity"] == "error"]
+    assert any("compiled from xacro" in n for n in data["notes"])
+
+
+def test_the_example_audited_alone_with_an_argument(tmp_path, capsys):
+    code, data, _ = _verify(tmp_path, capsys, "--urdf", str(XACRO), "--xacro-arg", "table_height=0.5")
+    assert code == 0 and data["verdict"] == "pass" and len(data["backends"]) >= 2
+    base = next(j for j in ET.fromstring(data["model_info"]["urdf"]).iter("joint") if j.get("name") == "world_to_base")
+    assert base.find("origin").get("xyz") == "0.0 0.0 0.5"  # the argument reached the compiled URDF
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--package", "my_arm_description=/no/such/folder"], "--package my_arm_description=/no/such/folder: not a folder"),
+    (["--package", "oops"], "--package: expected NAME=VALUE"),
+])
+def test_bad_packages_are_one_line_exit_2(tmp_path, capsys, argv, words):
+    code, data, err = _verify(tmp_path, capsys, "--urdf", str(XACRO), *argv)
+    assert code == 2 and words in err and "\n" not in err and not data
+
+
+def test_an_unresolved_package_or_macro_is_one_line_naming_the_file(tmp_path, capsys):
+    path = tmp_path / "r.urdf.xacro"
+    path.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+                    '<xacro:include filename="$(find nowhere_pkg)/x.xacro"/></robot>')
+    code, _, err = _verify(tmp_path, capsys, "--urdf", str(path))
+    assert code == 2 and str(path) in err and "'nowhere_pkg' not found" in err and "\n" not in err
+    plain = tmp_path / "plain.urdf"
+    plain.write_text(generate_urdf(load_spec(MODELS / "arm3.toml")))
+    code, _, err = _verify(tmp_path, capsys, "--urdf", str(plain), "--xacro-arg", "a=1")
+    assert code == 2 and "is not a xacro file" in err
+
+
+def test_ik_solves_on_the_compiled_chain(capsys):
+    from kinverify.cli import main
+
+    code = main(["ik", "--urdf", str(XACRO), "--tip", "link3", "--target", "0.1", "0.1", "0.9", "--xacro-arg", "table_height=0.5"])
+    out = capsys.readouterr().out
+    assert code in (0, 1) and "root -> link3" in out and "3 joints" in out
+
+
+def test_diff_compiles_xacro_and_finds_the_generated_arm3(tmp_path, capsys):
+    from kinverify.cli import main
+
+    plain = tmp_path / "arm3.urdf"
+    plain.write_text(generate_urdf(load_spec(MODELS / "arm3.toml")))
+    report = str(tmp_path / "d.html")
+    assert main(["diff", str(XACRO), str(plain), "--samples", "10", "--report", report]) == 0
+    assert "IDENTICAL" in capsys.readouterr().out
+    assert main(["diff", str(XACRO), str(plain), "--samples", "10", "--report", report, "--xacro-arg", "table_height=0.5"]) == 1
