@@ -25,7 +25,8 @@ ACCEPTED = "kinverify-accepted.toml"
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("check", help="a quick verdict per changed model (specs, URDF/MJCF pairs): for pre-commit and CI",
                        description="Verify each spec (.toml) with modest samples and check it against its baseline when "
-                       "one exists; verify each URDF or MJCF against its same-stem partner in file mode. One line per "
+                       "one exists; verify each URDF or MJCF against its same-stem partner in file mode, or audit it alone when it has "
+                       "none (every library that reads it, compared). One line per "
                        "model, nothing written. Exit 0 all agree, 1 a model disagrees or moved, 2 bad input.")
     p.add_argument("files", nargs="+", metavar="FILE", help="specs (.toml), URDFs (.urdf), MJCFs (.xml), "
                    f"{ACCEPTED} files; other files are skipped with a line")
@@ -58,7 +59,10 @@ def jobs(files: list[str]) -> list[tuple[str, Path, Path | None]]:
         elif path.suffix in (".urdf", ".xml"):
             urdf, mjcf = path.with_suffix(".urdf"), path.with_suffix(".xml")
             partner = mjcf if path.suffix == ".urdf" else urdf
-            out.append(("pair", urdf, mjcf) if partner.is_file() else ("skip", path, None))
+            if partner.is_file():
+                out.append(("pair", urdf, mjcf))
+            else:  # alone: does every library read it alike? (an .xml only when it is an MJCF)
+                out.append(("audit", path, None) if path.suffix == ".urdf" or _is_mjcf(path) else ("skip", path, None))
         else:
             out.append(("skip", path, None))
     return list(dict.fromkeys(out))
@@ -110,6 +114,25 @@ def check_spec(path: Path, options, args) -> tuple[int, str]:
     return code, f"{STATUS[code]}: {line}"
 
 
+def _is_mjcf(path: Path) -> bool:
+    try:
+        head = path.read_text(errors="replace")[:4096]
+    except OSError:
+        return False
+    return "<mujoco" in head
+
+
+def check_audit(path: Path, options) -> tuple[int, str]:
+    from kinverify.filemode.audit import audit_file
+
+    kind = "urdf" if path.suffix == ".urdf" else "mjcf"
+    result = audit_file(str(path), kind, options, command=f"kinverify check {path}")
+    line = "every library reads it alike; " + _summary(result) if not result.exit_code else _summary(result)
+    if result.exit_code:
+        line += f"; details: kinverify verify --{kind} {path}"
+    return result.exit_code, f"{STATUS[result.exit_code]}: {line}"
+
+
 def check_pair(urdf: Path, mjcf: Path, options) -> tuple[int, str]:
     from kinverify.filemode import verify_files
 
@@ -138,10 +161,11 @@ def run(args) -> int:
     for kind, path, other in jobs(args.files):
         label = f"{path} + {other.name}" if kind == "pair" else str(path)
         if kind == "skip":
-            print(f"{label}: skipped (not a spec .toml, nor a URDF/MJCF with its same-stem partner beside it)", flush=True)
+            print(f"{label}: skipped (not a spec .toml, a URDF or an MJCF)", flush=True)
             continue
         try:
-            code, line = check_spec(path, options, args) if kind == "spec" else check_pair(path, other, options)
+            code, line = (check_spec(path, options, args) if kind == "spec" else check_pair(path, other, options) if kind == "pair"
+                          else check_audit(path, options))
         except KinverifyError as err:  # the message names the file
             message = " ".join(str(err).split())
             print(f"error: {message}" if str(path) in message else f"{label}: error: {message}", file=sys.stderr, flush=True)

@@ -212,7 +212,7 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
     # double precision at the robot's size: its reach plus how far its frames sit from the origin
     scale = max([1.0] + list(reach(desc).values())) + max([0.0] + [float(np.linalg.norm(t[:3, 3])) for t in desc.frames.values()])
     tol = (tolerance(options, get_property("fk.position")) * scale, tolerance(options, get_property("fk.rotation")))
-    shim = SimpleNamespace(alignment=al, matching=matching, notes=notes)
+    shim = SimpleNamespace(alignment=al, matching=matching, notes=notes, base_coordinates=False)  # a free base is held fixed here
     urdf_text, mjcf_text = (text, "") if kind == "urdf" else ("", text)
     backends = build.build_backends(shim, urdf_text, mjcf_text, wanted, lambda f: tol, findings)
     lower, upper, revolute = build.sample_ranges(desc, al.independent)

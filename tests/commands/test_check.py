@@ -86,17 +86,23 @@ def test_a_pair_that_disagrees_fails_and_an_accepted_file_rechecks_it(tmp_path, 
 
 
 def test_bad_input_and_other_files(tmp_path, capsys):
+    from kinverify.generate import generate_urdf
+    from kinverify.model.specfile import load_spec
+
     (tmp_path / "broken.toml").write_text("x = [\n")
-    (tmp_path / "alone.urdf").write_text("<robot name='alone'/>")
+    (tmp_path / "alone.urdf").write_text(generate_urdf(load_spec(MODELS / "arm3.toml")))
+    (tmp_path / "launch.xml").write_text("<launch><node pkg='x'/></launch>")
     (tmp_path / "notes.md").write_text("# notes\n")
-    files = [str(tmp_path / n) for n in ("broken.toml", "missing.toml", "alone.urdf", "notes.md")]
+    files = [str(tmp_path / n) for n in ("broken.toml", "missing.toml", "alone.urdf", "launch.xml", "notes.md")]
     assert main(["check", *files, str(MODELS / "scara.toml"), *FAST]) == 2  # the worst code; the good model still runs
     out, err = lines(capsys)
     assert err == [f"error: {files[0]}: malformed TOML: Invalid value (at end of document)",
                    f"error: {files[1]}: cannot read spec file: No such file or directory"]
-    assert out[:2] == [f"{files[2]}: skipped (not a spec .toml, nor a URDF/MJCF with its same-stem partner beside it)",
-                       f"{files[3]}: skipped (not a spec .toml, nor a URDF/MJCF with its same-stem partner beside it)"]
-    assert out[2].startswith(f"{MODELS / 'scara.toml'}: ok: ")
+    # a URDF with no MJCF beside it: the one-file audit (every library that reads URDF)
+    assert out[0].startswith(f"{files[2]}: ok: every library reads it alike; ")
+    assert out[1:3] == [f"{files[3]}: skipped (not a spec .toml, a URDF or an MJCF)",
+                        f"{files[4]}: skipped (not a spec .toml, a URDF or an MJCF)"]
+    assert out[3].startswith(f"{MODELS / 'scara.toml'}: ok: ")
     assert main(["check", str(MODELS / "arm3.toml"), "--suites", "kinematics,speed"]) == 2
     assert capsys.readouterr().err.startswith("kinverify: error: --suites: unknown suite 'speed'; suites: kinematics,")
 
