@@ -91,7 +91,13 @@ def base_coordinates(transforms) -> np.ndarray:
     """The base coordinates ``(N, 6)`` of world poses ``(N, 4, 4)`` (pitch in [−π/2, π/2])."""
     t = np.asarray(transforms, dtype=float)
     r = t[..., :3, :3]
-    pitch = np.arcsin(np.clip(-r[..., 2, 0], -1.0, 1.0))
-    roll = np.arctan2(r[..., 2, 1], r[..., 2, 2])
-    yaw = np.arctan2(r[..., 1, 0], r[..., 0, 0])
+    cp = np.hypot(r[..., 0, 0], r[..., 1, 0])  # |cos(pitch)|
+    pitch = np.arctan2(-r[..., 2, 0], cp)
+    # near pitch ±π/2 yaw is ill-defined (only roll ∓ yaw is): take yaw 0 there, and in every case
+    # read roll off Rx(roll) = Ry(pitch)ᵀ·Rz(yaw)ᵀ·R, so the three always make R back
+    yaw = np.where(cp < 1e-12, 0.0, np.arctan2(r[..., 1, 0], r[..., 0, 0]))
+    zero = np.zeros_like(yaw)
+    undone = _rotations(np.stack([zero, pitch, yaw], axis=-1))
+    rx = np.swapaxes(undone, -1, -2) @ r
+    roll = np.arctan2(rx[..., 2, 1], rx[..., 1, 1])
     return np.concatenate([t[..., :3, 3], np.stack([roll, pitch, yaw], axis=-1)], axis=-1)

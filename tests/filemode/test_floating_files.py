@@ -148,3 +148,15 @@ def test_the_conjugated_base_and_its_derivative(t6, b6):
 def test_how_a_urdf_holds_its_root(text, kind):
     assert urdf_base(text).kind == kind
     assert re.search(r"\w", urdf_base(text).link)
+
+
+def test_a_free_mount_body_above_the_base_is_its_extra_mass_and_nothing_else(tmp_path):
+    """The MJCF's free body is a 1 kg mount the base hangs 0.42 m above (the URDF floats the base
+    itself): one base-frame warning, the mount's mass as the one error, and every configuration,
+    pitch near ±π/2 included, compared after the offset without a kinematic finding."""
+    urdf, mjcf = P.generated_pair("arm3")
+    urdf = P.sub_once(r'<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">', urdf)
+    mjcf = P.sub_once(r'<body name="world_mount">', '<body name="world_mount"><freejoint name="root"/>', mjcf)
+    result = run(tmp_path, urdf, mjcf, ALL)
+    assert kinds(result, "error") == ["extra_parts"] and "base_frame_offset" in kinds(result, "warning")
+    assert not result.failed and {c.property for c in result.explained} <= {"inertia.mass", "inertia.com", "inertia.tensor"}

@@ -104,3 +104,14 @@ def test_gravity_in_base_coordinates_is_the_gradient_of_the_potential_energy():
     gradient = np.array([(energy(q + h * e) - energy(q - h * e)) / (2 * h) for e in np.eye(len(q))])
     assert np.abs(gradient - pin.gravity(q)).max() < 1e-6
     assert pin.gravity(q)[2] == pytest.approx(sum(l.inertial.mass for l in (spec.base_link, *(j.link for j in spec.joints))) * 9.81)
+
+
+@pytest.mark.parametrize("pitch", [math.pi / 2, -math.pi / 2, math.pi / 2 - 1e-12, -math.pi / 2 + 1e-10])
+@pytest.mark.parametrize("turn", [0.0, 0.3])
+def test_base_coordinates_of_a_pose_at_gimbal_lock_give_that_pose_back(pitch, turn):
+    """At pitch ±π/2 only roll ∓ yaw is defined; the coordinates read back must still make the
+    same pose, also after a conjugation's round-off (the entries that vanish there are ~1e-17)."""
+    b = np.array([[0.1, -0.2, 0.3, 1.2, pitch, -0.7]])
+    t = base_transforms(np.array([[0.0, 0.0, 0.42, turn, 0.2, -turn]]))[0]
+    for pose in (base_transforms(b), t @ base_transforms(b) @ np.linalg.inv(t)):
+        assert np.abs(base_transforms(base_coordinates(pose)) - pose).max() < 1e-12
