@@ -80,12 +80,15 @@ def test_every_library_agrees_on_a_floating_base(spec, data):
             assert np.abs(ev.jacobians - ref.jacobians).max() < 1e-9, b.name
     pin = PinocchioDynamics(sources.urdf, sources.joint_names, [j.armature for j in spec.joints])
     mj = MujocoDynamics(sources.mjcf, sources.joint_names, rigid=True)
+    # 1e-8 of the largest entry: at base pitch ±π/2 the two libraries' round-off in SᵀMS (the rate
+    # matrix's entries there are cos(π/2) = 6e-17 and 1) was measured at 4e-9 of it
+    rel = 1e-8
     for qk in q:
         m = pin.mass(qk)
         assert m.shape == (spec.nq, spec.nq) and np.allclose(m, m.T, atol=1e-12)
-        assert np.abs(m - mj.mass(qk)).max() <= 1e-9 * max(1.0, np.abs(m).max())
+        assert np.abs(m - mj.mass(qk)).max() <= rel * max(1.0, np.abs(m).max())
         g = pin.gravity(qk)
-        assert np.abs(g - mj.gravity(qk)).max() <= 1e-9 * max(1.0, np.abs(g).max())
+        assert np.abs(g - mj.gravity(qk)).max() <= rel * max(1.0, np.abs(g).max())
 
 
 def test_gravity_in_base_coordinates_is_the_gradient_of_the_potential_energy():
