@@ -131,7 +131,10 @@ def test_random_zero_offsets_and_reversed_axes_are_recovered_exactly_and_alone(s
     joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
     for name, j in joints.items():
         sign, offset = expected.get(name, (1, 0.0))
-        assert j["sign"] == sign and math.isclose(j["offset"], offset, abs_tol=1e-9), (name, j, expected)
+        gap = j["offset"] - offset
+        if j["type"] == "revolute":  # +π and −π are the same zero
+            gap = math.remainder(gap, 2 * math.pi)
+        assert j["sign"] == sign and abs(gap) <= 1e-9, (name, j, expected)
     wanted = sorted([("axis_sign_flip", n) for n, (s, _) in expected.items() if s < 0]
                     + [("zero_offset", n) for n, (_, o) in expected.items() if o])
     assert above_info(result) == wanted and not result.failed
