@@ -86,13 +86,7 @@ class PinocchioDynamics:
 
     def _columns(self, q) -> tuple[np.ndarray, np.ndarray | None]:
         """Our columns among the model's velocities, and ``S`` for the base block (None if fixed)."""
-        if not self.floating:
-            return self.idx_v, None
-        iv = self._ff[1]
-        cols = np.concatenate([np.arange(iv, iv + 6), self.idx_v])
-        s = np.eye(len(cols))
-        s[:6, :6] = velocity_map(np.asarray(q, dtype=float)[:6], linear_in_body=True)
-        return cols, s
+        return base_columns(self.idx_v, self._ff[1] if self.floating else None, q, linear_in_body=True)
 
     def mass(self, q) -> np.ndarray:
         M = pin.crba(self.model, self.data, self._q(q))
@@ -199,13 +193,7 @@ class MujocoDynamics:
 
     def _columns(self, q) -> tuple[np.ndarray, np.ndarray | None]:
         """Our columns among MuJoCo's dofs, and ``S`` for the base block (None if fixed)."""
-        if not self.floating:
-            return self.vadr, None
-        iv = self._free[1]
-        cols = np.concatenate([np.arange(iv, iv + 6), self.vadr])
-        s = np.eye(len(cols))
-        s[:6, :6] = velocity_map(np.asarray(q, dtype=float)[:6], linear_in_body=False)
-        return cols, s
+        return base_columns(self.vadr, self._free[1] if self.floating else None, q, linear_in_body=False)
 
     def mass(self, q) -> np.ndarray:
         self._set(q)
@@ -243,3 +231,15 @@ class MujocoDynamics:
             return d.qacc[self.vadr].copy()
         finally:
             d.qfrc_applied[:] = 0.0
+
+
+def base_columns(joint_cols, base_start, q, linear_in_body: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """A library's velocity columns for our coordinates (the base's six first when ``base_start``
+    is not None) and ``S`` mapping our rates to them (None for a fixed base); ``linear_in_body``:
+    the library's free-joint linear velocity is in the base frame (Pinocchio) or the world's (MuJoCo)."""
+    if base_start is None:
+        return joint_cols, None
+    cols = np.concatenate([np.arange(base_start, base_start + 6), joint_cols])
+    s = np.eye(len(cols))
+    s[:6, :6] = velocity_map(np.asarray(q, dtype=float)[:6], linear_in_body=linear_in_body)
+    return cols, s
