@@ -134,7 +134,7 @@ def check_audit(path: Path, options) -> tuple[int, str]:
 
 
 def check_pair(urdf: Path, mjcf: Path, options) -> tuple[int, str]:
-    from kinverify.filemode import verify_files
+    from kinverify.filemode.pipeline import verify_files
 
     result = verify_files(str(urdf), str(mjcf), options, command=f"kinverify check {urdf} {mjcf}")
     line = _summary(result)

@@ -53,8 +53,8 @@ def run(args) -> int:
         raise InputError(f"{spec} is a spec and {other} {kind}: diff compares two files of one kind "
                          f"(generate the spec's files with `kinverify generate {spec}` to compare files)")
     else:
-        from kinverify.filemode.loading import given_packages
-        from kinverify.filemode.xacro import parse_pairs
+        from kinverify.filemode.read.loading import given_packages
+        from kinverify.filemode.read.xacro import parse_pairs
 
         with given_packages(parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")):
             result = diff_files(args.old, args.new, samples, args.seed)

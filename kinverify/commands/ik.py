@@ -159,7 +159,7 @@ def _batch(args) -> int:
 def _urdf_text(args) -> str:
     """The --urdf file's text; a xacro file compiled first (``--package``, ``--xacro-arg``)."""
     from kinverify.errors import InputError
-    from kinverify.filemode.xacro import compile_xacro, is_xacro, parse_pairs
+    from kinverify.filemode.read.xacro import compile_xacro, is_xacro, parse_pairs
     from kinverify.ik.files import read_text
 
     text = read_text(args.urdf, "--urdf")

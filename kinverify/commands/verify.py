@@ -153,16 +153,16 @@ def run(args) -> int:
     if args.urdf or args.mjcf:
         if args.model:
             raise InputError("give either a spec MODEL or --urdf/--mjcf, not both")
-        from kinverify.filemode.xacro import parse_pairs
+        from kinverify.filemode.read.xacro import parse_pairs
         from kinverify.report.progress import VerifyProgress
 
         packages, xacro_args = parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")
         if not (args.urdf and args.mjcf):
             result = _audit(args, options, console, command, packages, xacro_args)
         else:
-            from kinverify.filemode import verify_files
+            from kinverify.filemode.pipeline import verify_files
 
-            from kinverify.filemode.loading import given_packages, load_urdf
+            from kinverify.filemode.read.loading import given_packages, load_urdf
 
             with given_packages(packages, xacro_args):
                 load_urdf(args.urdf, keep_meshes=False, packages=packages, xacro_args=xacro_args)  # bad input: exit 2 first

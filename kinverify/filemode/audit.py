@@ -9,7 +9,7 @@ names the library and the first element (link or body, with the joint it moves w
 elsewhere. A library refusing the file is a ``parser_refused`` warning; Pinocchio's MJCF parser
 dropping the top-level body's pose (pinocchio#2782) is a ``parser_quirk`` info, compared after
 putting the pose back. Where Pinocchio and MuJoCo both read the file, their dynamics are compared
-too (:mod:`kinverify.filemode.audit_dynamics`). Only libraries that genuinely disagree fail the
+too (:mod:`kinverify.filemode.compare.audit_dynamics`). Only libraries that genuinely disagree fail the
 verdict.
 """
 
@@ -21,9 +21,25 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from kinverify.backends import names_reading
-from kinverify.errors import InputError
-from kinverify.filemode.diagnose import finding
+from kinverify.backends import ModelSources, available_backends, names_reading
+from kinverify.backends.mujoco_ import urdf_for_mujoco
+from kinverify.errors import InputError, KinverifyError
+from kinverify.filemode.align.geometry import reach
+from kinverify.filemode.align.match import match
+from kinverify.filemode.align.run import identity_alignment, sample_ranges
+from kinverify.filemode.compare.audit_dynamics import PAIRS, AuditDynamicsSuite, inertial_findings
+from kinverify.filemode.compare.crosscheck import cross_check, pose_errors, top_level_pose
+from kinverify.filemode.compare.libraries import build_backends, rebuild_mjcf
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.filemode.read.files import last_line
+from kinverify.filemode.read.loading import load_mjcf, load_urdf
+from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
+from kinverify.pipeline.sampling import Samples, sample_configurations
+from kinverify.run import VerifyOptions, internal_error, verify
+from kinverify.suites.base import Section, VerifyContext, tolerance
+from kinverify.suites.registry import get_property
 
 __all__ = ["audit_file", "AUDIT_SUITES"]
 
@@ -35,41 +51,30 @@ ELEMENT = {"urdf": "link", "mjcf": "body"}
 
 def _describe(kind: str, loaded, findings: list):
     """(the text the libraries load, the primary reader's description, the free bodies held fixed)."""
-    from kinverify.filemode.describe import describe_mjcf, describe_urdf
-    from kinverify.filemode.prepare import fix_free_bases, prepare_urdf
-
     if kind == "mjcf":
         text, free = fix_free_bases(loaded.text)
         try:
             return text, describe_mjcf(text), free
         except ValueError as err:
             raise InputError(f"--mjcf: MuJoCo, the reference reader of MJCF, cannot load {loaded.path}: "
-                             f"{_last_line(err)}") from None
+                             f"{last_line(err)}") from None
     text = prepare_urdf(loaded.text)
     try:
         return text, describe_urdf(loaded.text), []
     except (ValueError, RuntimeError) as err:  # described through MuJoCo's URDF import instead
-        findings.append(finding("parser_refused", f"pinocchio-urdf refuses the URDF: {_last_line(err)}",
+        findings.append(finding("parser_refused", f"pinocchio-urdf refuses the URDF: {last_line(err)}",
                                 {"file": "URDF", "backend": "pinocchio-urdf"}))
-    from kinverify.backends.mujoco_ import urdf_for_mujoco
 
     try:
         desc = describe_mjcf(urdf_for_mujoco(text))
     except ValueError as err:
-        raise InputError(f"--urdf: neither Pinocchio nor MuJoCo can load {loaded.path}: {_last_line(err)}") from None
+        raise InputError(f"--urdf: neither Pinocchio nor MuJoCo can load {loaded.path}: {last_line(err)}") from None
     return text, dataclasses.replace(desc, kind="urdf", library="mujoco (URDF import)"), []
-
-
-def _last_line(err: Exception) -> str:
-    lines = str(err).strip().splitlines()
-    return lines[-1] if lines else type(err).__name__
 
 
 def _first_element(kind: str, desc, ref, other, q: np.ndarray, tol: tuple[float, float]) -> dict | None:
     """Where ``other`` starts to read the file differently from ``ref``: the first frame in chain
     order whose pose differs, at q = 0 (placed elsewhere) or only as the joints move."""
-    from kinverify.filemode.crosscheck import pose_errors
-
     common = [f for f in other.frames if f in ref.frames]
     if not common:
         return None
@@ -104,8 +109,6 @@ def _disagreement(kind: str, ref: str, name: str, where: dict):
 
 
 def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference: str, rows, findings, notes):
-    from kinverify.backends import available_backends
-    from kinverify.suites.base import Section
 
     compared = {r[1].split(" vs ")[-1]: r for r in rows}
     refused = {f.values.get("backend") for f in findings if f.kind == "parser_refused"}
@@ -143,12 +146,6 @@ def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference
 def _dynamics(result, kind: str, text: str, top, sources, al, opts, kept: dict, notes: list, desc, scale: float) -> None:
     """Pinocchio's and MuJoCo's dynamics of the file, when both read it (the suite's checks and
     section), on every 1-DOF joint (a coupling's follower at its leader's value)."""
-    from kinverify.errors import KinverifyError
-    from kinverify.filemode.audit_dynamics import PAIRS, AuditDynamicsSuite, inertial_findings
-    from kinverify.pipeline.sampling import Samples
-    from kinverify.run import internal_error
-    from kinverify.suites.base import VerifyContext
-
     missing = [n for n in PAIRS[kind] if n not in kept]
     if missing:
         notes.append(f"dynamics not compared: {', '.join(missing)} did not read the file")
@@ -182,17 +179,6 @@ def _dynamics(result, kind: str, text: str, top, sources, al, opts, kept: dict, 
 
 def audit_file(path: str, kind: str, options=None, command: str = "", packages=None, xacro_args=None):
     """The one-file audit of ``kind`` ("urdf" or "mjcf") as a :class:`~kinverify.results.VerifyResult`."""
-    from kinverify.backends import ModelSources
-    from kinverify.filemode import build
-    from kinverify.filemode.crosscheck import cross_check, top_level_pose
-    from kinverify.filemode.loading import load_mjcf, load_urdf
-    from kinverify.filemode.match import match
-    from kinverify.filemode.geometry import reach
-    from kinverify.pipeline.sampling import sample_configurations
-    from kinverify.run import VerifyOptions, verify
-    from kinverify.suites.base import tolerance
-    from kinverify.suites.registry import get_property
-
     t0 = time.perf_counter()
     options = options or VerifyOptions()
     readers = names_reading(kind)
@@ -207,18 +193,18 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
     if not desc.joints:
         raise InputError(f"--{kind}: {path} has no movable 1-DOF joints (hinge or slide) to compare")
     matching = match(desc, desc)  # every joint and frame with itself: the readings are compared, not two files
-    al = build.identity_alignment(desc, matching)
+    al = identity_alignment(desc, matching)
     notes = list(loaded.warnings) + [f"{SIDE[kind]}: {s}" for s in desc.skipped]
     # double precision at the robot's size: its reach plus how far its frames sit from the origin
     scale = max([1.0] + list(reach(desc).values())) + max([0.0] + [float(np.linalg.norm(t[:3, 3])) for t in desc.frames.values()])
     tol = (tolerance(options, get_property("fk.position")) * scale, tolerance(options, get_property("fk.rotation")))
     shim = SimpleNamespace(alignment=al, matching=matching, notes=notes, base_coordinates=False)  # a free base is held fixed here
     urdf_text, mjcf_text = (text, "") if kind == "urdf" else ("", text)
-    backends = build.build_backends(shim, urdf_text, mjcf_text, wanted, lambda f: tol, findings)
-    lower, upper, revolute = build.sample_ranges(desc, al.independent)
+    backends = build_backends(shim, urdf_text, mjcf_text, wanted, lambda f: tol, findings)
+    lower, upper, revolute = sample_ranges(desc, al.independent)
     q = sample_configurations(lower, upper, revolute, CHECK_SAMPLES, seed=options.seed)
     top = top_level_pose(text) if kind == "mjcf" else None
-    kept, parser, rows = cross_check(backends, q, tol, np.eye(4), top, build.rebuild_mjcf)
+    kept, parser, rows = cross_check(backends, q, tol, np.eye(4), top, rebuild_mjcf)
     reference = next((n for n in readers if n in kept), None)
     for f in parser:
         name = f.values.get("backends", [None, None])[1] if f.kind == "parser_disagreement" else None

@@ -1,7 +1,7 @@
 """``kinverify diff`` of two URDFs (through Pinocchio) or two MJCFs (through MuJoCo).
 
-Both files are read as file mode reads them (:mod:`kinverify.filemode.loading`: unsafe XML
-refused, meshes dropped) and described by their library (:mod:`kinverify.filemode.describe`).
+Both files are read as file mode reads them (:mod:`kinverify.filemode.read.loading`: unsafe XML
+refused, meshes dropped) and described by their library (:mod:`kinverify.filemode.read.describe_urdf`).
 Parameter level: :mod:`kinverify.fileparams` (joint origins, axes, limits, inertias, frames;
 names added, removed or renamed), with joints paired by file mode's matching.
 
@@ -19,8 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from kinverify.errors import InputError
-from kinverify.filemode.describe import ModelDesc, describe_mjcf, describe_urdf
-from kinverify.filemode.loading import LoadedFile, load_mjcf, load_urdf
+from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.model import ModelDesc
+from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_urdf
 from kinverify.regression.fileparams import pair_names, param_changes
 from kinverify.regression.modeldiff import DIFF_SAMPLES, REACH_SAMPLES, FrameChange, ModelDiff, ReachChange
 from kinverify.pipeline.sampling import sample_configurations

@@ -1,7 +1,7 @@
 """Parameter-level differences between two model files (URDF or MJCF), for ``kinverify diff``.
 
-Each file is described by :mod:`kinverify.filemode.describe`. Joints are paired as file mode
-pairs a URDF with an MJCF (:func:`kinverify.filemode.match.match_joints`: by name, by name without a prefix common to every name, then by chain order where the joint type
+Each file is described by :mod:`kinverify.filemode.read.describe_urdf`. Joints are paired as file mode
+pairs a URDF with an MJCF (:func:`kinverify.filemode.align.match.match_joints`: by name, by name without a prefix common to every name, then by chain order where the joint type
 and the angle to the parent axis agree), so a re-export that renamed joints is still compared;
 frames are paired by name, then as the child frames of paired joints, then by the prefix change
 the renamed joints share (``panda_link0`` ~ ``link0``). A pair whose names differ is reported as a
@@ -28,8 +28,8 @@ import math
 
 import numpy as np
 
-from kinverify.filemode.describe import ModelDesc
-from kinverify.filemode.match import match_joints
+from kinverify.filemode.read.model import ModelDesc
+from kinverify.filemode.align.match import match_joints
 from kinverify.regression.specdiff import ATOL, ParamChange
 from kinverify.model.transforms import geodesic_distance, invert_transform, matrix_to_rpy
 

@@ -1,5 +1,5 @@
 """Suite ``inertia``: the mass, centre of mass and inertia tensor of each rigid body, URDF
-(Pinocchio) against MJCF (MuJoCo), in one frame (see :mod:`kinverify.filemode.inertials`).
+(Pinocchio) against MJCF (MuJoCo), in one frame (see :mod:`kinverify.filemode.compare.inertials`).
 
 - ``inertia.mass``: |Δm| of each rigid body (fixed links merged);
 - ``inertia.com``: distance between the centres of mass, in the common frame at the zero
@@ -34,8 +34,8 @@ class InertiaSuite(Suite):
     )
 
     def run(self, ctx: VerifyContext) -> SuiteResult:
-        from kinverify.filemode.context import file_view
-        from kinverify.filemode.inertials import analyse
+        from kinverify.filemode.compare.context import file_view
+        from kinverify.filemode.compare.inertials import analyse
 
         info = file_view(ctx)
         if info is None:
@@ -99,8 +99,8 @@ def _vec(v) -> str:
 def body_findings(results, info) -> list[Finding]:
     """One finding per rigid body that differs (the same difference on several bodies is one
     finding); one ``rounding`` finding when bodies agree only to the written precision."""
-    from kinverify.filemode.diagnose import finding
-    from kinverify.filemode.inertials import rounded_side
+    from kinverify.filemode.findings.table import finding
+    from kinverify.filemode.compare.inertials import rounded_side
 
     out: list[Finding] = []
     if info.inertials_explained_by:
@@ -149,8 +149,8 @@ def body_findings(results, info) -> list[Finding]:
 
 def _mass_units(results, info) -> Finding | None:
     """Every body's mass a constant multiple of the other file's (grams as kilograms): one finding."""
-    from kinverify.filemode.diagnose import finding, unit_factor
-    from kinverify.filemode.inertials import uniform_mass_ratio
+    from kinverify.filemode.findings.table import finding, unit_factor
+    from kinverify.filemode.compare.inertials import uniform_mass_ratio
 
     ratio = uniform_mass_ratio(info.inertial_results or results)
     name = unit_factor(ratio, "mass") if ratio is not None else None

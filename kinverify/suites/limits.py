@@ -56,7 +56,7 @@ class LimitsSuite(Suite):
     )
 
     def run(self, ctx: VerifyContext) -> SuiteResult:
-        from kinverify.filemode.context import file_view
+        from kinverify.filemode.compare.context import file_view
 
         info = file_view(ctx)
         if info is None:
@@ -117,8 +117,8 @@ class LimitsSuite(Suite):
 
 def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
     """Differences above tolerance as findings, one per cause; rounding as one info per file."""
-    from kinverify.filemode.diagnose import finding
-    from kinverify.filemode.inertials import rounded_side
+    from kinverify.filemode.findings.table import finding
+    from kinverify.filemode.compare.inertials import rounded_side
 
     out, rounded, degrees, unlimited, other = [], [], [], {}, []
     tol = tolerances.get("limits.position", 1e-9)
@@ -186,7 +186,7 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
 
 
 def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
-    from kinverify.filemode.diagnose import finding
+    from kinverify.filemode.findings.table import finding
 
     groups: dict[tuple, list[dict]] = {}
     for r in rows:

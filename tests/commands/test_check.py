@@ -137,7 +137,7 @@ def test_the_hook_manifest_is_valid_and_runs_kinverify_check():
     files = re.compile(hook["files"])
     assert all(files.search(p) for p in ("models/arm3.toml", "models/robot.urdf", "models/robot/robot.xml"))
     assert not any(files.search(p) for p in ("pyproject.toml", "docs/models/x.toml", "models/README.md"))
-    assert check.ACCEPTED == __import__("kinverify.filemode.accepted", fromlist=["DEFAULT_NAME"]).DEFAULT_NAME
+    assert check.ACCEPTED == __import__("kinverify.filemode.findings.accepted", fromlist=["DEFAULT_NAME"]).DEFAULT_NAME
 
 
 @pytest.mark.skipif(shutil.which("git") is None, reason="pre-commit needs git")

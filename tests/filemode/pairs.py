@@ -168,3 +168,9 @@ def moved_axis(urdf, mjcf):
 def slide_joint(urdf, mjcf):
     """The MJCF makes panda_joint7 prismatic."""
     return urdf, joint_attr(mjcf, "panda_joint7", "type", lambda t: "slide")
+
+
+def write_pair(folder: Path, urdf: str, mjcf: str) -> tuple[str, str]:
+    (folder / "robot.urdf").write_text(urdf)
+    (folder / "robot.xml").write_text(mjcf)
+    return str(folder / "robot.urdf"), str(folder / "robot.xml")

@@ -17,7 +17,7 @@ import pytest
 from kinverify.backends import available_backends, names_reading
 from kinverify.cli import main
 from kinverify.filemode.audit import audit_file
-from kinverify.filemode.crosscheck import QUIRK_ISSUE
+from kinverify.filemode.compare.crosscheck import QUIRK_ISSUE
 from kinverify.run import VerifyOptions
 from tests.filemode.pairs import generated_pair, turned_world
 from tests.paths import REAL_ROBOTS

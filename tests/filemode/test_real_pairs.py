@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from kinverify.filemode import verify_files
+from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 from tests.paths import REAL_ROBOTS
 

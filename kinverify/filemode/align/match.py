@@ -1,0 +1,191 @@
+"""Matching the URDF's joints and frames to the MJCF's: by name, by name without the prefix (or
+suffix) the file puts on its names (``panda_joint1`` ~ ``joint1``, ``iiwa_joint_1`` ~ ``joint1``),
+then by chain order, checked by the angle between consecutive axes (independent of the base frame,
+of zero offsets and of sign conventions). Frames: each joint pair's moving frames, the frames the
+first joints hang from, then frames of the same (normalised) name that move with the same joint.
+Coupled joints (URDF ``<mimic>``, MJCF ``<equality joint>``) are matched like the others; the
+follower of a coupling is computed from its leader, not sampled.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from kinverify.errors import InputError, UnknownNameError
+from kinverify.filemode.read.model import Coupling, ModelDesc
+
+
+@dataclass
+class Matching:
+    joints: list[tuple[str, str, str]]  # (urdf joint, mjcf joint, how matched), URDF chain order
+    unmatched_urdf: list[str]
+    unmatched_mjcf: list[str]
+    frames: list[tuple[str, str, str]]  # (urdf frame, mjcf frame, why compared), chain order
+    couplings: dict[str, Coupling] = field(default_factory=dict)  # URDF follower -> coupling (URDF names)
+
+    @property
+    def independent(self) -> list[str]:
+        """The URDF names of the compared joint coordinates: every matched joint but followers."""
+        return [a for a, _, _ in self.joints if a not in self.couplings]
+
+    def mjcf_name(self, urdf_joint: str) -> str:
+        return next(b for a, b, _ in self.joints if a == urdf_joint)
+
+    def urdf_name(self, mjcf_joint: str) -> str | None:
+        return next((a for a, b, _ in self.joints if b == mjcf_joint), None)
+
+
+def _strip_affix(names: list[str]) -> list[str]:
+    """Drop a prefix (or suffix) that most names share, ending (starting) at a separator."""
+    if len(names) < 2:
+        return names
+    out = names
+    for reverse in (False, True):
+        seq = [n[::-1] for n in out] if reverse else out
+        common = os.path.commonprefix(seq)
+        cut = max(common.rfind("_"), common.rfind("-"), common.rfind("/"), common.rfind(":")) + 1
+        if not cut:  # a prefix most (not all) names share, e.g. iiwa_ on all links but "base"
+            heads = Counter(re.match(r"^[^_\-/:]*[_\-/:]", n)[0] for n in seq if re.match(r"^[^_\-/:]*[_\-/:]", n))
+            head, count = heads.most_common(1)[0] if heads else ("", 0)
+            cut = len(head) if count > len(seq) / 2 and count >= 2 else 0
+            seq = [n[cut:] if cut and n.startswith(head) and len(n) > cut else n for n in seq]
+        else:
+            seq = [n[cut:] if len(n) > cut else n for n in seq]
+        out = [n[::-1] for n in seq] if reverse else seq
+    return out
+
+
+def _normalise(names) -> dict[str, str]:
+    """name -> lowercased alphanumerics without the prefix and suffix most names share."""
+    names = list(names)
+    return {n: re.sub(r"[^0-9a-z]", "", core.lower()) or n.lower() for n, core in zip(names, _strip_affix(names))}
+
+
+def _numbers(names) -> dict[str, str]:
+    """name -> its last number (``iiwa_joint_1`` -> ``1``), or the name when it has none."""
+    return {n: (re.findall(r"\d+", n) or [f"~{n}"])[-1].lstrip("0") or "0" for n in names}
+
+
+def _by_key(u_names, m_names, key_u, key_m) -> list[tuple[str, str]]:
+    m_by_key: dict[str, list[str]] = {}
+    for n in m_names:
+        m_by_key.setdefault(key_m[n], []).append(n)
+    pairs = []
+    for n in u_names:
+        cands = m_by_key.get(key_u[n], [])
+        if len(cands) == 1 and sum(key_u[x] == key_u[n] for x in u_names) == 1:
+            pairs.append((n, cands[0]))
+    return pairs
+
+
+def _twist(desc: ModelDesc, name: str) -> float | None:
+    """|cos| of the angle between a joint's axis and its parent joint's: base-frame independent."""
+    j = desc.joint(name)
+    if j.parent is None:
+        return None
+    return float(abs(np.dot(j.axis, desc.joint(j.parent).axis)))
+
+
+def match_joints(u: ModelDesc, m: ModelDesc, explicit=()) -> tuple[list[tuple[str, str, str]], list[str], list[str]]:
+    u_names, m_names = [j.name for j in u.joints], [j.name for j in m.joints]
+    pairs: list[tuple[str, str, str]] = []
+    for item in explicit:
+        a, sep, b = item.partition("=")
+        if not sep or not a or not b:
+            raise InputError(f"--joints: expected URDF_JOINT=MJCF_JOINT, got {item!r}")
+        if a not in u_names:
+            raise UnknownNameError("URDF joint", a, u_names)
+        if b not in m_names:
+            raise UnknownNameError("MJCF joint", b, m_names)
+        pairs.append((a, b, "given"))
+
+    def free(side: int) -> list[str]:
+        used = {p[side] for p in pairs}
+        return [n for n in (u_names if side == 0 else m_names) if n not in used]
+
+    for a, b in _by_key(free(0), free(1), {n: n for n in u_names}, {n: n for n in m_names}):
+        pairs.append((a, b, "name"))
+    nu, nm = _normalise(u_names), _normalise(m_names)
+    for a, b in _by_key(free(0), free(1), nu, nm):
+        pairs.append((a, b, "name without prefix"))
+    for a, b in _by_key(free(0), free(1), _numbers(u_names), _numbers(m_names)):
+        pairs.append((a, b, "number in the name"))
+    # Chain order: the remaining joints of each file's main chain, paired in order when the types
+    # agree and the angle to the parent axis (independent of the base frame) agrees.
+    fu, fm = free(0), free(1)
+    for a, b in zip(fu, fm):
+        ta, tb = _twist(u, a), _twist(m, b)
+        if u.joint(a).type == m.joint(b).type and (ta is None or tb is None or abs(ta - tb) < 1e-3):
+            pairs.append((a, b, "chain order and axis"))
+        else:
+            break
+    order = {n: i for i, n in enumerate(u_names)}
+    pairs.sort(key=lambda p: order[p[0]])
+    return pairs, free(0), free(1)
+
+
+def match_couplings(u: ModelDesc, m: ModelDesc, joints) -> dict[str, Coupling]:
+    """URDF follower -> the coupling the comparison uses (URDF names): the URDF's own, else the
+    MJCF's mapped to URDF names, with the follower side the URDF's when both files couple."""
+    to_u = {b: a for a, b, _ in joints}
+    out = {c.follower: c for c in u.couplings if c.follower in to_u.values() and c.leader in to_u.values()}
+    for c in m.couplings:
+        f, lead = to_u.get(c.follower), to_u.get(c.leader)
+        if f is None or lead is None or f in out or lead in out:
+            continue
+        out[f] = Coupling(f, lead, c.multiplier, c.offset, c.source, c.nonlinear)
+    return out
+
+
+def match_frames(u: ModelDesc, m: ModelDesc, joints, explicit=()) -> list[tuple[str, str, str]]:
+    """Each matched joint's moving frame, the frames the first matched joints hang from, then
+    frames with the same (normalised) name in both files that move with the same joint, plus frames
+    given on the command line."""
+    frames = [(u.joint(a).child, m.joint(b).child, f"moves with {a}") for a, b, _ in joints]
+    used_u, used_m = {f[0] for f in frames}, {f[1] for f in frames}
+    for a, b, _ in joints:
+        pu, pm = u.joint(a).parent_frame, m.joint(b).parent_frame
+        if u.joint(a).parent is None and pu in u.frames and pm in m.frames and pu not in used_u and pm not in used_m:
+            frames.append((pu, pm, f"{a} hangs from it"))
+            used_u.add(pu)
+            used_m.add(pm)
+    for item in explicit:
+        a, sep, b = item.partition("=")
+        if not sep or not a or not b:
+            raise InputError(f"--frames: expected URDF_FRAME=MJCF_FRAME, got {item!r}")
+        if a not in u.frames:
+            raise UnknownNameError("URDF frame", a, list(u.frames))
+        if b not in m.frames:
+            raise UnknownNameError("MJCF frame", b, list(m.frames))
+        frames.append((a, b, "given"))
+        used_u.add(a)
+        used_m.add(b)
+    joint_of = {a: b for a, b, _ in joints}
+    nu, nm = _normalise(u.frames), _normalise(m.frames)
+    for keys in (({n: n for n in u.frames}, {n: n for n in m.frames}), (nu, nm)):
+        free_u = [f for f in u.frames if f not in used_u]
+        free_m = [f for f in m.frames if f not in used_m]
+        for a, b in _by_key(free_u, free_m, *keys):
+            owner_u, owner_m = u.frame_owner[a], m.frame_owner[b]
+            if (owner_u is None and owner_m is None) or (owner_u is not None and joint_of.get(owner_u) == owner_m):
+                frames.append((a, b, "same name"))
+                used_u.add(a)
+                used_m.add(b)
+    return sorted(frames, key=lambda f: u.frame_depth.get(f[0], 0))  # chain order: the base first
+
+
+def match(u: ModelDesc, m: ModelDesc, joints=(), frames=()) -> Matching:
+    if not u.joints:
+        raise InputError("the URDF has no movable 1-DOF joints")
+    if not m.joints:
+        raise InputError("the MJCF has no movable hinge or slide joints")
+    pairs, uu, um = match_joints(u, m, joints)
+    if not pairs:
+        raise InputError(f"no common joints: URDF has {', '.join(j.name for j in u.joints)}; "
+                         f"MJCF has {', '.join(j.name for j in m.joints)} (pair them with --joints URDF=MJCF)")
+    return Matching(pairs, uu, um, match_frames(u, m, pairs, frames), match_couplings(u, m, pairs))

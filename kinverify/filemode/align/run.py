@@ -1,0 +1,57 @@
+"""The alignment stage: the configurations it fits over, the fit itself (compared unaligned, with
+an internal error, should it fail), and every frame of both files at the aligned zero."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from kinverify.errors import KinverifyError
+from kinverify.filemode.align.fit import align
+from kinverify.filemode.align.match import Matching
+from kinverify.filemode.align.result import Alignment, FrameFit, JointMap, PairPoses
+from kinverify.filemode.read.model import ModelDesc
+
+OPEN_RANGE = {"revolute": math.pi, "prismatic": 0.5}  # sampled range of a joint without limits
+
+
+def sample_ranges(u: ModelDesc, joints) -> tuple[list, list, list]:
+    lower, upper, revolute = [], [], []
+    for name in joints:
+        j = u.joint(name)
+        span = OPEN_RANGE[j.type]
+        lo, up = (j.lower, j.upper) if math.isfinite(j.lower) and math.isfinite(j.upper) and j.lower < j.upper else (-span, span)
+        lower.append(lo)
+        upper.append(up)
+        revolute.append(j.type == "revolute")
+    return lower, upper, revolute
+
+
+def identity_alignment(u: ModelDesc, matching: Matching) -> Alignment:
+    return Alignment(np.eye(4), [JointMap(a, b, u.joint(a).type) for a, b, _ in matching.joints], matching.couplings,
+                     matching.independent)
+
+
+def run_alignment(u, m, matching, urdf_text, mjcf_text, library, floors, samples, internal: list) -> tuple[Alignment, PairPoses]:
+    poses = PairPoses(u, m, matching, urdf_text, mjcf_text, library)
+    try:
+        return align(poses, matching, floors, samples), poses
+    except (KinverifyError, KeyboardInterrupt):
+        raise
+    except Exception as err:  # our bug: compare unaligned, say so
+        internal.append(f"alignment: {type(err).__name__}: {err}")
+        return identity_alignment(u, matching), poses
+
+
+def zero_poses(poses: PairPoses, al: Alignment) -> tuple[dict, dict]:
+    """Every frame of each file at the aligned zero (the MJCF's in its own world)."""
+    zero = al.expand(np.zeros((1, len(al.independent))))
+    pu, pm = poses.urdf(zero)[0], poses.mjcf(al.to_mjcf(zero))[0]
+    return {f: pu[i] for f, i in poses.ui.items()}, {f: pm[i] for f, i in poses.mi.items()}
+
+
+def add_frames(al: Alignment, pairs) -> None:
+    """Frames matched after the alignment (same place, no same-named twin): they coincide."""
+    for fu, fm, why in pairs:
+        al.frames.append(FrameFit(fu, fm, why, 0.0, 0.0, np.eye(4), 0.0, 0.0, False))

@@ -1,0 +1,194 @@
+"""The dynamics suite in file mode: Pinocchio on the URDF against MuJoCo on the MJCF, after the
+alignment, and after the differences other findings report.
+
+- Both files over every matched joint (followers of a coupling included, at their coupled value),
+  joints present in one file only locked at zero; a base both files float is six coordinates
+  in front (:mod:`kinverify.filemode.align.floating`: mass matrix and gravity compared), any other free
+  base fixed (see :mod:`prepare`).
+- MuJoCo is read through the joint map (``q_mjcf = s·q + o``, forces and velocities times ``s``)
+  with gravity turned by the world transform.
+- What a finding already reports is substituted on the Pinocchio side before comparing: the
+  MJCF's inertial for a rigid body whose mass or inertia differs, the MJCF's damping for a joint
+  whose damping differs, and the MJCF's armature (URDF has no field for it). So the state checks
+  measure what no finding explains; each says what was substituted ("explained by").
+- Damping and friction are compared as parameters on the files' own values (the substituted
+  damping only enters the state comparisons).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio
+
+from kinverify.backends import ModelSources
+from kinverify.filemode.align.floating import conjugated
+from kinverify.filemode.compare.inertials import ROOT
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.prepare import lock_mjcf_joints, lock_urdf_joints
+from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE
+from kinverify.suites.base import VerifyContext
+from kinverify.suites.dynamics import DynamicsSuite
+from kinverify.tracking.models import MujocoDynamics, PinocchioDynamics
+
+
+class AlignedMujoco:
+    """MuJoCo's dynamics of the MJCF seen in the URDF's joint coordinates (``T``: the world
+    transform, for a floating base's coordinates: :func:`kinverify.filemode.align.floating.conjugated`)."""
+    def __init__(self, inner: MujocoDynamics, signs: np.ndarray, offsets: np.ndarray, gravity: np.ndarray,
+                 t: np.ndarray | None = None) -> None:
+        self.inner, self.s, self.o = inner, signs, offsets
+        self.t = None if t is None or np.array_equal(t, np.eye(4)) else t
+        inner.model.opt.gravity[:] = gravity
+        self.armature, self.damping, self.friction = inner.armature, inner.damping, inner.friction
+
+    def snapped_inertia_frames(self):
+        return self.inner.snapped_inertia_frames()
+
+    def _q(self, q):
+        q = np.asarray(q, dtype=float)
+        if not self.inner.floating:
+            return self.s * q + self.o
+        base = q[:6] if self.t is None else conjugated(self.t, q[:6])[0][0]
+        return np.concatenate([base, self.s * q[6:] + self.o])
+
+    def _jac(self, q) -> np.ndarray:
+        """d q_mjcf / d q: the signs, after the base block when floating."""
+        if not self.inner.floating:
+            return np.diag(self.s)
+        out = np.zeros((len(self.s) + 6,) * 2)
+        out[:6, :6] = np.eye(6) if self.t is None else conjugated(self.t, np.asarray(q, dtype=float)[:6])[1][0]
+        out[6:, 6:] = np.diag(self.s)
+        return out
+
+    def mass(self, q):
+        if not self.inner.floating:
+            return self.s[:, None] * self.inner.mass(self._q(q)) * self.s[None, :]
+        j = self._jac(q)
+        return j.T @ self.inner.mass(self._q(q)) @ j
+
+    def gravity(self, q):
+        if not self.inner.floating:
+            return self.s * self.inner.gravity(self._q(q))
+        return self._jac(q).T @ self.inner.gravity(self._q(q))
+
+    def bias(self, q, v):
+        return self.s * self.inner.bias(self._q(q), self.s * v)
+
+    def inverse(self, q, v, a):
+        return self.s * self.inner.inverse(self._q(q), self.s * v, self.s * a)
+
+    def forward(self, q, v, tau):
+        return self.s * self.inner.forward(self._q(q), self.s * v, self.s * tau)
+
+
+class DampingSubstituted:
+    """Pinocchio's dynamics with ``extra`` damping added in the state comparisons only: the
+    parameters (``damping``, ``friction``) stay what the URDF says."""
+    def __init__(self, inner: PinocchioDynamics, extra: np.ndarray) -> None:
+        self.inner, self.extra = inner, extra
+        self.model, self.idx_v, self.damping, self.friction = inner.model, inner.idx_v, inner.damping, inner.friction
+
+    def mass(self, q):
+        return self.inner.mass(q)
+
+    def gravity(self, q):
+        return self.inner.gravity(q)
+
+    def bias(self, q, v):
+        return self.inner.bias(q, v)
+
+    def inverse(self, q, v, a):
+        return self.inner.inverse(q, v, a) + self.extra * np.asarray(v)
+
+    def forward(self, q, v, tau):
+        return self.inner.forward(q, v, np.asarray(tau) - self.extra * np.asarray(v))
+
+
+class FileDynamicsSuite(DynamicsSuite):
+    """:class:`DynamicsSuite` on the two files, aligned, with reported differences substituted."""
+    def __init__(self, info, inertial_groups: dict, damping_joints: set, notes: list[str]) -> None:
+        self.info, self.groups, self.damping_joints, self.explained = info, inertial_groups, damping_joints, notes
+
+    def context(self, ctx: VerifyContext) -> VerifyContext:
+        info, al = self.info, self.info.alignment
+        base = BASE_COORDINATES if info.base_coordinates else ()
+        u_names = base + tuple(j.urdf for j in al.joints)
+        m_names = base + tuple(j.mjcf for j in al.joints)
+        revolute = BASE_REVOLUTE[:len(base)] + tuple(j.type == "revolute" for j in al.joints)
+        src = ctx.sources
+        sources = ModelSources(src.name, u_names, src.frames, (), (), revolute,
+                               None, lock_urdf_joints(src.urdf, info.matching.unmatched_urdf + info.u.held),
+                               lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf + info.m.held), m_names,
+                               src.mjcf_frames)
+        n = int(ctx.options.extra.get("dynamics_samples", 100))
+        q = np.asarray(ctx.q[:n])
+        q = np.concatenate([q[:, :len(base)], al.expand(q[:, len(base):])], axis=1)
+        return VerifyContext(sources, {}, q, ctx.options)
+
+    def run(self, ctx: VerifyContext):
+        return super().run(self.context(ctx))
+
+    def models(self, ctx: VerifyContext):
+        al = self.info.alignment
+        mj = MujocoDynamics(ctx.sources.mjcf, ctx.sources.mjcf_joint_names, rigid=True)
+        pin = PinocchioDynamics(ctx.sources.urdf, ctx.sources.joint_names, mj.armature)
+        self._substitute_inertia(pin)
+        extra = np.array([0.0] * 6 * pin.floating + [mj.damping[k] - pin.damping[k] if j.urdf in self.damping_joints else 0.0
+                                                     for k, j in enumerate(al.joints)])
+        gravity = al.T[:3, :3] @ np.array([0.0, 0.0, -9.81])
+        return DampingSubstituted(pin, extra), AlignedMujoco(mj, al.signs, al.offsets, gravity, al.T), "MJCF"
+
+    def _substitute_inertia(self, pin: PinocchioDynamics) -> None:
+        """The MJCF's inertial (common frame, aligned zero) for each rigid body a finding reports."""
+        model, data = pin.model, pin.data
+        full = self.info.alignment.expand(np.zeros((1, len(self.info.alignment.independent))))[0]
+        q = pin._q(np.concatenate([np.zeros(6 * pin.floating), full]))  # a floating base at the identity
+        pinocchio.forwardKinematics(model, data, q)
+        for key, inertial in self.groups.items():
+            if key == ROOT and pin.floating:
+                jid = next(i for i in range(1, model.njoints) if model.parents[i] == 0)  # the free-flyer
+            elif model.existJointName(key):
+                jid = model.getJointId(key)
+            else:
+                continue
+            pose = data.oMi[jid]
+            rot = pose.rotation
+            lever = rot.T @ (inertial.com - pose.translation)
+            model.inertias[jid] = pinocchio.Inertia(inertial.mass, lever, rot.T @ inertial.inertia @ rot)
+
+
+def parameter_findings(info, tolerances: dict) -> list:
+    """Joint damping and friction that differ (one finding per pair of values), armature the URDF
+    cannot express (one warning), and format extensions a library ignores (one info)."""
+    out, groups = [], {}
+    for j in info.alignment.joints:
+        ju, jm = info.u.joint(j.urdf), info.m.joint(j.mjcf)
+        for prop, kind, x, y in (("dynamics.damping", "damping_difference", ju.damping, jm.damping),
+                                 ("dynamics.friction", "friction_difference", ju.friction, jm.friction)):
+            if x is None or y is None or abs(x - y) <= tolerances.get(prop, 1e-12):
+                continue
+            groups.setdefault((kind, prop, round(x, 12), round(y, 12)), []).append(j)
+    units = {"dynamics.damping": "N·m·s/rad", "dynamics.friction": "N·m"}
+    for (kind, prop, x, y), joints in groups.items():
+        label = {"dynamics.friction": "friction (URDF friction, MJCF frictionloss)"}.get(prop, "damping")
+        out.append(finding(kind, f"{label} {x:g} in the URDF, {y:g} in the MJCF on {len(joints)} joint"
+                           f"{'s' if len(joints) > 1 else ''}: " + ", ".join(j.urdf for j in joints),
+                           {"urdf": x, "mjcf": y, "checks": [[prop, "parameters"]]}, magnitude=abs(x - y), unit=units[prop],
+                           prop=prop, joint=[j.urdf for j in joints], mjcf_joint=[j.mjcf for j in joints]))
+    armature = [(j, info.m.joint(j.mjcf).armature) for j in info.alignment.joints if info.m.joint(j.mjcf).armature]
+    if armature:
+        values = sorted({round(a, 12) for _, a in armature})
+        out.append(finding("inexpressible", f"the MJCF gives {len(armature)} joints armature (rotor inertia) "
+                           f"{', '.join(f'{v:g}' for v in values)}, which a URDF cannot express: the URDF's dynamics lack it "
+                           "(the comparison gives Pinocchio the MJCF's)", {"mjcf": {j.urdf: a for j, a in armature}},
+                           magnitude=max(a for _, a in armature), unit="kg·m²", prop="dynamics.armature",
+                           joint=[j.urdf for j, _ in armature], mjcf_joint=[j.mjcf for j, _ in armature]))
+    rotor = {j: e for j, e in info.u.extensions.items() if "rotor_inertia" in e}
+    if rotor:
+        reflected = {j: e["rotor_inertia"] * e.get("gear_ratio", 1.0) ** 2 for j, e in rotor.items()}
+        out.append(finding("format_extension", "the URDF's transmissions give rotor inertia and gear ratio (a Drake extension "
+                           "Pinocchio does not read): reflected inertia G²·I of " + ", ".join(
+                               f"{j} {v:.4g}" for j, v in reflected.items()) + " kg·m², not in the comparison",
+                           {"reflected_inertia": reflected}, magnitude=max(reflected.values()), unit="kg·m²",
+                           joint=list(reflected)))
+    return out

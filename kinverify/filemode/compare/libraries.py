@@ -1,0 +1,84 @@
+"""Every library that reads each file, seen through the alignment (:mod:`~kinverify.filemode.align.view`),
+so the kinematics suite compares the two files after what the alignment explains. A library that
+refuses a file is a finding."""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+
+from kinverify.backends import available_backends
+from kinverify.errors import InputError, KinverifyError, UnknownNameError
+from kinverify.filemode.align.view import AlignedBackend
+from kinverify.filemode.compare.crosscheck import MJCF_SIDE, URDF_SIDE
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.files import last_line
+from kinverify.model.floating import BASE_COORDINATES
+
+
+def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: list) -> dict:
+    """Every library that reads each file, through the alignment (URDF side: couplings only); with
+    the base coordinates first when both files float (``info.base_coordinates``)."""
+    al, matching = info.alignment, info.matching
+    base = list(BASE_COORDINATES) if info.base_coordinates else []
+    frames_u = [a for a, _, _ in matching.frames]
+    frames_m = [b for _, b, _ in matching.frames]
+    all_u = [j.urdf for j in al.joints]
+    all_m = [j.mjcf for j in al.joints]
+    tinv = np.linalg.inv(al.T)
+    constants = []
+    for f in frames_u:
+        fit = next((x for x in al.frames if x.urdf == f), None)
+        ptol, rtol = tol(f)
+        convention = (fit is not None and (fit.position > ptol or fit.rotation > rtol)
+                      and fit.residual_position <= ptol and fit.residual_rotation <= rtol)
+        constants.append(fit.constant if convention else np.eye(4))
+    out = {}
+    for name in wanted:
+        info_b = available_backends().get(name)
+        if info_b is None or not info_b.available:
+            continue
+        try:
+            klass = getattr(importlib.import_module(info_b.module, "kinverify.backends"), info_b.cls)
+            if name in URDF_SIDE:
+                independent = name == "yourdfpy"  # yourdfpy drives <mimic> joints from their leaders itself
+                inner = klass.from_urdf(urdf_text, base + (al.independent if independent else all_u), frames_u, name=name)
+                out[name] = AlignedBackend(inner, al, frames_u, "independent" if independent else "urdf")
+            else:
+                keep = _readable_frames(klass, mjcf_text, base + all_m, frames_m, name)
+                inner = klass.from_mjcf(mjcf_text, base + all_m, [frames_m[i] for i in keep], name=name)
+                out[name] = AlignedBackend(inner, al, [frames_u[i] for i in keep], "mjcf", tinv, [constants[i] for i in keep])
+                if len(keep) < len(frames_m):
+                    missing = [frames_m[i] for i in range(len(frames_m)) if i not in keep]
+                    info.notes.append(f"{name} has no frame for {', '.join(missing)} (compared on the other frames)")
+        except Exception as err:  # a library refusing a real file is a finding, whatever it raises
+            if isinstance(err, KeyboardInterrupt):
+                raise
+            side = "URDF" if name in URDF_SIDE else "MJCF"
+            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {last_line(err)}"
+            findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}",
+                                    {"file": side, "backend": name}))
+    return out
+
+
+def _readable_frames(klass, mjcf_text: str, joints, frames, name: str) -> list[int]:
+    """Indices of the frames a library reads (Pinocchio's MJCF parser makes no frame for a site)."""
+    try:
+        klass.from_mjcf(mjcf_text, joints, frames, name=name)
+        return list(range(len(frames)))
+    except UnknownNameError as err:
+        known = set(err.available)
+        return [i for i, f in enumerate(frames) if f in known]
+
+
+def rebuild_mjcf(backend: AlignedBackend, left: np.ndarray) -> AlignedBackend:
+    return AlignedBackend(backend.inner, backend.alignment, backend.frames, "mjcf", left, backend.constants)
+
+
+def side_names(options) -> list[str]:
+    wanted = [n for n in (options.backends or URDF_SIDE + MJCF_SIDE) if n in URDF_SIDE + MJCF_SIDE]
+    if not any(n in URDF_SIDE for n in wanted) or not any(n in MJCF_SIDE for n in wanted):
+        raise InputError(f"--backends: file mode needs a URDF backend ({', '.join(URDF_SIDE)}) and an MJCF backend "
+                         f"({', '.join(MJCF_SIDE)}); got {', '.join(options.backends or [])}")
+    return wanted

@@ -1,0 +1,153 @@
+"""The findings of the alignment: the world transform, zero offsets, sign flips, axes that still
+differ, frame conventions, renamed joints, lengths in other units.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from kinverify.filemode.align.match import Matching
+from kinverify.filemode.align.result import Alignment
+from kinverify.filemode.findings.table import finding, fmt, unit_factor
+from kinverify.filemode.read.model import ModelDesc
+from kinverify.model.transforms import geodesic_distance, matrix_to_rpy
+from kinverify.suites.base import Finding
+
+
+def _angle(t: np.ndarray) -> float:
+    return float(geodesic_distance(t[:3, :3], np.eye(3)))
+
+
+def _downstream(u: ModelDesc, joint: str) -> list[str]:
+    """Frames that move with ``joint`` or a joint below it."""
+    parent = {j.name: j.parent for j in u.joints}
+
+    def below(owner):
+        while owner is not None:
+            if owner == joint:
+                return True
+            owner = parent.get(owner)
+        return False
+
+    return [f for f, owner in u.frame_owner.items() if below(owner)]
+
+
+def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Alignment, compared: list[str], tol) -> list[Finding]:
+    """One finding per thing alignment solved: the world transform, each zero offset and sign
+    flip (the checks compare after them), each axis that still differs (``values["frames"]``: the
+    compared frames whose failing checks it explains), the joint-name mapping.
+    ``compared``: the URDF frames the kinematics checks compare;
+    ``tol(frame)``: (position, rotation) tolerance there."""
+    out = []
+    t = al.T
+    dist, ang = float(np.linalg.norm(t[:3, 3])), _angle(t)
+    if dist > 1e-9 * max(1.0, dist) or ang > 1e-9:
+        noise = max(1e-12, 10 * max(al.residual))  # below the fit's residual a value is zero
+        t = np.where(np.abs(t) < noise, 0.0, t)
+        xyz = np.where(np.abs(t[:3, 3]) < noise, 0.0, t[:3, 3]).tolist()
+        rpy = np.where(np.abs(r := matrix_to_rpy(t[:3, :3])) < noise, 0.0, r).tolist()
+        dist = dist if dist >= noise else 0.0
+        out.append(finding("base_transform", f"the MJCF's world is the URDF's moved by xyz = {fmt(xyz)} m, rpy = {fmt(rpy)} rad "
+                           f"({math.degrees(ang):.4g}° turn): the same joint values put the robot elsewhere in the world; "
+                           f"fitted over {len(al.frames)} frames and {len(al.joints)} axes, residual {al.residual[0]:.2g} m, "
+                           f"{al.residual[1]:.2g} rad", {"T_mjcf_from_urdf": t.tolist(), "xyz": xyz, "rpy": rpy,
+                           "translation_m": dist, "rotation_rad": ang, "residual_m": al.residual[0],
+                           "residual_rad": al.residual[1]},
+                           magnitude=max(dist, ang), unit="m|rad"))
+    differs: set[str] = set()
+    for j in al.joints:
+        names = {"joint": j.urdf, "mjcf_joint": j.mjcf}
+        frames = [f for f in _downstream(u, j.urdf) if f in compared]
+        if j.sign < 0:
+            out.append(finding("axis_sign_flip", f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
+                               "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else ""),
+                               {"sign": -1, "moves": frames}, magnitude=1, unit="", **names))
+        if j.offset:
+            unit = "rad" if j.type == "revolute" else "m"
+            deg = f" ({math.degrees(j.offset):.4g}°)" if j.type == "revolute" else ""
+            out.append(finding("zero_offset", f"joint {j.urdf}/{j.mjcf}: zero offset of {j.offset:.6g} {unit}{deg}: at the same q "
+                               f"the MJCF's joint sits {j.offset:.6g} {unit} further (q_mjcf = {'−' if j.sign < 0 else ''}q_urdf "
+                               f"{'+' if j.offset >= 0 else '−'} {abs(j.offset):.6g})",
+                               {"offset": j.offset, "unit": unit, "moves": frames}, magnitude=abs(j.offset), unit=unit, **names))
+        uj, mj = u.joint(j.urdf), m.joint(j.mjcf)
+        upstream = uj.parent
+        while upstream is not None and upstream not in differs:
+            upstream = u.joint(upstream).parent
+        if upstream is not None:  # moved by a joint that differs: said there, once
+            differs.add(j.urdf)
+            continue
+        after = " (and everything it moves with it)" if any(f != uj.child for f in frames) else ""
+        if uj.type != mj.type:
+            differs.add(j.urdf)
+            out.append(finding("type_difference", f"joint {j.urdf}/{j.mjcf}: {uj.type} in the URDF, {mj.type} in the MJCF",
+                               {"urdf": uj.type, "mjcf": mj.type, "frames": frames}, **names))
+            continue
+        angle, distance = al.axis_errors.get(j.urdf, (0.0, 0.0))
+        ptol, rtol = tol(uj.child)
+        if angle > rtol:
+            differs.add(j.urdf)
+            out.append(finding("axis_direction", f"joint {j.urdf}/{j.mjcf}: the axes differ by {angle:.4g} rad "
+                               f"({math.degrees(angle):.4g}°) after alignment{after}", {"angle_rad": angle, "frames": frames},
+                               magnitude=angle, unit="rad", **names))
+        elif distance > ptol:
+            differs.add(j.urdf)
+            out.append(finding("axis_position", f"joint {j.urdf}/{j.mjcf}: the axis lines are {distance:.4g} m apart after "
+                               f"alignment{after}", {"distance_m": distance, "frames": frames}, magnitude=distance, unit="m",
+                               **names))
+    renamed = [(a, b, how) for a, b, how in matching.joints if a != b]
+    if renamed:
+        hows = sorted({how for _, _, how in renamed})
+        out.append(finding("joint_names", f"{len(renamed)} joints have other names in the MJCF (matched by {', '.join(hows)}): "
+                           + ", ".join(f"{a}={b}" for a, b, _ in renamed), {"pairs": [[a, b, h] for a, b, h in renamed]},
+                           joint=[a for a, _, _ in renamed], mjcf_joint=[b for _, b, _ in renamed]))
+    return out
+
+
+def convention_findings(al: Alignment, kinds: dict[str, str], tol) -> list[Finding]:
+    """A matched frame whose pose differs by a constant while its joint and motion agree: a link
+    frame is the files' choice (info); a named frame (a site, a tool frame) placed elsewhere is a
+    difference (error). ``kinds``: URDF frame -> "link" or "site" (from the MJCF side)."""
+    out = []
+    for f in al.frames:
+        ptol, rtol = tol(f.urdf)
+        if f.position <= ptol and f.rotation <= rtol:
+            continue
+        if f.residual_position > ptol or f.residual_rotation > rtol:
+            continue  # not a constant: an unexplained difference, reported where it starts
+        shift = float(np.linalg.norm(f.constant[:3, 3]))
+        angle = _angle(f.constant)
+        values = {"translation_m": shift, "rotation_rad": angle, "xyz": f.constant[:3, 3].tolist(),
+                  "rpy": matrix_to_rpy(f.constant[:3, :3]).tolist(), "frames": [f.urdf]}
+        names = {"frame": f.urdf, "mjcf_frame": f.mjcf}
+        if kinds.get(f.urdf) == "site" and shift > ptol:
+            out.append(finding("frame_offset", f"frame {f.urdf}/{f.mjcf}: placed {shift:.4g} m and {angle:.4g} rad away from "
+                               f"the other file's, on the same link (xyz {fmt(f.constant[:3, 3])} in its own axes)", values,
+                               magnitude=shift, unit="m", **names))
+        else:
+            out.append(finding("frame_convention", f"frame {f.urdf}/{f.mjcf}: the files define this frame differently, by a "
+                               f"constant {angle:.4g} rad ({math.degrees(angle):.4g}°) and {shift:.4g} m (rpy {fmt(values['rpy'])}, "
+                               f"xyz {fmt(values['xyz'])}); the joint and its motion agree, so it is compared after removing "
+                               "that constant", values, magnitude=angle if angle > rtol else shift,
+                               unit="rad" if angle > rtol else "m", **names))
+    return out
+
+
+def length_units(u: ModelDesc, m: ModelDesc, matching: Matching, compared: list[str]) -> list[Finding]:
+    """The MJCF's lengths a constant multiple of the URDF's (a units mistake): one finding."""
+    lu = lm = 0.0
+    for a, b, _ in matching.joints:
+        ju, jm = u.joint(a), m.joint(b)
+        if ju.parent is not None and m.joint(b).parent is not None:
+            lu += float(np.linalg.norm(u.frames[ju.child][:3, 3] - u.frames[u.joint(ju.parent).child][:3, 3]))
+            lm += float(np.linalg.norm(m.frames[jm.child][:3, 3] - m.frames[m.joint(jm.parent).child][:3, 3]))
+    if lu <= 1e-9 or lm <= 1e-9 or abs(lm / lu - 1) < 1e-2:
+        return []
+    name = unit_factor(lm / lu, "length")
+    if name is None:
+        return []
+    return [finding("length_units", f"the MJCF's lengths are the URDF's {name}: every link is {lm / lu:.6g} times as long",
+                    {"ratio": lm / lu, "frames": compared, "checks": [[p, "rigid bodies"] for p in
+                                                                     ("inertia.mass", "inertia.com", "inertia.tensor")]},
+                    magnitude=lm / lu, unit="")]

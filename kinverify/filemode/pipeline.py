@@ -1,0 +1,165 @@
+"""File mode: cross-validate an existing URDF against an existing MJCF, and say what differs.
+
+``verify_files`` reads both files safely (meshes dropped), describes each through its library
+(URDF: Pinocchio, MJCF: MuJoCo), matches joints and frames, aligns the two (world transform, joint
+zero offsets and signs, frame conventions: :mod:`kinverify.filemode.align.fit`), then runs every
+suite that applies on the aligned files (kinematics with every library that reads each file,
+limits, inertia, dynamics) and reports each difference once, as a finding with its size.
+Findings decide the verdict: a failing check whose cause a finding reports is marked explained;
+accepted findings (``kinverify-accepted.toml``) pass. See docs/file-mode.md.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from pathlib import Path
+
+import numpy as np
+
+import kinverify.filemode.findings.accepted as acc
+from kinverify.backends import ModelSources
+from kinverify.errors import InputError, KinverifyError
+from kinverify.filemode.align.floating import base_findings, base_samples
+from kinverify.filemode.align.geometry import reach
+from kinverify.filemode.align.match import match
+from kinverify.filemode.align.run import add_frames, run_alignment, sample_ranges, zero_poses
+from kinverify.filemode.compare.context import FileModeInfo
+from kinverify.filemode.compare.crosscheck import cross_check, top_level_pose
+from kinverify.filemode.compare.libraries import build_backends, rebuild_mjcf, side_names
+from kinverify.filemode.compare.parts import frame_twins
+from kinverify.filemode.findings.alignment import alignment_findings, convention_findings, length_units
+from kinverify.filemode.findings.couplings import coupling_findings
+from kinverify.filemode.findings.finish import finish
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.files import mjcf_angle_unit, read_mjcf, read_urdf
+from kinverify.filemode.read.precision import floors, mjcf_precision, urdf_precision
+from kinverify.filemode.read.validate import validate_inertials
+from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE, base_limits
+from kinverify.pipeline.sampling import sample_configurations
+from kinverify.results import VerifyResult
+from kinverify.run import VerifyOptions, verify
+from kinverify.versions import library_versions
+
+FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics", "pictures")  # pictures: both files drawn, aligned
+PITCH_MARGIN = 1e-3  # rad: base pitch sampled inside ±(π/2 − this) in file mode
+ALIGN_SAMPLES = 24  # configurations (besides q = 0) the alignment fits over
+
+
+def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> dict:
+    """Everything file mode knows before the suites run: both files read and described, matched,
+    aligned, with each library's reading built; the findings so far."""
+
+    options = options or VerifyOptions()
+    wanted = side_names(options)
+    findings, internal = [], []
+    M, mjcf_text, m, free = read_mjcf(mjcf, findings)
+    U, urdf_text, u, library, base = read_urdf(urdf, findings, free)
+    matching = match(u, m, joints, frames)
+    if base.floating:  # the URDF's link above its floating root stays in the world: not the robot's
+        matching.frames = [p for p in matching.frames if not (base.urdf.kind == "floating" and p[0] == base.urdf.root)]
+    precision = (urdf_precision(U.text), mjcf_precision(M.original))
+    fl = floors(*precision, matching.frames, reach(u), len(matching.independent))
+    lower, upper, revolute = sample_ranges(u, matching.independent)
+    q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)
+    al, poses = run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal)
+    poses_u, poses_m = zero_poses(poses, al)
+    info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), poses_u, poses_m,
+                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original), base_coordinates=base.floating)
+
+    tol = info.tol
+    twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: frame_twins(info, tol), ([], []))
+    matching.frames += new_pairs
+    add_frames(al, new_pairs)
+    compared = [a for a, _, _ in matching.frames]
+    if base.kind:
+        findings.append(finding(base.kind, base.message, {"urdf": base.urdf.kind, "urdf_root": base.urdf.root,
+                                                          "mjcf_free_bodies": free}))
+    kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
+    units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
+    info.inertials_explained_by = units[0].kind if units else ""
+    findings += units or _guarded(internal, "alignment findings", lambda: base_findings(
+        alignment_findings(u, m, matching, al, compared, tol), base) + convention_findings(al, kinds, tol), [])
+    findings += twins
+    findings += _guarded(internal, "inertial validation", lambda: validate_inertials(U, M), [])
+    texts = (base.urdf_text, M.text) if base.floating else (urdf_text, mjcf_text)
+    backends = build_backends(info, *texts, wanted, tol, findings)
+    worst = max([tol(f) for f in compared] or [(1e-9, 1e-9)])
+    if base.floating:  # the libraries' readings cross-checked at random base poses too
+        q = np.concatenate([base_samples(len(q), options.seed), q], axis=1)
+    backends, parser, parser_rows = _guarded(
+        internal, "parser cross-check",
+        lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text), rebuild_mjcf), (backends, [], []))
+    findings += parser
+    findings += _guarded(internal, "couplings", lambda: coupling_findings(u, m, matching), [])
+    ref = next((n for n in ("pinocchio-urdf", "mujoco-urdf", "yourdfpy") if n in backends), None)
+    other = next((n for n in ("mujoco", "pinocchio-mjcf") if n in backends), None)
+    if ref is None or other is None:
+        raise InputError(f"no library could read the {'URDF' if ref is None else 'MJCF'}: "
+                         + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
+    notes = list(U.warnings + M.warnings) + [f"URDF: {s}" for s in u.skipped] + [f"MJCF: {s}" for s in m.skipped] + info.notes
+    notes.append(f"written precision: {precision[0].describe()}; {precision[1].describe()}")
+    if base.floating:
+        urdf_text, mjcf_text = texts
+        base_lo, base_up = base_limits(np.zeros(3))
+        # pitch kept 1e-3 rad off ±π/2: there roll and yaw merge, and a base frame offset between the
+        # files (the coordinates conjugated) has no derivative, so the Jacobians would differ by a choice
+        base_lo[4], base_up[4] = base_lo[4] + PITCH_MARGIN, base_up[4] - PITCH_MARGIN
+        lower, upper = [*base_lo, *lower], [*base_up, *upper]
+        revolute = [*BASE_REVOLUTE, *revolute]
+    return dict(urdf=U, mjcf=M, urdf_text=urdf_text, mjcf_text=mjcf_text, info=info, matching=matching, alignment=al,
+                backends=backends, reference=ref, findings=findings, notes=notes, parser_rows=parser_rows,
+                internal=internal, lower=lower, upper=upper, revolute=revolute)
+
+
+def _guarded(internal: list, what: str, fn, default):
+    """``fn()``, or ``default`` with an internal error recorded when it fails (kinverify's bug)."""
+
+    try:
+        return fn()
+    except (KinverifyError, KeyboardInterrupt):
+        raise
+    except Exception as err:
+        internal.append(f"file mode, {what}: {type(err).__name__}: {err}")
+        return default
+
+
+def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), command: str = "", accept=None,
+                 write_accepted=None):
+    """File mode of ``kinverify verify``: the suites on the aligned files and the findings, as a
+    VerifyResult. ``accept``: an accepted-differences TOML file (default: ``kinverify-accepted.toml``
+    beside the URDF, when present); ``write_accepted``: write this run's error findings there."""
+
+    t0 = time.perf_counter()
+    options = options or VerifyOptions()
+    entries = acc.load(accept) if accept else (acc.load(p) if (p := acc.default_path(urdf)) else [])
+    internal: list[str] = []
+    diag = _guarded(internal, "reading the files", lambda: diagnose_files(urdf, mjcf, options, frames, joints), None)
+    if diag is None:
+        return _failed(urdf, mjcf, options, internal, command)
+    info, U, M = diag["info"], diag["urdf"], diag["mjcf"]
+    al, matching = info.alignment, info.matching
+    name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
+    base = BASE_COORDINATES if info.base_coordinates else ()
+    sources = ModelSources(name, base + tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
+                           tuple(diag["upper"]), tuple(diag["revolute"]), urdf=diag["urdf_text"], mjcf=diag["mjcf_text"],
+                           mjcf_joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
+                           mjcf_frames=tuple(b for _, b, _ in matching.frames))
+    selected = [s for s in FILE_SUITES if options.suites is None or s in options.suites]
+    opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]],
+                               suites=[s for s in selected if s != "dynamics"], extra={**options.extra, "filemode": info})
+    result = verify(sources, opts, extra_backends=list(diag["backends"].values()), source=f"{urdf} + {mjcf}", command=command)
+    result.internal_errors = diag["internal"] + result.internal_errors
+
+    _guarded(result.internal_errors, "findings",
+             lambda: finish(result, diag, sources, opts, "dynamics" in selected, entries, write_accepted, urdf), None)
+    result.duration_s = time.perf_counter() - t0
+    return result
+
+
+def _failed(urdf: str, mjcf: str, options, internal: list[str], command: str):
+    """The result of a run kinverify itself could not complete (verdict ``error``, exit 3)."""
+
+    return VerifyResult(model=f"{Path(urdf).stem}-vs-{Path(mjcf).stem}", source=f"{urdf} + {mjcf}", seed=options.seed,
+                        samples=0, joint_names=[], frames=[], backends=[], checks=[], versions=library_versions(),
+                        command=command, internal_errors=internal, model_info={"files": {"urdf": urdf, "mjcf": mjcf}})

@@ -1,0 +1,155 @@
+"""MuJoCo's reading of an MJCF as a :class:`~kinverify.filemode.read.model.ModelDesc` (see
+:mod:`kinverify.filemode.read.describe_urdf`), with the force MuJoCo's actuators can put on each joint."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from kinverify.filemode.read.model import INF, BodyInertial, Coupling, JointDesc, ModelDesc
+
+
+def describe_mjcf(mjcf_text: str) -> ModelDesc:
+    """MuJoCo's reading of the MJCF, with every ``qpos`` at 0 (not ``qpos0``: ``ref`` is a zero offset)."""
+    m = mujoco.MjModel.from_xml_string(mjcf_text)
+    d = mujoco.MjData(m)
+    d.qpos[:] = 0.0
+    mujoco.mj_kinematics(m, d)
+    hinge, slide = int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)
+    movable = {j: m.joint(j).name for j in range(m.njnt) if int(m.jnt_type[j]) in (hinge, slide)}
+    skipped = [f"{m.joint(j).name or f'joint #{j}'}: {mujoco.mjtJoint(int(m.jnt_type[j])).name} joints are not compared "
+               "(held at 0)" for j in range(m.njnt) if j not in movable]
+    held = [m.joint(j).name for j in range(m.njnt) if j not in movable and m.joint(j).name]
+
+    def body_owner(b: int) -> str | None:
+        while b > 0:
+            js = [j for j in range(m.body_jntadr[b], m.body_jntadr[b] + m.body_jntnum[b]) if j in movable] if m.body_jntnum[b] else []
+            if js:
+                return movable[js[-1]]
+            b = m.body_parentid[b]
+        return None
+
+    frames, owner, depth, kind = {}, {}, {}, {}
+    for b in range(1, m.nbody):
+        name = m.body(b).name
+        if not name:
+            continue
+        frames[name], owner[name] = _pose(d.xpos[b], d.xmat[b]), body_owner(b)
+        depth[name], kind[name] = _body_depth(m, b), "link"
+    for s in range(m.nsite):
+        name = m.site(s).name
+        if name and name not in frames:
+            b = m.site_bodyid[s]
+            frames[name], owner[name] = _pose(d.site_xpos[s], d.site_xmat[s]), body_owner(b)
+            depth[name], kind[name] = _body_depth(m, b) + 1, "site"
+    actuation = actuator_efforts(m)
+    joints = []
+    for j, name in movable.items():
+        b, v = m.jnt_bodyid[j], m.jnt_dofadr[j]
+        same_body = [k for k in range(m.body_jntadr[b], j) if k in movable]
+        parent = movable[same_body[-1]] if same_body else body_owner(m.body_parentid[b])
+        limited = bool(m.jnt_limited[j])
+        lo, up = (float(m.jnt_range[j][0]), float(m.jnt_range[j][1])) if limited else (-INF, INF)
+        effort, how = actuation.get(j, (None, "no actuator in the MJCF"))
+        if m.jnt_actfrclimited[j]:
+            cap = float(max(abs(m.jnt_actfrcrange[j][0]), abs(m.jnt_actfrcrange[j][1])))
+            effort, how = (cap, f"joint actuatorfrcrange ±{cap:g}") if effort is None or cap < effort else (effort, how)
+        joints.append(JointDesc(
+            name, "revolute" if int(m.jnt_type[j]) == hinge else "prismatic", parent, m.body(b).name,
+            m.body(m.body_parentid[b]).name if m.body_parentid[b] > 0 else "world",
+            np.array(d.xaxis[j]), np.array(d.xanchor[j]), lo, up,
+            damping=float(m.dof_damping[v]), friction=float(m.dof_frictionloss[v]), armature=float(m.dof_armature[v]),
+            effort=effort, velocity=None, effort_how=how))
+    bodies = []
+    for b in range(1, m.nbody):
+        if m.body_mass[b] <= 0:
+            continue
+        rot_i = np.reshape(d.ximat[b], (3, 3))
+        rot_b = np.reshape(d.xmat[b], (3, 3))
+        ine_w = rot_i @ np.diag(m.body_inertia[b]) @ rot_i.T
+        com_l = rot_b.T @ (np.array(d.xipos[b]) - d.xpos[b])
+        bodies.append(BodyInertial(body_owner(b), float(m.body_mass[b]), np.array(d.xipos[b]), ine_w, m.body(b).name,
+                                   com_l, rot_b.T @ ine_w @ rot_b, _snapped(m, b)))
+    return ModelDesc("mjcf", "mujoco", joints, frames, owner, depth, bodies, skipped, kind, _mjcf_couplings(m, movable),
+                     np.array(m.opt.gravity, dtype=float), held=held)
+
+
+def _snapped(m, b: int) -> float:
+    """The rotation [rad] of a body's principal axes that MuJoCo's compiler dropped, treating them
+    as aligned with the body frame (``body_sameframe``) because it was below about 1e-6 rad."""
+    aligned = (int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY), int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT))
+    vec = float(np.linalg.norm(m.body_iquat[b][1:]))
+    return 2.0 * float(np.arcsin(min(1.0, vec))) if int(m.body_sameframe[b]) in aligned and vec > 0 else 0.0
+
+
+def _pose(pos, mat) -> np.ndarray:
+    t = np.eye(4)
+    t[:3, :3], t[:3, 3] = np.reshape(mat, (3, 3)), pos
+    return t
+
+
+def _body_depth(m, b: int) -> int:
+    depth = 0
+    while b > 0:
+        b = m.body_parentid[b]
+        depth += 1
+    return depth
+
+
+def _mjcf_couplings(m, movable: dict) -> list[Coupling]:
+    """Active ``<equality joint>`` constraints: ``q1 − ref1 = p0 + p1 (q2 − ref2) + …`` as a coupling."""
+    out = []
+    for e in range(m.neq):
+        if int(m.eq_type[e]) != int(mujoco.mjtEq.mjEQ_JOINT) or not m.eq_active0[e]:
+            continue
+        j1, j2 = int(m.eq_obj1id[e]), int(m.eq_obj2id[e])
+        if j1 not in movable or j2 not in movable:
+            continue
+        p = np.array(m.eq_data[e][:5], dtype=float)
+        ref1, ref2 = float(m.qpos0[m.jnt_qposadr[j1]]), float(m.qpos0[m.jnt_qposadr[j2]])
+        out.append(Coupling(movable[j1], movable[j2], float(p[1]), ref1 + float(p[0]) - float(p[1]) * ref2,
+                            "<equality joint>", nonlinear=bool(np.any(p[2:] != 0))))
+    return out
+
+
+def actuator_efforts(m) -> dict[int, tuple[float, str]]:
+    """Joint id -> (the largest force or torque MuJoCo's actuators can put on that joint, how).
+
+    An actuator on a joint or on a fixed tendon through it (coefficient c) transmits
+    ``gear · c`` times its force. Its force is bounded by ``forcerange`` when force-limited, by
+    ``ctrlrange × gain`` for a motor (fixed gain, no bias) with a control range, and unbounded
+    otherwise (a position or velocity servo without ``forcerange``): ``inf``."""
+    found: dict[int, list[tuple[float, str]]] = {}
+    joint_trn = (int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT))
+    for a in range(m.nu):
+        trn, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a][0])
+        if trn in joint_trn:
+            through = [(target, 1.0, "")]
+        elif trn == int(mujoco.mjtTrn.mjTRN_TENDON):
+            tname = m.tendon(target).name or f"#{target}"
+            through = [(int(m.wrap_objid[w]), float(m.wrap_prm[w]), f" on tendon {tname} (coef {float(m.wrap_prm[w]):g})")
+                       for w in range(m.tendon_adr[target], m.tendon_adr[target] + m.tendon_num[target])
+                       if int(m.wrap_type[w]) == int(mujoco.mjtWrap.mjWRAP_JOINT)]
+        else:
+            continue
+        gear = float(m.actuator_gear[a][0])
+        name = m.actuator(a).name or f"actuator #{a}"
+        motor = (int(m.actuator_gaintype[a]) == int(mujoco.mjtGain.mjGAIN_FIXED)
+                 and int(m.actuator_biastype[a]) == int(mujoco.mjtBias.mjBIAS_NONE))
+        if m.actuator_forcelimited[a]:
+            force = float(max(abs(m.actuator_forcerange[a][0]), abs(m.actuator_forcerange[a][1])))
+            bound, why = force, f"forcerange ±{force:g}"
+        elif motor and m.actuator_ctrllimited[a]:
+            ctrl = float(max(abs(m.actuator_ctrlrange[a][0]), abs(m.actuator_ctrlrange[a][1])))
+            gain = abs(float(m.actuator_gainprm[a][0]))
+            bound, why = ctrl * gain, f"ctrlrange ±{ctrl:g} × gain {gain:g}"
+        else:
+            bound, why = INF, "no forcerange" + ("" if motor else " (a servo: unbounded force)")
+        for joint, coef, via in through:
+            scale = abs(gear * coef)
+            effort = bound * scale if math.isfinite(bound) else INF
+            gear_txt = f" × gear {gear:g}" if gear != 1 else ""
+            found.setdefault(joint, []).append((effort, f"{name}{via}: {why}{gear_txt}"))
+    return {j: (float(sum(e for e, _ in items)), "; ".join(h for _, h in items)) for j, items in found.items()}

@@ -1,0 +1,84 @@
+"""Each file read once: loaded safely (:mod:`~kinverify.filemode.read.loading`), cleaned for the
+libraries, its floating base decided, and described by the library that reads it best (URDF:
+Pinocchio, or MuJoCo's URDF import when Pinocchio refuses it; MJCF: MuJoCo). A library's refusal
+is a finding."""
+
+from __future__ import annotations
+
+import dataclasses
+import xml.etree.ElementTree as ET
+
+from kinverify.backends.mujoco_ import urdf_for_mujoco
+from kinverify.errors import InputError
+from kinverify.filemode.align.floating import UrdfBase, decide, fixed_urdf, floating_urdf, urdf_base
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.filemode.read.loading import load_mjcf, load_urdf
+from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
+
+
+def last_line(err: Exception) -> str:
+    lines = str(err).strip().splitlines()
+    return lines[-1] if lines else type(err).__name__
+
+
+def read_urdf(path: str, findings: list, free=()):
+    """The loaded URDF, its prepared text, its description, the library that read it and the
+    floating-base decision (:class:`BaseDecision`) against the MJCF's ``free`` top-level bodies.
+    The text and description have a floating root fixed (at the identity when both files float:
+    the base coordinates at zero; else at its origin)."""
+    loaded = load_urdf(path)
+    base = urdf_base(loaded.text)
+    floating, kind, message = decide(base, list(free))
+    fixed = fixed_urdf(loaded.text, keep_origin=not floating)
+    decision = BaseDecision(floating, kind, message, base, list(free),
+                            prepare_urdf(floating_urdf(loaded.text)) if floating else "")
+    text = prepare_urdf(fixed)
+    try:
+        return loaded, text, describe_urdf(fixed), "pinocchio", decision
+    except (ValueError, RuntimeError) as err:
+        findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {last_line(err)}; read with MuJoCo's URDF "
+                                "import instead", {"file": "URDF", "library": "pinocchio"}))
+    try:
+        desc = dataclasses.replace(describe_mjcf(urdf_for_mujoco(text)), kind="urdf", library="mujoco (URDF import)")
+        return loaded, text, desc, "mujoco", decision
+    except ValueError as err:
+        raise InputError(f"--urdf: no library can load {path}: {last_line(err)}") from None
+
+
+@dataclasses.dataclass
+class BaseDecision:
+    """Whether the base pose is compared as coordinates, and the finding that says why (see
+    :func:`kinverify.filemode.align.floating.decide`); ``urdf_text``: the URDF with its floating root
+    (one added above the root link when the URDF left it unstated), for the libraries."""
+
+    floating: bool
+    kind: str
+    message: str
+    urdf: UrdfBase
+    free: list
+    urdf_text: str = ""
+
+
+def read_mjcf(path: str, findings: list):
+    """The loaded MJCF, its prepared text (free base fixed), its description and the fixed bodies.
+    A mesh file MuJoCo cannot read is dropped like an absent one (a warning says which)."""
+    loaded = load_mjcf(path)
+    for attempt in (0, 1):
+        text, free = fix_free_bases(loaded.text)
+        try:
+            return loaded, text, describe_mjcf(text), free
+        except ValueError as err:
+            if attempt == 0 and "mesh assets resolved" in " ".join(loaded.warnings):
+                findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({last_line(err)}): meshes "
+                                        "dropped (they do not change kinematics or dynamics)", {"file": "MJCF", "library": "mujoco"}))
+                loaded = load_mjcf(path, keep_meshes=False)
+                continue
+            raise InputError(f"--mjcf: MuJoCo cannot load {path}: {last_line(err)}") from None
+
+
+def mjcf_angle_unit(mjcf_text: str) -> str:
+    """The MJCF's ``<compiler angle>``: "degree" (MuJoCo's default) or "radian"."""
+    compiler = ET.fromstring(mjcf_text).find("compiler")
+    return "degree" if compiler is None else compiler.get("angle", "degree")

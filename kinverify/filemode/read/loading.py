@@ -1,0 +1,295 @@
+"""Reading a user's URDF and MJCF safely, and cleaning them so every library loads them without meshes.
+
+Untrusted XML goes through defusedxml first: a DTD with entities (external or an expansion bomb)
+is refused before any library sees the file. Mesh references are resolved where the files exist
+(``package://pkg/...`` looked up beside or above the model's folder, ROS style; ``file://``,
+relative and absolute paths) and rewritten as absolute paths; meshes whose files are absent (real
+files are usually copied without them) are dropped: URDF ``<visual>``/``<collision>`` elements
+with such a ``<mesh>``, MJCF geoms using such a mesh asset, and the asset. File textures are
+always dropped (they are visual only).
+"""
+
+from __future__ import annotations
+
+import warnings
+import xml.etree.ElementTree as ET
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import defusedxml
+import defusedxml.ElementTree as DET
+import mujoco
+
+from kinverify.errors import InputError
+from kinverify.filemode.read.xacro import compile_xacro, is_xacro
+from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
+from kinverify.report.output import note_input
+
+
+@dataclass(frozen=True)
+class LoadedFile:
+    """A model file after safe parsing and cleaning: ``text`` is what the backends load."""
+    path: str
+    kind: str  # "urdf" or "mjcf"
+    original: str
+    text: str
+    name: str
+    warnings: tuple[str, ...] = field(default_factory=tuple)
+
+
+def read_xml(path: str, kind: str, text: str | None = None) -> tuple[str, ET.Element]:
+    """The file's text and its root element; :class:`InputError` on anything unsafe or wrong.
+    ``text``: what the file compiled to (xacro), checked the same way under the file's name."""
+    p = Path(path)
+    if text is None and not p.is_file():
+        raise InputError(f"--{kind}: {path} is not a file")
+    try:
+        size = p.stat().st_size if text is None else len(text.encode())
+        if size > MAX_MODEL_BYTES:
+            raise InputError(f"--{kind}: {path} is {size / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB kinverify "
+                             "reads (see docs/robustness.md)")
+        text = p.read_text(encoding="utf-8") if text is None else text
+    except (OSError, UnicodeDecodeError) as err:
+        raise InputError(f"--{kind}: cannot read {path}: {err}") from None
+    try:
+        root = DET.fromstring(text.encode(), forbid_dtd=False, forbid_entities=True, forbid_external=True)
+    except defusedxml.EntitiesForbidden:
+        raise InputError(f"--{kind}: {path} declares XML entities (external entities and entity expansion "
+                         "are refused for safety; remove the DTD)") from None
+    except (defusedxml.DTDForbidden, defusedxml.ExternalReferenceForbidden, defusedxml.NotSupportedError) as err:
+        raise InputError(f"--{kind}: {path}: unsafe XML refused ({type(err).__name__})") from None
+    except ET.ParseError as err:
+        raise InputError(f"--{kind}: {path} is not XML: {err}") from None
+    expected = {"urdf": "robot", "mjcf": "mujoco"}[kind]
+    if root.tag != expected:
+        hint = {"robot": "a URDF", "mujoco": "an MJCF"}.get(root.tag, f"a <{root.tag}> document")
+        raise InputError(f"--{kind}: {path} is {hint}, not {'a URDF' if kind == 'urdf' else 'an MJCF'} "
+                         f"(root element <{root.tag}>, expected <{expected}>)")
+    check_supported(root, kind, path)
+    return text, root
+
+
+MOVABLE = {"urdf": ("revolute", "continuous", "prismatic"), "mjcf": ("hinge", "slide")}
+PLANAR_URDF = ("planar",)  # a planar root (three coordinates in a plane) is not compared
+
+
+def check_supported(root: ET.Element, kind: str, path) -> None:
+    """What kinverify cannot compare yet, refused in one place with one line: a URDF whose root
+    joint is planar, and models above the documented size (:mod:`kinverify.pipeline.limits`).
+    A floating root is compared (:mod:`kinverify.filemode.align.floating`)."""
+    if kind == "urdf":
+        links = root.findall("link")
+        joints = root.findall("joint")
+        children = {c.get("link") for j in joints for c in j.findall("child")}
+        roots = {l.get("name") for l in links} - children
+        for joint in joints:
+            parent = joint.find("parent")
+            if joint.get("type") in PLANAR_URDF and parent is not None and parent.get("link") in roots:
+                raise InputError(f"--urdf: {path}: joint {joint.get('name')!r} is {joint.get('type')}: unsupported: planar base "
+                                 f"(kinverify compares fixed and floating bases; make the root joint fixed or floating)")
+        bodies, movable = len(links), sum(j.get("type") in MOVABLE["urdf"] for j in joints)
+    else:
+        # bodies MuJoCo will make: <body> elements, plus those <composite>/<flexcomp> generate
+        # (count "nx ny nz"), all times each <replicate> count (an upper bound)
+        bodies = sum(1 for _ in root.iter("body"))
+        bodies += sum(_product(el.get("count")) for tag in ("composite", "flexcomp") for el in root.iter(tag))
+        movable = sum(1 for j in root.iter("joint") if j.get("type", "hinge") in MOVABLE["mjcf"])
+        for rep in root.iter("replicate"):
+            bodies *= _product(rep.get("count"))
+    what = "links" if kind == "urdf" else "bodies"
+    if bodies > MAX_LINKS or movable > MAX_JOINTS:
+        count, limit, noun = (bodies, MAX_LINKS, what) if bodies > MAX_LINKS else (movable, MAX_JOINTS, "movable joints")
+        raise InputError(f"--{kind}: {path} has {count} {noun}, above the {limit} kinverify compares "
+                         "(see docs/robustness.md)")
+
+
+def _product(counts: str | None) -> int:
+    """Product of the whole numbers in a ``count`` attribute (1 when absent or unreadable: MuJoCo
+    reports a bad count itself)."""
+    out = 1
+    for word in (counts or "").split():
+        try:
+            out *= max(1, int(word))
+        except ValueError:
+            return 1
+    return out
+
+
+def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = None) -> Path | None:
+    """The file a mesh reference names, if it exists: ``package://pkg/rel`` as ``<PATH>/rel`` for
+    ``packages`` ``{pkg: PATH}`` (``--package``), else as ``<dir>/pkg/rel`` or ``<dir>/rel`` with
+    ``<dir>`` named ``pkg``, for the model's folder and each folder above it; ``file://`` and plain
+    paths relative to ``base``. None when absent."""
+    if filename.startswith("package://"):
+        package, _, rel = filename[len("package://"):].partition("/")
+        given = Path((packages or {}).get(package, "")).expanduser() / rel if package in (packages or {}) else None
+        if given is not None and given.is_file():
+            return _read_asset(given)
+        for folder in (base, *base.parents):
+            for candidate in (folder / package / rel, folder / rel if folder.name == package else None):
+                if candidate is not None and candidate.is_file():
+                    return _read_asset(candidate)
+        return None
+    filename = filename[len("file://"):] if filename.startswith("file://") else filename
+    candidate = Path(filename) if Path(filename).is_absolute() else base / filename
+    return _read_asset(candidate) if candidate.is_file() else None
+
+
+def _read_asset(path: Path) -> Path:
+    """An asset the model references is an input of the run: no output may replace it."""
+    path = path.resolve()
+    note_input(path, "a mesh the model references:")
+    return path
+
+
+_GIVEN: dict[str, dict[str, str]] = {"packages": {}, "xacro_args": {}}  # set by :func:`given_packages`
+
+
+@contextmanager
+def given_packages(packages: dict[str, str] | None = None, xacro_args: dict[str, str] | None = None):
+    """Within this block, every :func:`load_urdf` (also file mode's) resolves packages from
+    ``packages`` (``--package``) and compiles xacro with ``xacro_args`` (``--xacro-arg``)."""
+    before = dict(_GIVEN)
+    _GIVEN.update(packages=dict(packages or {}), xacro_args=dict(xacro_args or {}))
+    try:
+        yield
+    finally:
+        _GIVEN.update(before)
+
+
+def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | None = None,
+              xacro_args: dict[str, str] | None = None) -> LoadedFile:
+    """URDF without the mesh visuals/collisions whose files are absent (kinematics and inertials
+    are untouched); meshes that exist are kept with absolute paths (``keep_meshes=False``: none).
+    A xacro file (``.xacro``, or the xacro namespace) is compiled first (:mod:`kinverify.filemode.read.xacro`)
+    with ``packages`` (``--package NAME=PATH``) and ``xacro_args`` (``--xacro-arg NAME=VALUE``);
+    ``original`` is then the compiled URDF."""
+    packages = _GIVEN["packages"] if packages is None else packages
+    given_here, xacro_args = xacro_args, _GIVEN["xacro_args"] if xacro_args is None else xacro_args
+    text, root = read_xml(path, "urdf")
+    compiled: list[str] = []
+    if is_xacro(path, text):
+        text, compiled = compile_xacro(path, packages, xacro_args)
+        text, root = read_xml(path, "urdf", text)
+        compiled.insert(0, f"URDF compiled from xacro ({Path(path).name})")
+    elif given_here:  # arguments for this very file (a block's arguments are for its xacro files)
+        raise InputError(f"--xacro-arg: {path} is not a xacro file (no .xacro suffix, no xacro namespace)")
+    dropped = kept = 0
+    base = Path(path).resolve().parent
+    for link in root.iter("link"):
+        for tag in ("visual", "collision"):
+            for el in list(link.findall(tag)):
+                mesh = el.find("geometry/mesh")
+                if mesh is None:
+                    continue
+                found = resolve_asset(mesh.get("filename", ""), base, packages) if keep_meshes else None
+                if found is None:
+                    link.remove(el)
+                    dropped += 1
+                else:
+                    mesh.set("filename", str(found))
+                    kept += 1
+    warnings = tuple(compiled) + ((f"URDF: {dropped} mesh visual/collision elements skipped, their files are absent "
+                                   "(meshes are not needed for kinematics and dynamics)",) if dropped else ())
+    if kept:
+        warnings += (f"URDF: {kept} mesh references resolved to existing files and kept",)
+    cleaned = ET.tostring(root, encoding="unicode")
+    return LoadedFile(str(path), "urdf", text, cleaned, root.get("name") or Path(path).stem, warnings)
+
+
+def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
+    """MJCF with mesh geoms, mesh assets and file textures removed from the XML tree, then checked
+    by compiling it with MuJoCo (``MjSpec``).
+
+    The tree is edited directly rather than written back with ``MjSpec.to_xml()``, which prints
+    numbers to 6 significant digits and would round the model. A file MuJoCo refuses is still
+    returned, with a warning, so the refusal is reported as a finding."""
+    _route_mujoco_warnings(mujoco)
+    text, root = read_xml(path, "mjcf")
+    name = root.get("model") or Path(path).stem
+    kept = _resolve_mesh_assets(root, Path(path).resolve().parent) if keep_meshes else set()
+    dropped, massless = _drop_meshes(root, kept)
+    warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped, their files are absent"] if dropped else []
+    if kept:
+        warnings.append(f"MJCF: {len(kept)} mesh assets resolved to existing files and kept")
+    if massless:
+        warnings.append(f"MJCF bodies without <inertial> whose mass came from their (absent) meshes: {', '.join(massless)}")
+    cleaned = ET.tostring(root, encoding="unicode")
+    try:
+        spec = mujoco.MjSpec.from_string(cleaned)
+        spec.compile()
+    except ValueError as err:
+        warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {_first_line(err)}")
+    return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
+
+
+def _route_mujoco_warnings(mujoco) -> None:
+    """MuJoCo's default warning handler prints to stdout and appends to ``MUJOCO_LOG.TXT`` in the
+    current folder (e.g. "XML contains a 'NaN'"): a user's folder is not MuJoCo's log. Its
+    warnings become Python warnings instead (once per process, unless a handler is set)."""
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(_mujoco_warning)
+
+
+def _mujoco_warning(message: str) -> None:
+    warnings.warn(f"MuJoCo: {message}", UserWarning, stacklevel=2)
+
+
+def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:
+    """Names of the mesh assets whose files exist (``compiler meshdir``/``assetdir`` honoured);
+    their ``file`` is rewritten as an absolute path so the text loads from anywhere."""
+    compiler = root.find("compiler")
+    folder = base / ((compiler.get("meshdir") or compiler.get("assetdir") or "") if compiler is not None else "")
+    kept = set()
+    for asset in root.iter("asset"):
+        for mesh in asset.findall("mesh"):
+            filename = mesh.get("file")
+            found = resolve_asset(filename, folder) if filename else None
+            if found is not None:
+                mesh.set("file", str(found))
+                kept.add(mesh.get("name") or Path(filename).stem)
+    return kept
+
+
+def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, list[str]]:
+    """Remove geoms using a mesh not in ``kept``, those mesh assets, skin/hfield assets and file
+    textures (and references to them)."""
+    parents = {child: parent for parent in root.iter() for child in parent}
+    dropped, massless, gone_geoms, gone_tex = 0, [], set(), set()
+    for geom in list(root.iter("geom")):
+        if geom.get("mesh") is not None and geom.get("mesh") not in kept and parents[geom].tag != "default":
+            body = parents[geom]
+            body.remove(geom)
+            dropped += 1
+            gone_geoms.add(geom.get("name"))
+            if body.tag == "body" and body.find("inertial") is None and body.get("name") not in massless:
+                massless.append(body.get("name") or "?")
+    for asset in root.iter("asset"):
+        for el in list(asset):
+            kept_mesh = el.tag == "mesh" and (el.get("name") or Path(el.get("file") or "").stem) in kept
+            if (el.tag in ("mesh", "skin", "hfield") and not kept_mesh) or (el.tag == "texture" and el.get("file") is not None):
+                if el.tag == "texture":
+                    gone_tex.add(el.get("name"))
+                asset.remove(el)
+    for material in root.iter("material"):
+        if material.get("texture") in gone_tex:
+            del material.attrib["texture"]
+    for contact in root.iter("contact"):
+        for pair in list(contact):
+            if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
+                contact.remove(pair)
+    massless = [b for b in massless if not _has_geom(root, b)]
+    return dropped, massless
+
+
+def _has_geom(root: ET.Element, body_name: str) -> bool:
+    body = next((b for b in root.iter("body") if b.get("name") == body_name), None)
+    return body is not None and body.find("geom") is not None
+
+
+def _first_line(err: Exception) -> str:
+    lines = str(err).strip().splitlines()
+    return lines[0] if lines else type(err).__name__
+
+

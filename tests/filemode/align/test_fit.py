@@ -1,0 +1,154 @@
+"""Alignment on random arms: a random world transform, random joint zero offsets and random
+axis reversals put into one file are recovered exactly, each reported once, and nothing else
+above information is reported (the checks compare after them and pass)."""
+
+from __future__ import annotations
+
+import math
+import re
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+from kinverify.filemode.pipeline import verify_files
+from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
+from kinverify.run import VerifyOptions
+from kinverify.testing.strategies import angles_rpy, arm_specs, vectors
+from tests.filemode.pairs import joint_attr, nums
+
+FAST = VerifyOptions(samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 8})
+SETTINGS = settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+
+
+def move_world(mjcf: str, xyz, rpy) -> str:
+    quat = matrix_to_quat(rpy_to_matrix(rpy))
+    pose = f'pos="{" ".join(repr(float(v)) for v in xyz)}" quat="{" ".join(repr(float(v)) for v in quat)}"'
+    return mjcf.replace('<body name="world_mount">', f'<body name="world_mount" {pose}>', 1)
+
+
+def remap_joint(mjcf: str, joint: str, sign: int, offset: float) -> str:
+    """The MJCF's joint with q_mjcf = sign·q_urdf + offset: axis reversed when sign < 0, ``ref``
+    at the offset, the range carried along (the same physical limits)."""
+    mjcf = joint_attr(mjcf, joint, "range", nums(lambda v: sorted([sign * v[0] + offset, sign * v[1] + offset])))
+    if sign < 0:
+        mjcf = joint_attr(mjcf, joint, "axis", nums(lambda v: [-x for x in v]))
+    if offset:
+        mjcf = re.sub(rf'(<joint name="{joint}" )', lambda m: m[1] + f'ref="{offset!r}" ', mjcf, count=1)
+    return mjcf
+
+
+def observable(desc, joint: str) -> bool:
+    """Whether a zero offset of ``joint`` moves a point: a next joint's axis line that does not
+    meet its axis, or a frame it carries off its axis (prismatic: always). When everything it
+    moves sits on its axis, a turn by it is only a change of frame conventions."""
+    from kinverify.filemode.align.geometry import line_distance
+
+    j = desc.joint(joint)
+    if j.type == "prismatic":
+        return True
+
+    def off_axis(p):
+        d = p - j.anchor
+        return np.linalg.norm(d - (d @ j.axis) * j.axis) > 1e-3
+
+    for c in desc.joints:
+        if c.parent == joint and line_distance(j.anchor, j.axis, c.anchor, c.axis) > 1e-3:
+            return True
+    return any(off_axis(pose[:3, 3]) for f, pose in desc.frames.items() if desc.frame_owner.get(f) == joint)
+
+
+def sign_observable(desc, joint: str, shared=None) -> bool:
+    """Whether reversing ``joint``'s axis can be told from turning the world by π: not when it is
+    the first joint and everything it moves (frame origins, the next joints' anchors and axis
+    points) lies on one line ℓ that meets its axis at a right angle, with every base frame on its
+    axis or on ℓ: a half-turn about ℓ maps the whole robot onto itself with the joint reversed."""
+    j = desc.joint(joint)
+    if j.parent is not None or j.type != "revolute":
+        return True
+
+    def on_axis(p):
+        d = p - j.anchor
+        return np.linalg.norm(d - (d @ j.axis) * j.axis) <= 1e-9
+
+    roots = [pose[:3, 3] for f, pose in desc.frames.items()
+             if desc.frame_owner.get(f) is None and (shared is None or f in shared)]
+    points = [pose[:3, 3] for f, pose in desc.frames.items() if desc.frame_owner.get(f) is not None]
+    points += [p for c in desc.joints if c.name != joint for p in (c.anchor, c.anchor + c.axis)]
+    points += [r for r in roots if not on_axis(r)]  # a base frame off the axis must lie on ℓ too
+    if not points:
+        return False
+    d = np.array(points) - j.anchor
+    if np.abs(d @ j.axis).max() > 1e-9:  # off the perpendicular plane through the anchor: on no such line
+        return True
+    return np.linalg.matrix_rank(d, tol=1e-9) > 1
+
+
+def world_observable(desc, shared) -> bool:
+    """Whether a world transform can be told from another: not when every frame origin and joint
+    axis lies on one line, about which a turn moves no point (only link frames, a file's choice).
+    ``shared``: the frames the other file has too."""
+    points = [pose[:3, 3] for f, pose in desc.frames.items() if f in shared]
+    points += [p for c in desc.joints for p in (c.anchor, c.anchor + c.axis)]
+    d = np.array(points) - points[0]
+    return np.linalg.matrix_rank(d, tol=1e-9) > 1
+
+
+def verify(urdf: str, mjcf: str):
+    with tempfile.TemporaryDirectory() as folder:
+        (Path(folder) / "r.urdf").write_text(urdf)
+        (Path(folder) / "r.xml").write_text(mjcf)
+        return verify_files(str(Path(folder) / "r.urdf"), str(Path(folder) / "r.xml"), FAST)
+
+
+def above_info(result) -> list[tuple[str, str]]:
+    return sorted((f.kind, f.subject) for f in result.findings if f.severity != "info")
+
+
+@SETTINGS
+@given(spec=arm_specs(max_joints=4), xyz=vectors(-1.0, 1.0), rpy=angles_rpy())
+def test_a_random_world_transform_is_recovered_exactly_and_alone(spec, xyz, rpy):
+    urdf, mjcf = generate_urdf(spec), generate_mjcf(spec)
+    assume(np.linalg.norm(xyz) > 1e-6 or max(abs(x) for x in rpy) > 1e-6)
+    assume(world_observable(describe_urdf(urdf), describe_mjcf(mjcf).frames))
+    result = verify(urdf, move_world(mjcf, xyz, rpy))
+    t = np.array(result.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"])
+    assert np.allclose(t[:3, 3], xyz, atol=1e-9) and np.allclose(t[:3, :3], rpy_to_matrix(rpy), atol=1e-9)
+    assert above_info(result) == [("base_transform", "")] and not result.failed
+
+
+@SETTINGS
+@given(spec=arm_specs(max_joints=4), data=st.data())
+def test_random_zero_offsets_and_reversed_axes_are_recovered_exactly_and_alone(spec, data):
+    urdf, mjcf = generate_urdf(spec), generate_mjcf(spec)
+    desc = describe_urdf(urdf)
+    expected = {}
+    for joint in desc.joints:
+        sign = data.draw(st.sampled_from([1, 1, -1]), label=f"sign {joint.name}")
+        if sign < 0 and not sign_observable(desc, joint.name, describe_mjcf(mjcf).frames):
+            sign = 1
+        span = math.pi if joint.type == "revolute" else 0.2
+        offset = data.draw(st.sampled_from([0.0, 0.0]) | st.floats(-span, span).filter(lambda x: abs(x) > 1e-3),
+                           label=f"offset {joint.name}")
+        if offset and not observable(desc, joint.name):
+            offset = 0.0
+        if sign < 0 or offset:
+            expected[joint.name] = (sign, offset)
+            mjcf = remap_joint(mjcf, joint.name, sign, offset)
+    assume(expected)
+    result = verify(urdf, mjcf)
+    joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
+    for name, j in joints.items():
+        sign, offset = expected.get(name, (1, 0.0))
+        gap = j["offset"] - offset
+        if j["type"] == "revolute":  # +π and −π are the same zero
+            gap = math.remainder(gap, 2 * math.pi)
+        assert j["sign"] == sign and abs(gap) <= 1e-9, (name, j, expected)
+    wanted = sorted([("axis_sign_flip", n) for n, (s, _) in expected.items() if s < 0]
+                    + [("zero_offset", n) for n, (_, o) in expected.items() if o])
+    assert above_info(result) == wanted and not result.failed

@@ -1,0 +1,99 @@
+"""File mode keeps mesh references whose files exist (package://, relative, meshdir) and drops
+the ones that are absent, with a warning either way."""
+
+from __future__ import annotations
+
+import re
+import struct
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from kinverify import load_spec
+from kinverify.filemode.pipeline import verify_files
+from kinverify.filemode.read.loading import load_mjcf, load_urdf, resolve_asset
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.run import VerifyOptions
+
+FAST = VerifyOptions(samples=20, fd_samples=5)
+
+
+def cube_stl(path: Path, half: float = 0.02) -> None:
+    """A binary STL cube (12 triangles, outward normals): the format MuJoCo reads."""
+    v = np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
+    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+             (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    data = bytearray(b"kinverify test cube".ljust(80, b" ") + struct.pack("<I", len(faces)))
+    for a, b, c in faces:
+        n = np.cross(v[b] - v[a], v[c] - v[a])
+        if np.dot(n, v[a] + v[b] + v[c]) < 0:
+            b, c = c, b
+            n = -n
+        data += struct.pack("<12fH", *(n / np.linalg.norm(n)), *v[a], *v[b], *v[c], 0)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(bytes(data))
+
+
+def ros_style_pair(tmp: Path) -> tuple[Path, Path]:
+    """arm3 as mypkg/urdf/arm3.urdf (meshes by package://) and mypkg/mjcf/arm3.xml (meshdir), with
+    one mesh present on link1 and one absent on link2 in each file."""
+    spec = load_spec("models/arm3.toml")
+    cube_stl(tmp / "mypkg" / "meshes" / "cube.stl")
+    urdf = generate_urdf(spec)
+    for link, name in (("link1", "cube.stl"), ("link2", "missing.stl")):
+        visual = f'<visual><geometry><mesh filename="package://mypkg/meshes/{name}"/></geometry></visual>'
+        urdf = re.sub(rf'(<link name="{link}">)', rf"\1{visual}", urdf, count=1)
+    mjcf = generate_mjcf(spec).replace('<compiler angle="radian"', '<compiler meshdir="../meshes" angle="radian"')
+    mjcf = mjcf.replace("  <worldbody>", '  <asset><mesh name="cube" file="cube.stl"/><mesh name="gone" file="missing.stl"/></asset>\n  <worldbody>', 1)
+    mjcf = re.sub(r'(<body name="link1"[^>]*>\n\s*<joint[^>]*/>)', r'\1<geom name="c1" type="mesh" mesh="cube"/>', mjcf, count=1)
+    mjcf = re.sub(r'(<body name="link2"[^>]*>\n\s*<joint[^>]*/>)', r'\1<geom name="c2" type="mesh" mesh="gone"/>', mjcf, count=1)
+    (tmp / "mypkg" / "urdf").mkdir(parents=True)
+    (tmp / "mypkg" / "mjcf").mkdir(parents=True)
+    paths = tmp / "mypkg" / "urdf" / "arm3.urdf", tmp / "mypkg" / "mjcf" / "arm3.xml"
+    paths[0].write_text(urdf)
+    paths[1].write_text(mjcf)
+    return paths
+
+
+def test_resolve_asset_forms(tmp_path):
+    cube_stl(tmp_path / "pkg" / "meshes" / "a.stl")
+    model_dir = tmp_path / "pkg" / "urdf"
+    model_dir.mkdir()
+    found = (tmp_path / "pkg" / "meshes" / "a.stl").resolve()
+    assert resolve_asset("package://pkg/meshes/a.stl", model_dir) == found
+    assert resolve_asset("../meshes/a.stl", model_dir) == found
+    assert resolve_asset(f"file://{found}", model_dir) == found
+    assert resolve_asset(str(found), model_dir) == found
+    assert resolve_asset("package://pkg/meshes/b.stl", model_dir) is None
+    assert resolve_asset("package://other/meshes/a.stl", model_dir) is None
+
+
+def test_existing_meshes_are_kept_and_absent_ones_dropped(tmp_path):
+    urdf_path, mjcf_path = ros_style_pair(tmp_path)
+    urdf, mjcf = load_urdf(str(urdf_path)), load_mjcf(str(mjcf_path))
+    cube = str((tmp_path / "mypkg" / "meshes" / "cube.stl").resolve())
+    assert f'filename="{cube}"' in urdf.text and "missing.stl" not in urdf.text
+    assert any("1 mesh visual/collision elements skipped" in w for w in urdf.warnings)
+    assert any("1 mesh references resolved" in w for w in urdf.warnings)
+    assert f'file="{cube}"' in mjcf.text and "missing.stl" not in mjcf.text and 'name="c2"' not in mjcf.text
+    assert any("1 mesh assets resolved" in w for w in mjcf.warnings)
+    model = mujoco.MjModel.from_xml_string(mjcf.text)  # loads from any folder: absolute path
+    assert model.nmesh == 1 and model.mesh_vertnum[0] == 8
+
+
+def test_file_mode_runs_with_a_resolved_mesh(tmp_path):
+    urdf_path, mjcf_path = ros_style_pair(tmp_path)
+    result = verify_files(str(urdf_path), str(mjcf_path), FAST)
+    assert result.verdict == "pass", [c for c in result.checks if not c.passed][:3]
+    assert any("resolved to existing files" in n for n in result.notes)
+
+
+def test_collada_meshes_do_not_stop_mujocos_urdf_import(tmp_path):
+    urdf_path, mjcf_path = ros_style_pair(tmp_path)
+    (tmp_path / "mypkg" / "meshes" / "visual.dae").write_text("<COLLADA/>")
+    text = urdf_path.read_text().replace("missing.stl", "visual.dae")
+    urdf_path.write_text(text)
+    assert ".dae" in load_urdf(str(urdf_path)).text  # kept: the file exists
+    result = verify_files(str(urdf_path), str(mjcf_path), FAST)
+    assert "mujoco-urdf" in result.backends and result.verdict == "pass"

@@ -1,0 +1,308 @@
+"""File mode on generated pairs: an identical pair agrees; each edit a real pair differs by is
+found once, by value, naming the joint or link, with the right verdict; what alignment explains
+is not a failure; bad input is one line (exit 2); kinverify's own failure exits 3 with a report."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tests.filemode.pairs as P
+from kinverify.cli import main
+from kinverify.errors import InputError
+from kinverify.filemode.pipeline import diagnose_files, verify_files
+from kinverify.results import VerifyResult
+from kinverify.run import VerifyOptions
+from tests.filemode.pairs import write_pair
+
+FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
+ALL = VerifyOptions(samples=8, fd_samples=4, extra={"dynamics_samples": 12})
+
+
+def run(tmp_path, edit=None, model="panda", options=FAST, **kwargs):
+    urdf, mjcf = P.generated_pair(model)
+    if edit is not None:
+        urdf, mjcf = edit(urdf, mjcf)
+    return verify_files(*write_pair(tmp_path, urdf, mjcf), options, **kwargs)
+
+
+def above_info(result) -> list:
+    return [f for f in result.findings if f.severity != "info"]
+
+
+def only(result, kind: str):
+    hits = [f for f in result.findings if f.kind == kind]
+    assert len(hits) == 1, [(f.kind, f.label) for f in result.findings]
+    return hits[0]
+
+
+@pytest.mark.parametrize("model", ["panda", "scara", "lift"])
+def test_a_generated_pair_agrees_with_every_library(tmp_path, model):
+    result = run(tmp_path, model=model, options=ALL)
+    assert result.passed, ([c for c in result.failed], above_info(result))
+    assert {f.kind for f in result.findings} <= {"world_parts", "inexpressible"}  # the generator's mount body, armature
+    assert {"pinocchio-urdf", "yourdfpy", "mujoco-urdf", "mujoco", "pinocchio-mjcf"} <= set(result.backends)
+    assert {"kinematics", "limits", "inertia", "dynamics"} <= set(result.timings)
+    data = result.to_dict()
+    assert VerifyResult.from_dict(data).findings == result.findings
+    assert np.allclose(data["sections"]["filemode"]["data"]["alignment"]["T_mjcf_from_urdf"], np.eye(4))
+
+
+# --- what alignment solves: one finding each, the checks compare after it -----------------------
+
+@pytest.mark.parametrize("angle,xyz", [(math.pi / 4, None), (math.pi, None), (0.3, [0.1, -0.2, 0.3])])
+def test_a_turned_world_is_one_finding_and_the_rest_agrees(tmp_path, angle, xyz):
+    result = run(tmp_path, lambda u, m: P.turned_world(u, m, angle, xyz))
+    f = only(result, "base_transform")
+    assert f.severity == "error" and f.magnitude == pytest.approx(max(angle, np.linalg.norm(xyz or [0])), abs=1e-12)
+    assert f.values["rpy"] == pytest.approx([0, 0, angle], abs=1e-12)
+    assert f.values["xyz"] == pytest.approx(xyz or [0, 0, 0], abs=1e-12)
+    assert [x.kind for x in above_info(result)] == ["base_transform"]
+    assert not result.failed and result.verdict == "fail"
+
+
+def test_pinocchios_mjcf_parser_dropping_the_top_level_pose_is_information_with_its_size(tmp_path):
+    result = run(tmp_path, lambda u, m: P.turned_world(u, m, math.pi / 4), options=ALL)
+    quirk = only(result, "parser_quirk")
+    assert quirk.severity == "info" and quirk.magnitude == pytest.approx(math.pi / 4, abs=1e-12) and "2782" in quirk.message
+    assert "pinocchio-mjcf" in result.backends and not result.failed
+
+
+@pytest.mark.parametrize("joint,offset", [("panda_joint4", 0.1), ("panda_joint1", -1.2), ("panda_joint6", math.pi / 2)])
+def test_a_joint_zero_offset_is_one_finding_and_limits_are_compared_after_it(tmp_path, joint, offset):
+    result = run(tmp_path, lambda u, m: P.offset_zero(u, m, joint, offset))
+    f = only(result, "zero_offset")
+    assert f.subject == joint and f.values["offset"] == pytest.approx(offset, abs=1e-12)
+    assert [x.kind for x in above_info(result)] == ["zero_offset"] and not result.failed
+
+
+def test_a_reversed_axis_is_one_finding(tmp_path):
+    result = run(tmp_path, P.flipped_axis)
+    assert only(result, "axis_sign_flip").subject == "panda_joint3"
+    assert [x.kind for x in above_info(result)] == ["axis_sign_flip"] and not result.failed
+
+
+def test_renamed_joints_are_matched_and_said_once(tmp_path):
+    result = run(tmp_path, P.renamed_joints)
+    assert result.passed and only(result, "joint_names").values["pairs"][0][:2] == ["panda_joint1", "J1"]
+
+
+def test_a_frame_turned_by_a_constant_is_a_convention_compared_after_removing_it(tmp_path):
+    def turned_flange(urdf, mjcf):
+        return urdf, re.sub(r'(<site name="flange"[^>]*?)/>', r'\1 quat="0 0 0 1"/>', mjcf, count=1)
+    result = run(tmp_path, turned_flange)
+    f = only(result, "frame_convention")
+    assert f.subject == "flange" and f.magnitude == pytest.approx(math.pi, abs=1e-12) and result.passed
+
+
+# --- what one file has and the other lacks ----------------------------------------------------
+
+def test_a_fixed_link_merged_into_its_parent_is_information(tmp_path):
+    result = run(tmp_path, P.merged_fixed_link, model="arm3")
+    f = only(result, "lumped_links")
+    assert f.subject == "tool" and f.magnitude == pytest.approx(P.TOOL["mass"], rel=1e-12)
+    assert result.passed, above_info(result)
+
+
+def test_an_extra_flange_is_matched_by_position_with_its_offset(tmp_path):
+    result = run(tmp_path, P.extra_flange)
+    f = only(result, "frame_twin")
+    assert (f.subject, f.other) == ("tool_flange", "flange") and f.magnitude == pytest.approx(0.0165, abs=1e-12)
+    assert result.passed
+
+
+def test_a_gripper_in_one_file_only_is_one_error_with_its_mass(tmp_path):
+    result = run(tmp_path, P.gripper_in_mjcf)
+    f = only(result, "extra_parts")
+    assert f.severity == "error" and f.values["file"] == "MJCF" and f.values["joints"] == ["gripper_joint"]
+    assert f.magnitude == pytest.approx(0.1, rel=1e-12)
+    assert [x.kind for x in above_info(result)] == ["extra_parts"] and not result.failed and result.verdict == "fail"
+
+
+# --- values: rounding passes, units and real differences fail, once ---------------------------
+
+def test_values_rounded_to_six_digits_are_information_and_pass(tmp_path):
+    result = run(tmp_path, P.rounded_mjcf)
+    assert result.passed, above_info(result)
+    assert [f.values["file"] for f in result.findings if f.kind == "rounding"] == ["MJCF"]
+
+
+def test_joint_ranges_read_in_degrees_are_one_finding(tmp_path):
+    result = run(tmp_path, P.degrees_mjcf)
+    f = only(result, "limit_units")
+    assert f.subject == ", ".join(f"panda_joint{i}" for i in range(1, 8)) and "degrees" in f.message
+    assert [x.kind for x in above_info(result)] == ["limit_units"]
+
+
+def test_masses_in_grams_are_one_finding(tmp_path):
+    result = run(tmp_path, P.grams_mjcf)
+    assert only(result, "mass_units").magnitude == pytest.approx(1000, rel=1e-9)
+    assert [x.kind for x in above_info(result)] == ["mass_units"]
+
+
+@pytest.mark.parametrize("edit,kind,subject,magnitude", [
+    (P.heavier_link, "mass_difference", "panda_link4", 0.2 * 3.587895),
+    (P.upper_limit, "limit_difference", "panda_joint2", 0.2),
+    (P.friction_added, "friction_difference", "panda_joint5", 0.3),
+    (P.moved_axis, "axis_position", "panda_joint3", 1e-3),
+])
+def test_a_real_difference_fails_with_one_error_finding_by_value(tmp_path, edit, kind, subject, magnitude):
+    result = run(tmp_path, edit)
+    f = only(result, kind)
+    assert f.severity == "error" and f.subject == subject and f.magnitude == pytest.approx(magnitude, rel=1e-6)
+    assert [x.kind for x in above_info(result)] == [kind]
+    assert result.verdict == "fail" and result.exit_code == 1 and not result.failed  # explained checks do not count twice
+
+
+def test_swapped_inertia_axes_are_found_with_their_size(tmp_path):
+    result = run(tmp_path, P.swapped_inertia)
+    f = only(result, "inertia_rotated")
+    assert f.subject == "panda_link3" and f.values["axes"] and f.magnitude > 1e-3
+    explained = [c for c in result.checks if c.property == "inertia.tensor"]
+    assert explained and explained[0].kind == "explained" and "inertia_rotated" in explained[0].note
+
+
+def test_a_joint_type_difference_explains_the_kinematics_and_dynamics_it_breaks(tmp_path):
+    result = run(tmp_path, P.slide_joint)
+    assert only(result, "type_difference").subject == "panda_joint7"
+    failing = [c for c in result.checks if not c.passed]
+    assert failing and all(c.kind == "explained" for c in failing)
+
+
+# --- acceptance ------------------------------------------------------------------------------
+
+def test_accepted_differences_pass_and_a_changed_one_fails(tmp_path):
+    accepted = tmp_path / "kinverify-accepted.toml"
+    first = run(tmp_path, P.friction_added, write_accepted=str(accepted))
+    assert first.verdict == "fail" and 'kind = "friction_difference"' in accepted.read_text()
+    again = run(tmp_path, P.friction_added)  # the file beside the URDF is read by default
+    assert again.passed and only(again, "friction_difference").accepted
+    changed = run(tmp_path, lambda u, m: (u, P.joint_attr(m, "panda_joint5", "frictionloss", lambda v: "0.4")))
+    f = only(changed, "friction_difference")
+    assert not f.accepted and "accepted at 0.3" in f.message and changed.verdict == "fail"
+    new = run(tmp_path, lambda u, m: P.upper_limit(*P.friction_added(u, m)))
+    assert new.verdict == "fail" and [f.kind for f in new.failing_findings] == ["limit_difference"]
+
+
+def test_a_broken_accepted_file_is_a_one_line_error(tmp_path, capsys):
+    urdf, mjcf = write_pair(tmp_path, *P.generated_pair("arm3"))
+    (tmp_path / "bad.toml").write_text("[[accepted]]\nkind = 3\n")
+    code = main(["verify", "--urdf", urdf, "--mjcf", mjcf, "--accept", str(tmp_path / "bad.toml"), "--quiet",
+                 "--json", str(tmp_path / "r.json"), "--report", str(tmp_path / "r.html")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "bad.toml" in err and not (tmp_path / "r.json").exists()
+
+
+# --- never crash -----------------------------------------------------------------------------
+
+def test_a_link_and_a_joint_named_alike_are_read_by_their_type(tmp_path):
+    def clash(urdf, mjcf):
+        return urdf.replace('"end_effector"', '"joint3"'), mjcf.replace('"end_effector"', '"joint3"')
+    result = run(tmp_path, clash, model="arm3", options=ALL)
+    assert result.passed and "joint3" in result.frames and "pinocchio-urdf" in result.backends
+
+
+def test_mimic_joints_are_driven_by_their_leader_in_every_library(tmp_path):
+    def gripper(urdf, mjcf):
+        links = ('<link name="f1"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" '
+                 'iyz="0"/></inertial></link><link name="f2"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" '
+                 'izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+                 '<joint name="g1" type="prismatic"><parent link="link3"/><child link="f1"/><axis xyz="0 1 0"/>'
+                 '<limit lower="0" upper="0.04" effort="10" velocity="1"/></joint>'
+                 '<joint name="g2" type="prismatic"><parent link="link3"/><child link="f2"/><axis xyz="0 -1 0"/>'
+                 '<limit lower="0" upper="0.04" effort="10" velocity="1"/><mimic joint="g1"/></joint>')
+        bodies = ('<body name="f1"><joint name="g1" type="slide" axis="0 1 0" range="0 0.04"/><inertial pos="0 0 0" '
+                  'mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body><body name="f2"><joint name="g2" type="slide" '
+                  'axis="0 -1 0" range="0 0.04"/><inertial pos="0 0 0" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>')
+        return (urdf.replace("</robot>", links + "</robot>"),
+                P.sub_once(r'(<body name="link3"[^>]*>)', lambda m: m[1] + bodies, mjcf)
+                .replace("</mujoco>", '<equality><joint joint1="g2" joint2="g1"/></equality></mujoco>'))
+    result = run(tmp_path, gripper, model="arm3", options=ALL)
+    assert "yourdfpy" in result.backends and not [f for f in result.findings if f.kind == "parser_refused"]
+    assert result.joint_names == ["joint1", "joint2", "joint3", "g1"] and result.passed, above_info(result)
+
+
+def test_a_mesh_mujoco_cannot_read_is_dropped_with_a_warning(tmp_path):
+    (tmp_path / "broken.stl").write_bytes(b"not a mesh at all")
+
+    def broken_mesh(urdf, mjcf):
+        return urdf, mjcf.replace("<worldbody>", '<asset><mesh name="broken" file="broken.stl"/></asset><worldbody>', 1) \
+            .replace('<body name="link3" pos="0.0 0.0 0.25">', '<body name="link3" pos="0.0 0.0 0.25"><geom type="mesh" '
+                     'mesh="broken" mass="0"/>', 1)
+    result = run(tmp_path, broken_mesh, model="arm3")
+    refused = only(result, "parser_refused")
+    assert refused.severity == "warning" and "mesh" in refused.message and result.passed
+
+
+def test_a_joint_type_one_library_lacks_is_a_finding_not_a_crash(tmp_path):
+    def planar(urdf, mjcf):
+        extra = ('<link name="slider"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" '
+                 'ixz="0" iyz="0"/></inertial></link><joint name="plane" type="planar"><parent link="link3"/>'
+                 '<child link="slider"/><axis xyz="0 0 1"/></joint>')
+        return urdf.replace("</robot>", extra + "</robot>"), mjcf
+    result = run(tmp_path, planar, model="arm3", options=ALL)
+    assert result.verdict in ("pass", "fail") and not result.internal_errors
+    assert any("plane" in n for n in result.notes)
+
+
+def test_kinverifys_own_failure_exits_3_and_still_writes_the_report(tmp_path, monkeypatch, capsys):
+    import kinverify.filemode.align.run as align_stage
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("planted")
+    monkeypatch.setattr(align_stage, "align", broken)
+    urdf, mjcf = write_pair(tmp_path, *P.generated_pair("arm3"))
+    code = main(["verify", "--urdf", urdf, "--mjcf", mjcf, "--samples", "4", "--backends", "pinocchio-urdf,mujoco", "--quiet",
+                 "--json", str(tmp_path / "r.json"),
+                 "--report", str(tmp_path / "r.html")])
+    out = capsys.readouterr().out
+    assert code == 3 and "internal error" in out and "planted" in out
+    assert (tmp_path / "r.json").exists() and (tmp_path / "r.html").exists()
+    monkeypatch.setattr("kinverify.filemode.pipeline.read_mjcf", broken)
+    result = verify_files(urdf, mjcf, FAST)
+    assert result.verdict == "error" and result.exit_code == 3 and "planted" in result.internal_errors[0]
+
+
+# --- bad input -------------------------------------------------------------------------------
+
+XXE = '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="r">&x;</robot>'
+FIXED_ONLY = '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>'
+SLIDER = ('<mujoco model="s"><worldbody><body name="b"><joint name="slider" type="slide" axis="1 0 0"/>'
+          '<inertial pos="0 0 0" mass="1" diaginertia="0.1 0.1 0.1"/></body></worldbody></mujoco>')
+
+
+@pytest.mark.parametrize("case,message", [
+    ("missing", "is not a file"), ("not_xml", "is not XML"), ("urdf_as_mjcf", "is a URDF, not an MJCF"),
+    ("xxe", "entities"), ("no_movable", "no movable"), ("no_common", "no common joints"),
+])
+def test_bad_input_is_a_one_line_input_error(tmp_path, case, message, capsys):
+    urdf, mjcf = write_pair(tmp_path, *P.generated_pair("arm3"))
+    if case == "missing":
+        urdf = str(tmp_path / "absent.urdf")
+    elif case == "not_xml":
+        Path(mjcf).write_text("this is not xml <")
+    elif case == "urdf_as_mjcf":
+        mjcf = urdf
+    elif case == "xxe":
+        Path(urdf).write_text(XXE)
+    elif case == "no_movable":
+        Path(urdf).write_text(FIXED_ONLY)
+    elif case == "no_common":
+        Path(mjcf).write_text(SLIDER)
+    with pytest.raises(InputError, match=message):
+        verify_files(urdf, mjcf, FAST)
+    code = main(["verify", "--urdf", urdf, "--mjcf", mjcf, "--samples", "5", "--json", str(tmp_path / "r.json"),
+                 "--report", str(tmp_path / "r.html")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and message in err
+
+
+def test_diagnose_files_reports_the_alignment_before_any_suite_runs(tmp_path):
+    urdf, mjcf = P.turned_half(*P.generated_pair("panda"))
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf))
+    assert np.allclose(diag["alignment"].T[:3, :3], np.diag([-1, -1, 1]), atol=1e-12)
+    assert diag["reference"] == "pinocchio-urdf" and [f.kind for f in diag["findings"]][:1] == ["base_transform"]
