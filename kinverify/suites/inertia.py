@@ -92,6 +92,12 @@ def _describe(r) -> str:
     return text + (f" (including {', '.join(lumped)}, fixed to it in one file only)" if lumped else "")
 
 
+def _alike(x: float) -> float:
+    """A value to 4 significant digits, as the messages print it: bodies whose values agree so far
+    (the fingers of a hand, mirrored legs) differ the same way and are one finding."""
+    return float(f"{x:.4g}")
+
+
 def _vec(v) -> str:
     return "[" + ", ".join(f"{x:.4g}" for x in v) + "]"
 
@@ -99,8 +105,8 @@ def _vec(v) -> str:
 def body_findings(results, info) -> list[Finding]:
     """One finding per rigid body that differs (the same difference on several bodies is one
     finding); one ``rounding`` finding when bodies agree only to the written precision."""
-    from kinverify.filemode.findings.table import finding
     from kinverify.filemode.compare.inertials import rounded_side
+    from kinverify.filemode.findings.table import finding
 
     out: list[Finding] = []
     if info.inertials_explained_by:
@@ -112,8 +118,8 @@ def body_findings(results, info) -> list[Finding]:
     for r in results:
         if r.status != "differs":
             continue
-        key = (_kind(r), round(r.urdf.mass, 9), round(r.mjcf.mass, 9), round(r.diff.com, 9), round(r.diff.tensor, 12),
-               tuple(round(x, 12) for x in r.tensors["urdf_principal"]), tuple(round(x, 12) for x in r.tensors["mjcf_principal"]))
+        key = (_kind(r),) + tuple(_alike(x) for x in (r.urdf.mass, r.mjcf.mass, r.diff.com, r.diff.tensor,
+                                                         *r.tensors["urdf_principal"], *r.tensors["mjcf_principal"]))
         signature.setdefault(key, []).append(r)
     for (kind, *_), group in signature.items():
         r = group[0]
@@ -149,8 +155,8 @@ def body_findings(results, info) -> list[Finding]:
 
 def _mass_units(results, info) -> Finding | None:
     """Every body's mass a constant multiple of the other file's (grams as kilograms): one finding."""
-    from kinverify.filemode.findings.table import finding, unit_factor
     from kinverify.filemode.compare.inertials import uniform_mass_ratio
+    from kinverify.filemode.findings.table import finding, unit_factor
 
     ratio = uniform_mass_ratio(info.inertial_results or results)
     name = unit_factor(ratio, "mass") if ratio is not None else None

@@ -44,6 +44,11 @@ def _error(x: float | None, y: float | None) -> float | None:
     return math.inf if not (math.isfinite(x) and math.isfinite(y)) else abs(x - y)
 
 
+def _silent(joint, value: str) -> bool:
+    """Whether the file leaves ``value`` ("range", "effort") of this joint unset."""
+    return joint.stated is not None and value not in joint.stated
+
+
 class LimitsSuite(Suite):
     name = "limits"
     title = "Joint limits: URDF vs MJCF"
@@ -108,7 +113,8 @@ class LimitsSuite(Suite):
                    "revolute": ju.type == "revolute", "pair": ("urdf", "mjcf"), "lower": (lo, jmj.lower),
                    "upper": (up, jmj.upper), "effort": (ju.effort, jmj.effort), "effort_how": jmj.effort_how,
                    "limits.position": max(pos), "limits.effort": _error(ju.effort, jmj.effort),
-                   "limits.velocity": None, "velocity_urdf": ju.velocity}
+                   "limits.velocity": None, "velocity_urdf": ju.velocity,
+                   "unset": {v: "URDF" if _silent(ju, v) else "MJCF" if _silent(jmj, v) else "" for v in ("range", "effort")}}
             if jm.urdf in spec_joints and ju.velocity is not None:
                 row["limits.velocity"] = abs(spec_joints[jm.urdf].limits.velocity - ju.velocity)
             rows.append(row)
@@ -117,8 +123,8 @@ class LimitsSuite(Suite):
 
 def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
     """Differences above tolerance as findings, one per cause; rounding as one info per file."""
-    from kinverify.filemode.findings.table import finding
     from kinverify.filemode.compare.inertials import rounded_side
+    from kinverify.filemode.findings.table import finding
 
     out, rounded, degrees, unlimited, other = [], [], [], {}, []
     tol = tolerances.get("limits.position", 1e-9)
@@ -146,6 +152,20 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
                                                 "checks": [["limits.position", "joints"]]},
                            magnitude=r["limits.position"], unit=unit(r), prop="limits.position", joint=r["joint"], mjcf_joint=r["mjcf"]))
     for side, group in unlimited.items():
+        silent = [r for r in group if r["unset"]["range"] == side]
+        if silent:
+            other = "MJCF" if side == "URDF" else "URDF"
+            out.append(finding("limit_unset", f"the {side} leaves {len(silent)} joints without limits (no range stated: "
+                               f"unlimited by default); the {other} limits them: " + ", ".join(
+                                   f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, "
+                                   f"{r['upper'][0 if side == 'MJCF' else 1]:.6g}]" for r in silent),
+                               {"unset_in": side, "urdf": [[r["lower"][0], r["upper"][0]] for r in silent],
+                                "mjcf": [[r["lower"][1], r["upper"][1]] for r in silent], "checks": [["limits.position", "joints"]]},
+                               magnitude=math.inf, unit="rad", prop="limits.position",
+                               joint=[r["joint"] for r in silent], mjcf_joint=[r["mjcf"] for r in silent]))
+            group = [r for r in group if r not in silent]
+        if not group:
+            continue
         out.append(finding("limit_difference", f"{len(group)} joints are unlimited in the {side} and limited in the other file: "
                            + ", ".join(f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, "
                                        f"{r['upper'][0 if side == 'MJCF' else 1]:.6g}]" for r in group),
@@ -204,6 +224,15 @@ def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
                   "mjcf_from": [r["effort_how"] for r in group], "checks": [["limits.effort", "joints"]]}
         if key[0] == "unbounded":
             side = "MJCF" if key[1] else "URDF"
+            if all(r["unset"]["effort"] == side for r in group):
+                other = "URDF" if side == "MJCF" else "MJCF"
+                msg = (f"the {side} leaves the force on {len(group)} joints unbounded (" + "; ".join(
+                    f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'no effort'}" for r in group[:3])
+                    + ("; …" if len(group) > 3 else "") + f"); the {other} limits it to "
+                    + ", ".join(f"{r['effort'][0 if side == 'MJCF' else 1]:g}" for r in group) + f" {unit}")
+                out.append(finding("effort_unset", msg, {**values, "unset_in": side}, magnitude=math.inf, unit=unit,
+                                   prop="limits.effort", **names))
+                continue
             msg = (f"{len(group)} joints: the {side}'s actuators put no bound on the joint force ("
                    + "; ".join(f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'URDF'}" for r in group[:3])
                    + ("; …" if len(group) > 3 else "") + "), the other file limits it to "

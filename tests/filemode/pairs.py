@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 
@@ -174,3 +175,41 @@ def write_pair(folder: Path, urdf: str, mjcf: str) -> tuple[str, str]:
     (folder / "robot.urdf").write_text(urdf)
     (folder / "robot.xml").write_text(mjcf)
     return str(folder / "robot.urdf"), str(folder / "robot.xml")
+
+
+def _quat_mul(a, b):
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+
+
+def reframed_body(mjcf: str, body: str, angle: float) -> str:
+    """The MJCF with ``body``'s frame turned by ``angle`` about its own z axis (the joint axis in a
+    generated file) and everything written in that frame turned back: the same robot, another
+    choice of link frame, as a maintainer writing the file by hand might make."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.fromstring(mjcf)
+    el = next(b for b in root.iter("body") if b.get("name") == body)
+    q = np.array([math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)])
+    c, s = math.cos(angle), math.sin(angle)
+    back = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])  # R⁻¹: body coordinates in the new frame
+    old = np.array([float(x) for x in el.get("quat", "1 0 0 0").split()])
+    el.set("quat", " ".join(repr(float(x)) for x in _quat_mul(old, q)))
+    fmt = lambda v: " ".join(repr(float(x)) for x in v)  # noqa: E731
+    for child in el:
+        for attr in ("pos", "axis"):
+            if child.get(attr):
+                child.set(attr, fmt(back @ np.array([float(x) for x in child.get(attr).split()])))
+        if child.get("fromto"):
+            v = np.array([float(x) for x in child.get("fromto").split()])
+            child.set("fromto", fmt(np.concatenate([back @ v[:3], back @ v[3:]])))
+        if child.tag in ("body", "site") or (child.tag == "inertial" and child.get("quat")):
+            qc = np.array([float(x) for x in child.get("quat", "1 0 0 0").split()])
+            child.set("quat", fmt(_quat_mul(q * [1, -1, -1, -1], qc)))
+        if child.tag == "inertial" and child.get("fullinertia"):
+            xx, yy, zz, xy, xz, yz = (float(x) for x in child.get("fullinertia").split())
+            i = back @ np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]) @ back.T
+            child.set("fullinertia", fmt([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]))
+    return ET.tostring(root, encoding="unicode")

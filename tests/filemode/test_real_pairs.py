@@ -79,14 +79,16 @@ def test_panda_rounding_convention_and_tool_frame_are_information():
 
 
 def test_iiwa14_has_three_swapped_inertias_damping_and_unbounded_actuators():
-    assert serious("iiwa14") == [("damping_difference", "error"), ("effort_difference", "error")] + \
-        [("inertia_rotated", "error")] * 3
+    # the MJCF states no damping and its position servos no force bound: unset, so warnings
+    assert serious("iiwa14") == [("damping_unset", "warning"), ("effort_unset", "warning")] + [("inertia_rotated", "error")] * 3
     swaps = {f.subject: f.magnitude for f in findings("iiwa14", "inertia_rotated")}
     assert swaps == pytest.approx({"iiwa_link_1": 3e-4, "iiwa_link_2": 0.0194, "iiwa_link_4": 0.0104}, rel=1e-9)
     assert all(f.values["axes"] and "90°" in f.message for f in findings("iiwa14", "inertia_rotated"))
-    effort = one("iiwa14", "effort_difference")
+    effort = one("iiwa14", "effort_unset")
     assert effort.magnitude == math.inf and effort.values["urdf"] == [320.0, 320.0, 176.0, 176.0, 110.0, 40.0, 40.0]
-    assert one("iiwa14", "damping_difference").values == {"urdf": 0.5, "mjcf": 0.0, "checks": [["dynamics.damping", "parameters"]]}
+    assert effort.values["unset_in"] == "MJCF" and "the MJCF leaves the force on 7 joints unbounded" in effort.message
+    damping = one("iiwa14", "damping_unset")
+    assert (damping.values["urdf"], damping.values["mjcf"], damping.values["unset_in"]) == (0.5, 0.0, "MJCF")
 
 
 def test_iiwa14_limits_rounding_end_effector_and_drake_rotors_are_information():
@@ -99,12 +101,12 @@ def test_iiwa14_limits_rounding_end_effector_and_drake_rotors_are_information():
 
 
 def test_z1_lacks_the_gripper_in_the_mjcf_and_bounds_no_torque():
-    assert serious("z1") == [("effort_difference", "error"), ("extra_parts", "error")]
+    assert serious("z1") == [("effort_unset", "warning"), ("extra_parts", "error")]
     gripper = one("z1", "extra_parts")
     assert gripper.values["file"] == "URDF" and gripper.values["joints"] == ["jointGripper"]
     assert {p["name"]: p["mass"] for p in gripper.values["links"]} == {"gripperStator": 0.52603655, "gripperMover": 0.27621302}
     assert gripper.magnitude == pytest.approx(0.80224957, abs=1e-8)
-    effort = one("z1", "effort_difference")
+    effort = one("z1", "effort_unset")  # motors with no ctrlrange and no forcerange
     assert effort.magnitude == math.inf and effort.values["urdf"] == [30.0, 60.0, 30.0, 30.0, 30.0, 30.0]
     total = one("z1", "total_mass")
     assert (total.values["urdf"], total.values["mjcf"]) == pytest.approx((5.22096983, 4.418719), abs=1e-9)
@@ -112,7 +114,7 @@ def test_z1_lacks_the_gripper_in_the_mjcf_and_bounds_no_torque():
 
 
 def test_go2_differs_in_rotor_masses_calves_and_joint_dynamics():
-    assert serious("go2") == [("damping_difference", "error"), ("extra_parts", "error"), ("friction_difference", "error"),
+    assert serious("go2") == [("damping_unset", "warning"), ("extra_parts", "error"), ("friction_unset", "warning"),
                               ("inexpressible", "warning"), ("mass_difference", "error")]
     rotors = one("go2", "extra_parts")
     assert len(rotors.values["links"]) == 12 and all(p["name"].endswith("_rotor") and p["mass"] == 0.089
@@ -121,7 +123,9 @@ def test_go2_differs_in_rotor_masses_calves_and_joint_dynamics():
     calves = one("go2", "mass_difference")
     assert calves.subject == "FL_calf, FR_calf, RL_calf, RR_calf"
     assert calves.magnitude == pytest.approx(0.047352, abs=1e-9) and calves.values["com_distance_m"] == pytest.approx(6.5e-3, abs=1e-4)
-    assert (one("go2", "damping_difference").values["mjcf"], one("go2", "friction_difference").values["mjcf"]) == (2.0, 0.2)
+    damping, friction = one("go2", "damping_unset"), one("go2", "friction_unset")  # the URDF has no <dynamics>
+    assert (damping.values["mjcf"], friction.values["mjcf"]) == (2.0, 0.2)
+    assert damping.values["unset_in"] == friction.values["unset_in"] == "URDF"
     assert one("go2", "total_mass").values["difference_kg"] == pytest.approx(-0.878592, abs=1e-9)
 
 

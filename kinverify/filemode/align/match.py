@@ -1,7 +1,11 @@
 """Matching the URDF's joints and frames to the MJCF's: by name, by name without the prefix (or
 suffix) the file puts on its names (``panda_joint1`` ~ ``joint1``, ``iiwa_joint_1`` ~ ``joint1``),
-then by chain order, checked by the angle between consecutive axes (independent of the base frame,
-of zero offsets and of sign conventions). Frames: each joint pair's moving frames, the frames the
+then by place in the kinematic tree: the joints hanging from one matched joint (or from the base)
+are paired by type, by the size of what hangs from them, and by how their axis lines lie to each
+other and to their parent's axis (distances between lines and angles between axes: independent of
+the base frame, of zero offsets, of where each file puts a joint's origin along its axis and of
+sign conventions), which tells the fingers of a hand or the legs of a robot apart; what is left,
+by chain order, checked by the angle between consecutive axes. Frames: each joint pair's moving frames, the frames the
 first joints hang from, then frames of the same (normalised) name that move with the same joint.
 Coupled joints (URDF ``<mimic>``, MJCF ``<equality joint>``) are matched like the others; the
 follower of a coupling is computed from its leader, not sampled.
@@ -9,6 +13,7 @@ follower of a coupling is computed from its leader, not sampled.
 
 from __future__ import annotations
 
+import itertools
 import os
 import re
 from collections import Counter
@@ -17,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kinverify.errors import InputError, UnknownNameError
+from kinverify.filemode.align.geometry import line_distance
 from kinverify.filemode.read.model import Coupling, ModelDesc
 
 
@@ -83,6 +89,86 @@ def _by_key(u_names, m_names, key_u, key_m) -> list[tuple[str, str]]:
     return pairs
 
 
+MAX_PERMUTED = 7  # siblings paired by trying every assignment; above this, greedily
+
+
+def _descendants(desc: ModelDesc) -> dict[str, int]:
+    """Joint -> how many joints hang below it."""
+    children: dict[str | None, list[str]] = {}
+    for j in desc.joints:
+        children.setdefault(j.parent, []).append(j.name)
+
+    def count(name: str) -> int:
+        return sum(1 + count(c) for c in children.get(name, []))
+
+    return {j.name: count(j.name) for j in desc.joints}
+
+
+def _layout(desc: ModelDesc, names: list[str], parent: str | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """How sibling joints lie: distances between their axis lines, |cos| of the angles between
+    their axes, and each one's (distance, |cos|) to its parent's axis (zeros on the base)."""
+    js = [desc.joint(n) for n in names]
+    n = len(js)
+    dist, cos = np.zeros((n, n)), np.zeros((n, n))
+    for i, j in itertools.combinations(range(n), 2):
+        dist[i, j] = dist[j, i] = line_distance(js[i].anchor, js[i].axis, js[j].anchor, js[j].axis)
+        cos[i, j] = cos[j, i] = abs(float(js[i].axis @ js[j].axis))
+    to_parent = np.zeros((n, 2))
+    if parent is not None:
+        p = desc.joint(parent)
+        to_parent = np.array([[line_distance(p.anchor, p.axis, j.anchor, j.axis), abs(float(p.axis @ j.axis))] for j in js])
+    return dist, cos, to_parent
+
+
+def _pair_siblings(u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], parents: tuple, sizes: tuple) -> list[tuple[str, str]]:
+    """The assignment of sibling joints (same matched parent) that best keeps their types, what
+    hangs below them and how their axes lie (see the module docstring)."""
+    lu, lm = _layout(u, cu, parents[0]), _layout(m, cm, parents[1])
+    scale = max(1e-3, float(lu[0].max(initial=0.0)), float(lm[0].max(initial=0.0)))
+
+    def cost(iu: tuple, im: tuple) -> float:
+        c = sum(1e3 * (u.joint(cu[a]).type != m.joint(cm[b]).type) + abs(sizes[0][cu[a]] - sizes[1][cm[b]])
+                + abs(lu[2][a, 0] - lm[2][b, 0]) / scale + abs(lu[2][a, 1] - lm[2][b, 1]) for a, b in zip(iu, im))
+        for (a1, b1), (a2, b2) in itertools.combinations(list(zip(iu, im)), 2):
+            c += abs(lu[0][a1, a2] - lm[0][b1, b2]) / scale + abs(lu[1][a1, a2] - lm[1][b1, b2])
+        return c
+
+    k = min(len(cu), len(cm))
+    if max(len(cu), len(cm)) <= MAX_PERMUTED:
+        options = ((iu, im) for iu in itertools.combinations(range(len(cu)), k) for im in itertools.permutations(range(len(cm)), k))
+        iu, im = min(options, key=lambda o: cost(*o))
+    else:  # many siblings: each takes its best remaining partner, in order
+        iu, im = [], []
+        for a in range(len(cu)):
+            rest = [b for b in range(len(cm)) if b not in im]
+            if rest:
+                iu.append(a)
+                im.append(min(rest, key=lambda b: cost(tuple(iu), tuple(im) + (b,))))
+    return [(cu[a], cm[b]) for a, b in zip(iu, im) if u.joint(cu[a]).type == m.joint(cm[b]).type]
+
+
+def _by_tree(u: ModelDesc, m: ModelDesc, pairs: list, free_u: list[str], free_m: list[str]) -> list[tuple[str, str]]:
+    """Unmatched joints paired by their place in the tree, from the base down (see the module docstring)."""
+    sizes = (_descendants(u), _descendants(m))
+    matched = {a: b for a, b, _ in pairs}
+    free_u, free_m = list(free_u), list(free_m)
+    found: list[tuple[str, str]] = []
+    queue: list[tuple[str | None, str | None]] = [(None, None)] + [(a, b) for a, b, _ in pairs]
+    while queue:
+        pu, pm = queue.pop(0)
+        cu = [n for n in free_u if u.joint(n).parent == pu]
+        cm = [n for n in free_m if m.joint(n).parent == pm]
+        if not cu or not cm:
+            continue
+        for a, b in _pair_siblings(u, m, cu, cm, (pu, pm), sizes):
+            found.append((a, b))
+            matched[a] = b
+            free_u.remove(a)
+            free_m.remove(b)
+            queue.append((a, b))
+    return found
+
+
 def _twist(desc: ModelDesc, name: str) -> float | None:
     """|cos| of the angle between a joint's axis and its parent joint's: base-frame independent."""
     j = desc.joint(name)
@@ -115,8 +201,10 @@ def match_joints(u: ModelDesc, m: ModelDesc, explicit=()) -> tuple[list[tuple[st
         pairs.append((a, b, "name without prefix"))
     for a, b in _by_key(free(0), free(1), _numbers(u_names), _numbers(m_names)):
         pairs.append((a, b, "number in the name"))
-    # Chain order: the remaining joints of each file's main chain, paired in order when the types
-    # agree and the angle to the parent axis (independent of the base frame) agrees.
+    for a, b in _by_tree(u, m, pairs, free(0), free(1)):
+        pairs.append((a, b, "place in the tree"))
+    # Chain order: what is left of each file's main chain, paired in order when the types agree
+    # and the angle to the parent axis (independent of the base frame) agrees.
     fu, fm = free(0), free(1)
     for a, b in zip(fu, fm):
         ta, tb = _twist(u, a), _twist(m, b)

@@ -25,6 +25,7 @@ from kinverify.filemode.align.floating import conjugated
 from kinverify.filemode.compare.inertials import ROOT
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.prepare import lock_mjcf_joints, lock_urdf_joints
+from kinverify.filemode.read.stated import unset
 from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE
 from kinverify.suites.base import VerifyContext
 from kinverify.suites.dynamics import DynamicsSuite
@@ -158,23 +159,37 @@ class FileDynamicsSuite(DynamicsSuite):
 
 
 def parameter_findings(info, tolerances: dict) -> list:
-    """Joint damping and friction that differ (one finding per pair of values), armature the URDF
-    cannot express (one warning), and format extensions a library ignores (one info)."""
+    """Joint damping and friction that differ (one finding per pair of values: an error when both
+    files state them, a warning naming the silent file when one leaves the value unset), armature
+    the URDF cannot express (one warning), and format extensions a library ignores (one info)."""
     out, groups = [], {}
     for j in info.alignment.joints:
         ju, jm = info.u.joint(j.urdf), info.m.joint(j.mjcf)
-        for prop, kind, x, y in (("dynamics.damping", "damping_difference", ju.damping, jm.damping),
-                                 ("dynamics.friction", "friction_difference", ju.friction, jm.friction)):
+        for prop, value, x, y in (("dynamics.damping", "damping", ju.damping, jm.damping),
+                                  ("dynamics.friction", "friction", ju.friction, jm.friction)):
             if x is None or y is None or abs(x - y) <= tolerances.get(prop, 1e-12):
                 continue
-            groups.setdefault((kind, prop, round(x, 12), round(y, 12)), []).append(j)
+            silent = "URDF" if unset(ju.stated, value) else "MJCF" if unset(jm.stated, value) else ""
+            groups.setdefault((value, prop, silent, round(x, 12), round(y, 12)), []).append(j)
     units = {"dynamics.damping": "N·m·s/rad", "dynamics.friction": "N·m"}
-    for (kind, prop, x, y), joints in groups.items():
+    how = {"URDF": {"damping": "no <dynamics damping>", "friction": "no <dynamics friction>"},
+           "MJCF": {"damping": "no damping on the joint or its default class",
+                    "friction": "no frictionloss on the joint or its default class"}}
+    for (value, prop, silent, x, y), joints in groups.items():
         label = {"dynamics.friction": "friction (URDF friction, MJCF frictionloss)"}.get(prop, "damping")
-        out.append(finding(kind, f"{label} {x:g} in the URDF, {y:g} in the MJCF on {len(joints)} joint"
-                           f"{'s' if len(joints) > 1 else ''}: " + ", ".join(j.urdf for j in joints),
-                           {"urdf": x, "mjcf": y, "checks": [[prop, "parameters"]]}, magnitude=abs(x - y), unit=units[prop],
-                           prop=prop, joint=[j.urdf for j in joints], mjcf_joint=[j.mjcf for j in joints]))
+        names = ", ".join(j.urdf for j in joints)
+        count = f"{len(joints)} joint{'s' if len(joints) > 1 else ''}"
+        if silent:
+            other, said = ("MJCF", y) if silent == "URDF" else ("URDF", x)
+            message = (f"the {silent} leaves {label} unset on {count} ({how[silent][value]}: 0 by default); the {other} "
+                       f"states {said:g}: {names}")
+            kind = f"{value}_unset"
+        else:
+            message = f"{label} {x:g} in the URDF, {y:g} in the MJCF on {count}: {names}"
+            kind = f"{value}_difference"
+        out.append(finding(kind, message, {"urdf": x, "mjcf": y, "unset_in": silent or None, "checks": [[prop, "parameters"]]},
+                           magnitude=abs(x - y), unit=units[prop], prop=prop, joint=[j.urdf for j in joints],
+                           mjcf_joint=[j.mjcf for j in joints]))
     armature = [(j, info.m.joint(j.mjcf).armature) for j in info.alignment.joints if info.m.joint(j.mjcf).armature]
     if armature:
         values = sorted({round(a, 12) for _, a in armature})

@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from kinverify.filemode.align.geometry import project_on_line, rotation_between
 from kinverify.filemode.compare.context import aligned_poses
 from kinverify.filemode.read.model import BodyInertial, ModelDesc
-from kinverify.model.transforms import invert_transform
 
 ROOT = "(base)"
 
@@ -55,6 +55,8 @@ class Part:
     inertia: np.ndarray
     twin: str | None  # the other file's body in the same role, None when it has none
     snapped: float = 0.0  # MuJoCo dropped this rotation of its principal axes [rad] (see describe)
+    known: bool = True  # False: part of its mass came from a mesh file that is absent
+    unset_twin: str | None = None  # the other file's link in the same role, which states no inertial
 
 
 @dataclass
@@ -65,7 +67,7 @@ class Group:
     urdf: list[Part]
     mjcf: list[Part]
     fixed_base_root: bool  # welded to the world of a fixed-base robot: no effect on its motion
-    local: bool = False  # compared in its own link frame (a joint upstream places it differently)
+    seated: tuple[float, float] = (0.0, 0.0)  # its joint's axis lines differed by (rad, m): compared seated on it
 
     def total(self, side: str, twins_only: bool = False) -> Inertial:
         parts = self.urdf if side == "urdf" else self.mjcf
@@ -126,13 +128,17 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
     for body in u.bodies:
         com, inertia = place(body, poses_u.get(body.name))
         twin = twin_u.get(body.name)
+        silent = twin if twin is not None and m.body(twin) is None and twin in m.no_inertial else None
         twin = twin if twin is not None and m.body(twin) is not None else None
-        out[_owner_key(u, body.owner, key_u)].urdf.append(Part(body.name, body.mass, com, inertia, twin))
+        out[_owner_key(u, body.owner, key_u)].urdf.append(Part(body.name, body.mass, com, inertia, twin,
+                                                               known=body.mass_known, unset_twin=silent))
     for body in m.bodies:
         com, inertia = place(body, poses_m.get(body.name))
         twin = twin_m.get(body.name)
+        silent = twin if twin is not None and u.body(twin) is None and twin in u.no_inertial else None
         twin = twin if twin is not None and u.body(twin) is not None else None
-        out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped))
+        out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped,
+                                                               body.mass_known, silent))
     return [g for g in out.values() if g.urdf or g.mjcf]
 
 
@@ -181,7 +187,9 @@ def describe_tensors(a: np.ndarray, b: np.ndarray, frame: np.ndarray | None, mom
 class GroupResult:
     """A rigid body compared: both files' inertials, their difference, the tolerances in effect
     and the verdict: ``agree``, ``rounding`` (within the written precision only), ``explained``
-    (agree once the bodies with no twin are left out) or ``differs``."""
+    (agree once the bodies with no twin are left out), ``unset`` (agree once the bodies whose twin
+    in the other file states no inertial are left out), ``unknown`` (part of a mass came from an
+    absent mesh: not compared) or ``differs``."""
     group: Group
     urdf: Inertial
     mjcf: Inertial
@@ -201,23 +209,42 @@ class GroupResult:
         return value / self.tol[k] if self.tol[k] > 0 else (math.inf if value > 0 else 0.0)
 
 
-def _local(grps: list[Group], info) -> None:
-    """A rigid body whose frame the kinematics already place differently (a joint upstream
-    differs) is compared in its own link frame: its inertial is not blamed for where it sits."""
-    fits = {f.urdf: f for f in info.alignment.frames}
-    pm = aligned_poses(info.alignment, {k: v for k, v in info.poses_m.items()})
+def _joint_line(desc: ModelDesc, joint: str, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A joint's axis direction and a point of its axis with its moving frame at ``pose``."""
+    j = desc.joint(joint)
+    t0 = desc.frames[j.child]
+    rot = pose[:3, :3] @ t0[:3, :3].T
+    return rot @ j.axis, rot @ (j.anchor - t0[:3, 3]) + pose[:3, 3]
+
+
+def seat_on_joints(grps: list[Group], info, poses_m: dict) -> None:
+    """A rigid body whose joint the kinematics already place differently (an axis upstream, or its
+    own, differs: a finding of the alignment says so) is compared seated on its joint: the MJCF's
+    parts are moved by the smallest rigid motion that lays its joint's axis line onto the URDF's,
+    so its inertial is not blamed for where the chain puts it. Where the axis lines agree, this is
+    the identity: the bodies are compared where they are, in the URDF's world at the aligned zero.
+    Link frames are never used: each file chooses them freely (see :mod:`kinverify.filemode.align.fit`).
+    ``poses_m``: the MJCF's frames at the aligned zero, in the URDF's world."""
     for g in grps:
-        fit = fits.get(g.urdf_link)
-        if fit is None or g.mjcf_link not in pm or g.urdf_link not in info.poses_u:
+        if g.key == ROOT:
             continue
-        ptol, rtol = info.tol(g.urdf_link)
-        if fit.residual_position <= ptol and fit.residual_rotation <= rtol:
+        ju, jm = info.u.joint(g.key), info.m.joint(info.matching.mjcf_name(g.key))
+        if ju.child not in info.poses_u or jm.child not in poses_m:
             continue
-        e = info.poses_u[g.urdf_link] @ invert_transform(pm[g.mjcf_link])
-        for p in g.mjcf:
-            p.com = e[:3, :3] @ p.com + e[:3, 3]
-            p.inertia = e[:3, :3] @ p.inertia @ e[:3, :3].T
-        g.local = True
+        au, pu = _joint_line(info.u, ju.name, info.poses_u[ju.child])
+        am, pm = _joint_line(info.m, jm.name, poses_m[jm.child])
+        am = am * info.alignment.joint(g.key).sign
+        ptol, rtol = info.tol(ju.child)
+        angle = math.atan2(float(np.linalg.norm(np.cross(am, au))), float(am @ au))
+        gap = float(np.linalg.norm(pm - project_on_line(pm, pu, au)))
+        if angle <= rtol and gap <= ptol:
+            continue
+        rot = rotation_between(am, au)
+        seat = project_on_line(pm, pu, au)
+        for part in g.mjcf:
+            part.com = rot @ (part.com - pm) + seat
+            part.inertia = rot @ part.inertia @ rot.T
+        g.seated = (angle, gap)
 
 
 def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
@@ -228,7 +255,7 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
     fl = info.floors
     out = []
     if info.file_mode:
-        _local(grps, info)
+        seat_on_joints(grps, info, aligned_poses(info.alignment, info.poses_m))
     for g in grps:
         a, b = g.total("urdf"), g.total("mjcf")
         frames = [p.name for p in g.urdf]
@@ -249,12 +276,15 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
             exact = (defaults[0], defaults[1], defaults[2] + snapped)
             status = "rounding" if not diff.within(*exact) and info.file_mode else "agree"
             result = GroupResult(g, a, b, diff, tol, status)
+        elif not all(p.known for p in g.urdf + g.mjcf):
+            result = GroupResult(g, a, b, diff, tol, "unknown")
         else:
             without = None
             status = "differs"
             if g.twinless("urdf") or g.twinless("mjcf"):
                 without = difference(g.total("urdf", twins_only=True), g.total("mjcf", twins_only=True))
-                status = "explained" if without.within(*tol) else "differs"
+                unset = all(p.unset_twin for p in g.twinless("urdf") + g.twinless("mjcf"))
+                status = ("unset" if unset else "explained") if without.within(*tol) else "differs"
             result = GroupResult(g, a, b, diff, tol, status, without)
         frame = info.poses_u.get(g.urdf_link)
         result.tensors = describe_tensors(a.inertia, b.inertia, frame, tensor_tol)

@@ -61,9 +61,43 @@ def part_findings(info, results, tol_mass: float) -> list:
                                                                               ("inertia.mass", "inertia.com", "inertia.tensor")]},
                            magnitude=mass if parts else len(unmatched), unit="kg" if parts else "joints",
                            joint=list(unmatched) or None, link=None if unmatched else [p["name"] for p in parts]))
+    out += _unset_inertials(results)
+    out += _unknown_masses(results)
     out += _lumped(results)
     out += _world(results, tol_mass)
     return out
+
+
+INERTIA_CHECKS = [[p, "rigid bodies"] for p in ("inertia.mass", "inertia.com", "inertia.tensor")]
+
+
+def _unset_inertials(results) -> list:
+    """Links one file gives no ``<inertial>`` (massless by default) while the other states one."""
+    out = []
+    for side, other in (("URDF", "MJCF"), ("MJCF", "URDF")):
+        parts = [(p, r) for r in results if r.status == "unset" for p in _side(r, other) if p.unset_twin]
+        if not parts:
+            continue
+        out.append(finding("inertial_unset", f"the {side} leaves the inertial of {len(parts)} link{'s' if len(parts) > 1 else ''} "
+                           f"unset (massless by default); the {other} states it: " + ", ".join(
+                               f"{p.unset_twin} ({p.mass:.6g} kg in the {other})" for p, _ in parts),
+                           {"unset_in": side, "links": [{"name": p.unset_twin, "other": p.name, "mass": p.mass, "body": r.label}
+                                                         for p, r in parts], "checks": INERTIA_CHECKS},
+                           magnitude=sum(p.mass for p, _ in parts), unit="kg", link=[p.unset_twin for p, _ in parts]))
+    return out
+
+
+def _unknown_masses(results) -> list:
+    """Rigid bodies part of whose mass came from a mesh file that is absent: not compared."""
+    unknown = [r for r in results if r.status == "unknown"]
+    if not unknown:
+        return []
+    parts = [(side, p.name) for r in unknown for side in ("URDF", "MJCF") for p in _side(r, side) if not p.known]
+    return [finding("mass_unknown", f"{len(unknown)} rigid bod{'ies' if len(unknown) > 1 else 'y'} not compared: part of the mass "
+                    "comes from mesh files that are absent (MuJoCo computes a body's mass from its geoms when it has no "
+                    "<inertial>): " + ", ".join(f"{name} ({side})" for side, name in parts),
+                    {"bodies": [r.label for r in unknown], "parts": [[s, n] for s, n in parts], "checks": INERTIA_CHECKS},
+                    link=[r.group.urdf_link for r in unknown])]
 
 
 def _moved_by(desc, unmatched) -> dict[str, str]:
@@ -101,7 +135,7 @@ def _world(results, tol_mass: float) -> list:
     if uniform_mass_ratio(results) is not None:
         return out  # a units mistake, said once by the inertia suite
     for r in results:
-        if not r.group.fixed_base_root or r.status in ("agree", "rounding"):
+        if not r.group.fixed_base_root or r.status in ("agree", "rounding", "unset", "unknown"):
             continue
         parts = [(side, p) for side in ("URDF", "MJCF") for p in _side(r, side) if p.twin is None and p.mass > 0]
         if r.status == "explained":

@@ -5,7 +5,7 @@ After the suites ran (on the aligned files):
 1. Kinematics checks get the tolerance floor of the files' written precision at their frame
    (unless the user set that property's tolerance); what passes only thanks to it is one
    ``rounding`` finding.
-2. A failing check that an error finding explains is marked ``kind = "explained"`` with a note
+2. A failing check that an error (or warning) finding explains is marked ``kind = "explained"`` with a note
    naming the finding: it is shown, and no longer counts on its own (the finding does, so an
    accepted finding passes and a new one fails). Kinematics checks are explained by the finding
    of the joint upstream of their frame (axis, type, sign), the others by the finding that lists
@@ -22,6 +22,7 @@ import dataclasses
 from kinverify.filemode.findings.table import finding
 from kinverify.suites.base import EXPLAINED, Check, Finding, within
 
+CAUSES = ("error", "warning")  # a value one file leaves unset explains the checks it fails, as a warning
 KINEMATIC = ("fk.position", "fk.rotation", "jacobian.linear", "jacobian.angular")
 STATE = ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias", "dynamics.inverse", "dynamics.forward")
 
@@ -75,7 +76,7 @@ def rounding_finding(raised: list[Check], info, culprits: list[tuple]) -> Findin
 
 
 def _explainers(c: Check, findings: list[Finding]) -> list[Finding]:
-    return [f for f in findings if f.severity == "error" and (
+    return [f for f in findings if f.severity in CAUSES and (
         [c.property, c.frame] in [list(x) for x in f.values.get("checks", [])]
         or (c.property in KINEMATIC and c.frame in f.values.get("frames", [])))]
 

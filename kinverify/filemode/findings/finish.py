@@ -27,7 +27,7 @@ def _tol(opts, name: str) -> float:
 def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
     snapped = {r.group.key for r in results if any(p.snapped for p in r.group.mjcf)}
     groups = {r.group.key: r.mjcf for r in results
-              if (r.status in ("differs", "explained") or r.group.key in snapped) and not r.group.fixed_base_root}
+              if (r.status in ("differs", "explained", "unset", "unknown") or r.group.key in snapped) and not r.group.fixed_base_root}
     subs = [f"the MJCF's inertial of {r.label}" + (" (MuJoCo aligned its principal axes with the body frame)"
                                                    if r.group.key in snapped else "") for r in results if r.group.key in groups]
     subs += [f"the MJCF's damping of {', '.join(sorted(damping_joints))}"] if damping_joints else []
@@ -59,7 +59,7 @@ def finish(result, diag, sources, opts, dynamics: bool, entries, write_accepted,
     defaults = tuple(_tol(opts, p) for p in ("inertia.mass", "inertia.com", "inertia.tensor"))
     results = analyse(info, defaults)
     params = parameter_findings(info, {p: _tol(opts, p) for p in ("dynamics.damping", "dynamics.friction")})
-    damping = {j for f in params if f.kind == "damping_difference" for j in f.subject.split(", ")}
+    damping = {j for f in params if f.kind in ("damping_difference", "damping_unset") for j in f.subject.split(", ")}
     if dynamics:
         run_dynamics(result, info, sources, opts, results, damping)
     findings = diag["findings"] + part_findings(info, results, defaults[0]) + result.findings + params

@@ -31,6 +31,9 @@ SEVERITY = {
     # worth knowing
     "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
     "coupling_one_file": "warning", "base_inertial_difference": "warning", "base_frame_offset": "warning",
+    # one file leaves a value unset (the format's default), the other states one
+    "damping_unset": "warning", "friction_unset": "warning", "limit_unset": "warning", "effort_unset": "warning",
+    "inertial_unset": "warning", "mass_unknown": "warning",
     # choices and artefacts
     "frame_convention": "info", "rounding": "info", "parser_quirk": "info", "joint_names": "info",
     "lumped_links": "info", "frame_twin": "info", "total_mass": "info", "floating_base": "info",

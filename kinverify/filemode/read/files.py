@@ -6,6 +6,7 @@ is a finding."""
 from __future__ import annotations
 
 import dataclasses
+import math
 import xml.etree.ElementTree as ET
 
 from kinverify.backends.mujoco_ import urdf_for_mujoco
@@ -14,8 +15,10 @@ from kinverify.filemode.align.floating import UrdfBase, decide, fixed_urdf, floa
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
 from kinverify.filemode.read.describe_urdf import describe_urdf
-from kinverify.filemode.read.loading import load_mjcf, load_urdf
+from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_urdf
+from kinverify.filemode.read.model import ModelDesc
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
+from kinverify.filemode.read.stated import mjcf_joint_values, urdf_joint_values, urdf_links_without_inertial
 
 
 def last_line(err: Exception) -> str:
@@ -36,13 +39,13 @@ def read_urdf(path: str, findings: list, free=()):
                             prepare_urdf(floating_urdf(loaded.text)) if floating else "")
     text = prepare_urdf(fixed)
     try:
-        return loaded, text, describe_urdf(fixed), "pinocchio", decision
+        return loaded, text, with_statements(describe_urdf(fixed), loaded), "pinocchio", decision
     except (ValueError, RuntimeError) as err:
         findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {last_line(err)}; read with MuJoCo's URDF "
                                 "import instead", {"file": "URDF", "library": "pinocchio"}))
     try:
         desc = dataclasses.replace(describe_mjcf(urdf_for_mujoco(text)), kind="urdf", library="mujoco (URDF import)")
-        return loaded, text, desc, "mujoco", decision
+        return loaded, text, with_statements(desc, loaded), "mujoco", decision
     except ValueError as err:
         raise InputError(f"--urdf: no library can load {path}: {last_line(err)}") from None
 
@@ -68,7 +71,7 @@ def read_mjcf(path: str, findings: list):
     for attempt in (0, 1):
         text, free = fix_free_bases(loaded.text)
         try:
-            return loaded, text, describe_mjcf(text), free
+            return loaded, text, with_statements(describe_mjcf(text), loaded), free
         except ValueError as err:
             if attempt == 0 and "mesh assets resolved" in " ".join(loaded.warnings):
                 findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({last_line(err)}): meshes "
@@ -76,6 +79,24 @@ def read_mjcf(path: str, findings: list):
                 loaded = load_mjcf(path, keep_meshes=False)
                 continue
             raise InputError(f"--mjcf: MuJoCo cannot load {path}: {last_line(err)}") from None
+
+
+def with_statements(desc: ModelDesc, loaded: LoadedFile) -> ModelDesc:
+    """``desc`` told what its file states and what it leaves to the format's default
+    (:mod:`~kinverify.filemode.read.stated`): each joint's stated values, the links that state no
+    inertial, the MJCF bodies whose mass came from an absent mesh."""
+    if loaded.kind == "urdf":
+        values, desc.no_inertial = urdf_joint_values(loaded.tree), urdf_links_without_inertial(loaded.tree)
+    else:
+        values = mjcf_joint_values(loaded.tree)
+    for j in desc.joints:
+        stated = values.get(j.name)
+        if stated is not None and loaded.kind == "mjcf" and j.effort is not None and math.isfinite(j.effort):
+            stated = stated | {"effort"}
+        j.stated = stated
+    for b in desc.bodies:
+        b.mass_known = b.name not in loaded.unknown_mass
+    return desc
 
 
 def mjcf_angle_unit(mjcf_text: str) -> str:

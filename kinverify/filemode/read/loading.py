@@ -15,6 +15,7 @@ import warnings
 import xml.etree.ElementTree as ET
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import defusedxml
@@ -22,6 +23,7 @@ import defusedxml.ElementTree as DET
 import mujoco
 
 from kinverify.errors import InputError
+from kinverify.filemode.read.stated import attribute, class_defaults
 from kinverify.filemode.read.xacro import compile_xacro, is_xacro
 from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
 from kinverify.report.output import note_input
@@ -36,6 +38,12 @@ class LoadedFile:
     text: str
     name: str
     warnings: tuple[str, ...] = field(default_factory=tuple)
+    unknown_mass: tuple[str, ...] = ()  # MJCF bodies whose mass came in part from a dropped mesh
+
+    @cached_property
+    def tree(self) -> ET.Element:
+        """``text`` parsed (once): what the later stages read the file's statements from."""
+        return ET.fromstring(self.text)
 
 
 def read_xml(path: str, kind: str, text: str | None = None) -> tuple[str, ET.Element]:
@@ -221,7 +229,7 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
         spec.compile()
     except ValueError as err:
         warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {_first_line(err)}")
-    return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
+    return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings), tuple(massless))
 
 
 def _route_mujoco_warnings(mujoco) -> None:
@@ -252,19 +260,52 @@ def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:
     return kept
 
 
+def _mesh_of(geom: ET.Element, parents: dict, defaults: dict) -> str | None:
+    """The mesh a geom uses: its own ``mesh`` or its default class's (none when it is of another type)."""
+    kind = attribute(geom, "type", parents, defaults)
+    if kind is not None and kind != "mesh":
+        return None
+    return attribute(geom, "mesh", parents, defaults)
+
+
+def _weighs(geom: ET.Element, parents: dict, defaults: dict) -> bool:
+    """Whether a geom adds mass to its body (``mass`` > 0, or density > 0 when no mass is given)."""
+    mass = attribute(geom, "mass", parents, defaults)
+    value = mass if mass is not None else attribute(geom, "density", parents, defaults)
+    try:
+        return value is None or float(value) > 0
+    except ValueError:
+        return True
+
+
 def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, list[str]]:
-    """Remove geoms using a mesh not in ``kept``, those mesh assets, skin/hfield assets and file
-    textures (and references to them)."""
+    """Remove geoms using a mesh not in ``kept`` (named on the geom or given by its default class),
+    those mesh assets and the default classes' references to them, skin/hfield assets and file
+    textures (and references to them). Also returns the bodies whose mass came in part from a
+    dropped mesh (no ``<inertial>``, or ``inertiafromgeom="true"``): their mass is not known."""
     parents = {child: parent for parent in root.iter() for child in parent}
+    defaults = class_defaults(root, "geom")
+    compiler = root.find("compiler")
+    from_geoms = compiler is not None and compiler.get("inertiafromgeom") == "true"
     dropped, massless, gone_geoms, gone_tex = 0, [], set(), set()
     for geom in list(root.iter("geom")):
-        if geom.get("mesh") is not None and geom.get("mesh") not in kept and parents[geom].tag != "default":
+        if parents[geom].tag == "default":
+            continue
+        mesh = _mesh_of(geom, parents, defaults)
+        if mesh is not None and mesh not in kept:
             body = parents[geom]
+            weighs = _weighs(geom, parents, defaults)
             body.remove(geom)
             dropped += 1
             gone_geoms.add(geom.get("name"))
-            if body.tag == "body" and body.find("inertial") is None and body.get("name") not in massless:
+            if body.tag == "body" and weighs and (from_geoms or body.find("inertial") is None) \
+                    and (body.get("name") or "?") not in massless:
                 massless.append(body.get("name") or "?")
+    for geom in root.iter("geom"):  # a default class naming a dropped mesh: the mesh is gone
+        if parents[geom].tag == "default" and geom.get("mesh") is not None and geom.get("mesh") not in kept:
+            del geom.attrib["mesh"]
+            if geom.get("type") == "mesh":
+                del geom.attrib["type"]
     for asset in root.iter("asset"):
         for el in list(asset):
             kept_mesh = el.tag == "mesh" and (el.get("name") or Path(el.get("file") or "").stem) in kept
@@ -279,13 +320,7 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
         for pair in list(contact):
             if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
                 contact.remove(pair)
-    massless = [b for b in massless if not _has_geom(root, b)]
     return dropped, massless
-
-
-def _has_geom(root: ET.Element, body_name: str) -> bool:
-    body = next((b for b in root.iter("body") if b.get("name") == body_name), None)
-    return body is not None and body.find("geom") is not None
 
 
 def _first_line(err: Exception) -> str:

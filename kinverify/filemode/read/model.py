@@ -31,6 +31,7 @@ class JointDesc:
     effort: float | None = None  # None: not stated; inf: actuators without a force bound
     velocity: float | None = None  # None: the format cannot express it
     effort_how: str = ""  # where the effort comes from (URDF <limit>, MJCF actuators)
+    stated: frozenset[str] | None = None  # which of read.stated.JOINT_VALUES the file states (None: all)
 
 
 @dataclass
@@ -43,6 +44,7 @@ class BodyInertial:
     com_local: np.ndarray = field(default_factory=lambda: np.zeros(3))  # in the body's frame
     inertia_local: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about the CoM, body axes
     snapped: float = 0.0  # MuJoCo: angle [rad] of principal axes it aligned with the body frame (body_sameframe)
+    mass_known: bool = True  # False: part of its mass came from a mesh file that is absent
 
 
 @dataclass(frozen=True)
@@ -72,6 +74,7 @@ class ModelDesc:
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -9.81]))
     extensions: dict[str, dict] = field(default_factory=dict)  # joint -> non-standard tags (drake rotor inertia)
     held: list[str] = field(default_factory=list)  # joints with several coordinates, held at neutral (not compared)
+    no_inertial: set[str] = field(default_factory=set)  # links/bodies that state no inertial (massless by default)
 
     def joint(self, name: str) -> JointDesc:
         return next(j for j in self.joints if j.name == name)
