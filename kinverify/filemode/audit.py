@@ -22,7 +22,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from kinverify.backends import names_reading
-from kinverify.errors import InputError
+from kinverify.errors import InputError, library_reason
 from kinverify.filemode.diagnose import finding
 
 __all__ = ["audit_file", "AUDIT_SUITES"]
@@ -44,25 +44,20 @@ def _describe(kind: str, loaded, findings: list):
             return text, describe_mjcf(text), free
         except ValueError as err:
             raise InputError(f"--mjcf: MuJoCo, the reference reader of MJCF, cannot load {loaded.path}: "
-                             f"{_last_line(err)}") from None
+                             f"{library_reason(err)}") from None
     text = prepare_urdf(loaded.text)
     try:
         return text, describe_urdf(loaded.text), []
     except (ValueError, RuntimeError) as err:  # described through MuJoCo's URDF import instead
-        findings.append(finding("parser_refused", f"pinocchio-urdf refuses the URDF: {_last_line(err)}",
+        findings.append(finding("parser_refused", f"pinocchio-urdf refuses the URDF: {library_reason(err)}",
                                 {"file": "URDF", "backend": "pinocchio-urdf"}))
     from kinverify.backends.mujoco_ import urdf_for_mujoco
 
     try:
         desc = describe_mjcf(urdf_for_mujoco(text))
     except ValueError as err:
-        raise InputError(f"--urdf: neither Pinocchio nor MuJoCo can load {loaded.path}: {_last_line(err)}") from None
+        raise InputError(f"--urdf: neither Pinocchio nor MuJoCo can load {loaded.path}: {library_reason(err)}") from None
     return text, dataclasses.replace(desc, kind="urdf", library="mujoco (URDF import)"), []
-
-
-def _last_line(err: Exception) -> str:
-    lines = str(err).strip().splitlines()
-    return lines[-1] if lines else type(err).__name__
 
 
 def _first_element(kind: str, desc, ref, other, q: np.ndarray, tol: tuple[float, float]) -> dict | None:

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from kinverify.backends import available_backends
-from kinverify.errors import InputError, KinverifyError
+from kinverify.errors import InputError, KinverifyError, library_reason
 from kinverify.filemode.align import align
 from kinverify.filemode.alignment import Alignment, FrameFit, JointMap, PairPoses
 from kinverify.filemode.aligned import AlignedBackend
@@ -23,11 +23,6 @@ from kinverify.model.floating import BASE_COORDINATES
 from kinverify.filemode.match import Matching
 
 OPEN_RANGE = {"revolute": math.pi, "prismatic": 0.5}  # sampled range of a joint without limits
-
-
-def _last_line(err: Exception) -> str:
-    lines = str(err).strip().splitlines()
-    return lines[-1] if lines else type(err).__name__
 
 
 def read_urdf(path: str, findings: list, free=()):
@@ -48,13 +43,13 @@ def read_urdf(path: str, findings: list, free=()):
     try:
         return loaded, text, describe_urdf(fixed), "pinocchio", decision
     except (ValueError, RuntimeError) as err:
-        findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {_last_line(err)}; read with MuJoCo's URDF "
+        findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {library_reason(err)}; read with MuJoCo's URDF "
                                 "import instead", {"file": "URDF", "library": "pinocchio"}))
     try:
         desc = dataclasses.replace(describe_mjcf(urdf_for_mujoco(text)), kind="urdf", library="mujoco (URDF import)")
         return loaded, text, desc, "mujoco", decision
     except ValueError as err:
-        raise InputError(f"--urdf: no library can load {path}: {_last_line(err)}") from None
+        raise InputError(f"--urdf: no library can load {path}: {library_reason(err)}") from None
 
 
 @dataclasses.dataclass
@@ -83,11 +78,11 @@ def read_mjcf(path: str, findings: list):
             return loaded, text, describe_mjcf(text), free
         except ValueError as err:
             if attempt == 0 and "mesh assets resolved" in " ".join(loaded.warnings):
-                findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({_last_line(err)}): meshes "
+                findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({library_reason(err)}): meshes "
                                         "dropped (they do not change kinematics or dynamics)", {"file": "MJCF", "library": "mujoco"}))
                 loaded = load_mjcf(path, keep_meshes=False)
                 continue
-            raise InputError(f"--mjcf: MuJoCo cannot load {path}: {_last_line(err)}") from None
+            raise InputError(f"--mjcf: MuJoCo cannot load {path}: {library_reason(err)}") from None
 
 
 def sample_ranges(u: ModelDesc, joints) -> tuple[list, list, list]:
@@ -170,7 +165,7 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
             if isinstance(err, KeyboardInterrupt):
                 raise
             side = "URDF" if name in URDF_SIDE else "MJCF"
-            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {_last_line(err)}"
+            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {library_reason(err)}"
             findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}",
                                     {"file": side, "backend": name}))
     return out

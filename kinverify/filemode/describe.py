@@ -26,9 +26,10 @@ def describe_urdf(urdf_text: str) -> ModelDesc:
     as unlimited revolute joints (see :func:`kinverify.filemode.prepare.prepare_urdf`)."""
     import pinocchio as pin
 
+    from kinverify.backends.pinocchio_ import build_urdf_model
     from kinverify.filemode.prepare import continuous_joints, prepare_urdf
 
-    model = pin.buildModelFromXML(prepare_urdf(urdf_text))
+    model = build_urdf_model(prepare_urdf(urdf_text))
     data = model.createData()
     q = pin.neutral(model)
     pin.computeJointJacobians(model, data, q)

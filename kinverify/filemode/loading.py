@@ -20,7 +20,7 @@ from pathlib import Path
 import defusedxml
 import defusedxml.ElementTree as DET
 
-from kinverify.errors import InputError
+from kinverify.errors import InputError, library_reason
 from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
 from kinverify.report.output import note_input
 
@@ -223,7 +223,7 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
         spec = mujoco.MjSpec.from_string(cleaned)
         spec.compile()
     except ValueError as err:
-        warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {_first_line(err)}")
+        warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {library_reason(err)}")
     return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings))
 
 
@@ -289,10 +289,3 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
 def _has_geom(root: ET.Element, body_name: str) -> bool:
     body = next((b for b in root.iter("body") if b.get("name") == body_name), None)
     return body is not None and body.find("geom") is not None
-
-
-def _first_line(err: Exception) -> str:
-    lines = str(err).strip().splitlines()
-    return lines[0] if lines else type(err).__name__
-
-

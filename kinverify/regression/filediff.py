@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from kinverify.errors import InputError
+from kinverify.errors import InputError, library_reason
 from kinverify.filemode.describe import ModelDesc, describe_mjcf, describe_urdf
 from kinverify.filemode.loading import LoadedFile, load_mjcf, load_urdf
 from kinverify.regression.fileparams import pair_names, param_changes
@@ -56,7 +56,7 @@ def _load(path: str, kind: str) -> tuple[LoadedFile, ModelDesc]:
         desc = describe_urdf(loaded.text) if kind == "urdf" else describe_mjcf(loaded.text)
     except (ValueError, RuntimeError) as err:
         lib = "Pinocchio" if kind == "urdf" else "MuJoCo"
-        raise InputError(f"{path}: {lib} cannot load the {kind.upper()}: {str(err).strip().splitlines()[-1]}") from None
+        raise InputError(f"{path}: {lib} cannot load the {kind.upper()}: {library_reason(err)}") from None
     return loaded, desc
 
 
