@@ -4,7 +4,7 @@ Targets are FK (reference backend) of uniform random configurations inside the l
 pose for arms with >= 6 joints, position only below. The LM solver (:mod:`kinverify.ik.lm`)
 runs on every backend with analytic Jacobians, each on its own FK (batched on ``analytic``,
 target by target elsewhere), restarting from one seed table; the seed's solver runs next to it
-for the report only (it is not expected to reach 1e-6). Checks: ``ik.success_rate``, ``ik.limits``, ``ik.cross_fk`` (each solution
+for the report only (it is not expected to reach 1e-6). Checks: ``ik.failure_rate``, ``ik.limits``, ``ik.cross_fk`` (each solution
 through every other backend's FK), ``ik.closed_form`` (arm3-shaped specs), ``ik.unreachable``.
 """
 
@@ -32,8 +32,8 @@ class IKSuite(Suite):
     name = "ik"
     title = "Inverse kinematics"
     properties = (
-        Property("ik.success_rate", "fraction", 0.001, PERFORMANCE,
-                 f"fraction of random reachable targets NOT solved within {TOL_POS:g} m / {TOL_ROT:g} rad by the LM solver"),
+        Property("ik.failure_rate", "fraction", 0.001, PERFORMANCE,
+                 f"fraction of random reachable targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad by the LM solver"),
         Property("ik.cross_fk", "m|rad", 1e-6, AGREEMENT,
                  "each IK solution through every other backend's FK: max(position [m], rotation [rad]) error"),
         Property("ik.limits", "rad|m", 0.0, PERFORMANCE, "largest distance of a returned configuration outside the limits"),
@@ -81,7 +81,7 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
         model = models[backend.name]
         sol = suite.solve(backend, model, targets, lower, upper, position_only, ik_opts)
         ok = sol.solved(TOL_POS, TOL_ROT)
-        checks.append(_success_check(ctx, sol, ok, frame))
+        checks.append(_failure_check(ctx, sol, ok, frame))
         checks.append(_limits_check(ctx, sol, lower, upper, frame))
         checks += _cross_checks(ctx, sol, ok, targets, ctx.backends, frame)
         if closed is not None:
@@ -121,9 +121,9 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
         section.table("Unreachable targets", ["solver", "targets", "reported solved", "min closest approach [m]",
                                               "reach lower bound [m]"], unreach_rows)
     section.notes += [
-        "ik.success_rate: max_error and p99_error are the fraction of targets NOT solved within "
-        f"{TOL_POS:g} m / {TOL_ROT:g} rad; the goal is the allowed fraction. A solver's performance: shown, "
-        "not counted in the verdict unless gated (--gate ik.success_rate).",
+        "ik.failure_rate: max_error and p99_error are the fraction of targets not solved within "
+        f"{TOL_POS:g} m / {TOL_ROT:g} rad; the goal is the largest fraction allowed. A solver's performance: shown, "
+        "not counted in the verdict unless gated (--gate ik.failure_rate).",
         "ik.cross_fk: error = max(position error [m], rotation error [rad]) of each solution through "
         "the confirming backend's FK.",
         "seed-pinv (the seed's pseudo-inverse IK: step 0.1, tolerance 1e-3 m, 100 iterations, from q = 0, "
@@ -168,11 +168,11 @@ def _row(sol: IKSolutions, ok) -> list:
             float(sol.rot_error.max()), sol.batched]
 
 
-def _success_check(ctx, sol, ok, frame) -> Check:
+def _failure_check(ctx, sol, ok, frame) -> Check:
     fail = float(1 - ok.mean())
     worst = int(np.argmin(ok)) if not ok.all() else int(np.argmax(np.maximum(sol.pos_error, sol.rot_error)))
     q = sol.seed_q[worst] if not ok.all() else sol.q[worst]
-    return IKSuite.value_check(ctx.options, "ik.success_rate", frame, (sol.backend, sol.backend), fail, q, samples=len(sol),
+    return IKSuite.value_check(ctx.options, "ik.failure_rate", frame, (sol.backend, sol.backend), fail, q, samples=len(sol),
                                note=f"fraction of {len(sol)} targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad "
                                "(max_error = p99_error = that fraction); worst_q: a failing target's last seed, else the worst solution")
 
