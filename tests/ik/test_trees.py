@@ -1,6 +1,6 @@
 """IK on trees: a frame on a branch is solved on its own branch's joints (random tree arms, FK ->
-IK -> FK confirmed by Pinocchio), the shipped gripper's fingertip on every backend, and the reach
-bound of a branch."""
+IK -> FK confirmed by Pinocchio), the shipped gripper's fingertip on every backend, the reach
+bound of a branch, and a solver that solves almost nothing is a warning finding."""
 
 from __future__ import annotations
 
@@ -13,7 +13,10 @@ from hypothesis import strategies as st
 from kinverify import load_spec
 from kinverify.backends import ModelSources, build_backend
 from kinverify.ik import FrameModel, IKOptions, reach_bound, residuals, solve_lm
+from kinverify.pipeline.sampling import Samples
 from kinverify.run import VerifyOptions, verify_spec
+from kinverify.suites.base import VerifyContext
+from kinverify.suites.ik import IKSuite
 from kinverify.testing import strategies as kst
 from tests.paths import MODELS
 
@@ -69,3 +72,26 @@ def test_the_reach_bound_of_a_fingertip_counts_its_own_finger_only():
     np.testing.assert_allclose(centre, [0, 0, 0.1])  # shoulder_yaw's origin
     path = 0.25 + 0.35 + 0.22 + math.hypot(0.01, 0.04) + 0.04 + 0.06  # offsets, the finger's travel, the tool
     assert math.isclose(radius, path, rel_tol=1e-12)
+
+
+class _Starved(IKSuite):
+    """The suite with one solver given no iterations on ``analytic``: it solves (almost) nothing."""
+
+    def solve(self, backend, model, targets, lower, upper, position_only, options):
+        if backend.name == "analytic":
+            options = IKOptions(seed=options.seed, max_restarts=0, max_evaluations=1, start="given")
+        return super().solve(backend, model, targets, lower, upper, position_only, options)
+
+
+def test_a_solver_that_solves_almost_nothing_is_a_warning_finding():
+    sources = ModelSources.from_spec(GRIPPER)
+    options = VerifyOptions(samples=0, extra={"ik_targets": 8}, backends=["analytic", "pinocchio-urdf"])
+    backends = {n: build_backend(n, sources) for n in options.backends}
+    ctx = VerifyContext(sources, backends, Samples(sources.lower, sources.upper, sources.revolute, 0, 0), options)
+    out = _Starved().run(ctx)
+    rate = {c.backends[0]: c.max_error for c in out.checks if c.property == "ik.failure_rate"}
+    assert rate["analytic"] >= 0.5 and rate["pinocchio-urdf"] == 0.0
+    [warning] = out.findings
+    assert warning.severity == "warning" and warning.kind == "ik_solver_fails" and not warning.fails
+    assert warning.subject == "fingertip_right" and warning.values["backends"] == ["analytic"]
+    assert "analytic solves" in warning.message and "pinocchio-urdf 8 of 8" in warning.message

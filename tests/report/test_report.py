@@ -4,6 +4,7 @@ screen, page height, no network)."""
 
 from __future__ import annotations
 
+import dataclasses
 import html as htmllib
 import json
 import re
@@ -21,6 +22,7 @@ from kinverify.model.transforms import geodesic_distance
 from kinverify.report.html import cell, render_html
 from kinverify.report.json_ import write_json
 from kinverify.results import VerifyResult
+from kinverify.suites.base import Finding
 from kinverify.run import VerifyOptions, verify
 from tests.paths import ROOT
 from tests.report import browser
@@ -91,6 +93,17 @@ def test_passing_report_states_the_verdict_and_what_was_compared(passing):
         assert f"{key} {passing.versions[key]}" in page
     assert passing.command in page and f"{passing.seed} · {passing.samples} configurations" in _text(page)
     assert page.count("<svg") >= 2  # error distributions and workspace, inline
+
+
+def test_a_warning_of_a_suite_is_shown_on_a_passing_page(passing):
+    """A suite's warning (here the IK one: a solver that solves almost nothing) has its own
+    section on the page, not only a count in the banner; the verdict stays PASS."""
+    warning = Finding("ik_solver_fails", "warning", "LM IK on reachable targets for end_effector: analytic solves 0 of 50",
+                      subject="end_effector", subject_type="frame", property="ik.failure_rate")
+    page = render_html(dataclasses.replace(passing, findings=[warning]))
+    section = _text(_between(page, '<section id="findings">', "</section>"))
+    assert "frame end_effector" in section and "warning" in section and warning.message in section
+    assert 'class="banner pass"' in page and "1 warning" in _text(_between(page, '<header class="banner', "</header>"))
 
 
 def test_every_check_is_in_the_heat_map_with_its_value_and_a_link_to_its_detail(failing, failing_page):
