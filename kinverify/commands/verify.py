@@ -202,19 +202,19 @@ def run(args) -> int:
     json_out, html_out = args.json or default_output(result.model, ".json"), args.report or default_output(result.model, ".html")
     claim_outputs(("--json", json_out), ("--report", html_out))  # both checked before either is written
     t_report = time.perf_counter()
-    json_path = write_json(result, json_out)
-    html_path = write_html(result, html_out)
-    outputs = f"report: {html_path}  json: {json_path}"
+    json_path = write_json(result, json_out)  # the JSON first: it holds everything the page shows
+    written = [f"report: {write_html(result, html_out)}", f"json: {json_path}"]
     if args.junit:
         from kinverify.report.junit import junit_xml
         from kinverify.report.writer import write_atomic
 
-        outputs += f"  junit: {write_atomic(args.junit, junit_xml(result))}"
+        written.append(f"junit: {write_atomic(args.junit, junit_xml(result))}")
+    outputs = "  ".join(written)
     if args.quiet:  # one line, whatever the terminal's width
         console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
                       f"{len(result.failing_findings)} error findings); {outputs}", soft_wrap=True)
-    else:
-        console.print(outputs)
+    else:  # paths are never broken: one line, or one line each when that is too wide
+        console.print(outputs if len(outputs) <= console.width else "\n".join(written), soft_wrap=True, highlight=False)
     if args.profile:
         console.print(profile_line(result, time.perf_counter() - t_report, time.perf_counter() - t_run), highlight=False)
     for err in result.internal_errors:

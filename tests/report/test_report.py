@@ -20,13 +20,14 @@ from kinverify.cli import main
 from kinverify.model.specfile import load_spec
 from kinverify.model.transforms import geodesic_distance
 from kinverify.report.html import cell, render_html
-from kinverify.report.json_ import write_json
+from kinverify.report.json_ import load_result_json, write_json
 from kinverify.results import VerifyResult
 from kinverify.suites.base import Finding
 from kinverify.run import VerifyOptions, verify
 from tests.paths import ROOT
 from tests.report import browser
 from tests.report.flipped import FLIPPED, flipped_backend
+from tests.report.terminal_checks import PASSING_LINES, assert_fits, render
 
 @pytest.fixture(scope="module")
 def arm3():
@@ -249,6 +250,17 @@ def test_default_arm3_report_stays_under_5_mb_and_shows_every_section(default_ar
     tables = re.findall(r"<table>(.*?)</table>", sections, re.S)  # the suites' own tables (the overviews have a class)
     cells = [c for t in tables for c in re.findall(r'<td class="num">([^<]*)</td>', t)]
     assert cells and max(len(c) for c in cells) <= 11, max(cells, key=len)
+
+
+def test_the_default_arm3_run_prints_in_40_lines_at_80_columns(default_arm3):
+    """The full default run (every suite, tracking's rows included), printed from its saved JSON as
+    an 80-column terminal and as a log: every row on one line, every number whole, 40 lines."""
+    result = load_result_json(default_arm3[1])
+    assert {c.property for c in result.checks} >= {"tracking.pd+gravity", "ik.closed_form"} and "pictures" in result.timings
+    for terminal in (True, False):
+        lines = render(result, 80, terminal)
+        assert_fits(lines, result, 80)
+        assert len(lines) <= PASSING_LINES - 1  # and the line naming the report and the JSON
 
 
 def test_error_distributions_only_for_sampled_properties(default_arm3):
