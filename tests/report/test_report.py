@@ -261,6 +261,10 @@ def test_the_default_arm3_run_prints_in_40_lines_at_80_columns(default_arm3):
         lines = render(result, 80, terminal)
         assert_fits(lines, result, 80)
         assert len(lines) <= PASSING_LINES - 1  # and the line naming the report and the JSON
+    shown = _between((ROOT / "docs" / "report.md").read_text(encoding="utf-8"), "```text\n", "\n```").splitlines()[1:]
+    numbers = lambda line: " ".join(re.sub(r"\d[\d.e+-]*", "#", line).split())  # the layout, not the timings
+    assert [numbers(line) for line in shown[:-1]] == [numbers(line) for line in lines]  # docs/report.md shows this run
+    assert shown[-1] == "report: reports/arm3.html  json: reports/arm3.json"
 
 
 def test_error_distributions_only_for_sampled_properties(default_arm3):
