@@ -7,6 +7,8 @@ one-line message and exit code 2. Backend library exceptions are re-raised as
 
 from __future__ import annotations
 
+import re
+
 
 class KinverifyError(Exception):
     """Root of every kinverify error (bad input, unloadable model, ...)."""
@@ -72,3 +74,28 @@ class UnknownNameError(KinverifyError, KeyError):
 
     def __str__(self) -> str:  # KeyError would otherwise quote the whole message
         return self.args[0]
+
+
+# C++ source locations libraries add to a message (Pinocchio: "From file: ...", "in function: ...",
+# "at line: 962"; urdfdom: "at line 607 in /project/urdfdom/..."): where the library is, not the file.
+_SOURCE_LOCATION = re.compile(r"^(from file:|in function:|at line:|at line \d+ in )", re.IGNORECASE)
+
+
+def library_reason(err: BaseException | str) -> str:
+    """What a library said, as one line that keeps its reason: every line of the message joined
+    with ``"; "`` (MuJoCo writes the reason first and the element after it: ``size 0 must be
+    positive in geom; Element name 'tip', id 25, line 199``), without the C++ source locations
+    Pinocchio and urdfdom add and a bare leading ``Error:``; the exception's type when it says
+    nothing. Every error relayed from MuJoCo, Pinocchio, yourdfpy or xacro goes through this."""
+    lines = []
+    for line in str(err).splitlines():
+        line = " ".join(line.split())
+        if line.lower().startswith("message:"):
+            line = line[len("message:"):].strip()
+        if line.startswith("Error:"):
+            line = line[len("Error:"):].strip()
+        if line and not _SOURCE_LOCATION.match(line):
+            lines.append(line)
+    if lines:
+        return "; ".join(lines)
+    return "" if isinstance(err, str) else type(err).__name__

@@ -20,7 +20,10 @@ import importlib.abc
 import importlib.util
 import os
 import platform
+import re
 import sys
+
+from kinverify.errors import library_reason
 
 # mujoco/rendering/classic/gl_context.py: the values it accepts (anything else raises on import)
 _NO_GL = {"disable", "disabled", "off", "false", "0"}
@@ -103,8 +106,11 @@ def render_in_child(module: str, request: dict, timeout_s: float) -> tuple[list[
         return [], f"rendering unavailable: {err}"
     if proc.returncode != 0:
         lines = [line for line in proc.stderr.strip().splitlines() if line.strip()]
-        return [], (f"rendering unavailable (MUJOCO_GL={env['MUJOCO_GL']}): "
-                    f"{lines[-1] if lines else f'renderer exit code {proc.returncode}'}")
+        # a traceback ends with the exception: "Type: message" and the message's further lines
+        start = max((i for i, line in enumerate(lines) if re.match(r"[A-Za-z_][\w.]*(Error|Exception)\b", line)),
+                    default=len(lines) - 1)
+        reason = library_reason("\n".join(lines[start:])) if lines else f"renderer exit code {proc.returncode}"
+        return [], f"rendering unavailable (MUJOCO_GL={env['MUJOCO_GL']}): {reason}"
     try:
         return [base64.b64decode(s, validate=True) for s in json.loads(proc.stdout)], ""
     except (ValueError, TypeError) as err:

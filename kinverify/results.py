@@ -13,7 +13,10 @@ from typing import Any
 
 from kinverify.suites.base import EXPLAINED, PERFORMANCE, Check, Finding, Section, _plain
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3  # 3: ik.success_rate (which held the fraction NOT solved) is named ik.failure_rate
+# Properties renamed since an earlier schema: a saved JSON that uses the old name still reads
+# (same values, the new name); on the command line the old name is an error naming the new one.
+RENAMED_PROPERTIES = {"ik.success_rate": "ik.failure_rate"}
 VERDICTS = {"pass": 0, "fail": 1, "error": 3}  # verdict -> exit code (2 is bad input, before any result)
 
 
@@ -106,7 +109,13 @@ class VerifyResult:
     def from_dict(cls, d: dict[str, Any]) -> "VerifyResult":
         skip = ("checks", "sections", "findings")
         kwargs = {k: v for k, v in d.items() if k in cls.__dataclass_fields__ and k not in skip}
-        return cls(checks=[Check.from_dict(c) for c in d.get("checks", [])],
+        return cls(checks=[Check.from_dict(_renamed(c)) for c in d.get("checks", [])],
                    findings=[Finding.from_dict(f) for f in d.get("findings", []) if isinstance(f, dict)],
                    sections={k: Section.from_dict(s) for k, s in (d.get("sections") or {}).items() if isinstance(s, dict)},
                    **kwargs)
+
+
+def _renamed(check: dict[str, Any]) -> dict[str, Any]:
+    """A saved check under its property's current name (:data:`RENAMED_PROPERTIES`)."""
+    name = check.get("property") if isinstance(check, dict) else None
+    return {**check, "property": RENAMED_PROPERTIES[name]} if name in RENAMED_PROPERTIES else check

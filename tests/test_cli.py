@@ -60,6 +60,7 @@ def test_generate_writes_both_files(tmp_path, capsys):
     (["verify"], "give a spec MODEL"),
     (["verify", "models/arm3.toml", "--tolerance", "fk.position=abc"], "is not PROPERTY=NUMBER"),
     (["verify", "models/arm3.toml", "--tolerance", "fk.speed=1"], "unknown property 'fk.speed'"),
+    (["verify", "models/arm3.toml", "--gate", "ik.success_rate"], "'ik.success_rate' is now named 'ik.failure_rate'"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, words, capsys):
     assert main(argv) == 2

@@ -5,7 +5,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from kinverify.errors import BackendError, UnknownNameError
+from kinverify.errors import BackendError, UnknownNameError, library_reason
 from kinverify.model.floating import base_transforms, has_base, velocity_map
 from kinverify.model.transforms import matrix_to_quat
 from kinverify.backends.base import EvaluatingBackend, Evaluation
@@ -59,7 +59,7 @@ class MujocoBackend(EvaluatingBackend):
         try:
             model = mujoco.MjModel.from_xml_string(mjcf_text)
         except ValueError as err:
-            raise BackendError(name, f"cannot load MJCF: {str(err).strip().splitlines()[0]}") from None
+            raise BackendError(name, f"cannot load MJCF: {library_reason(err)}") from None
         return cls(model, name, joint_names, frames)
 
     @classmethod
@@ -68,7 +68,7 @@ class MujocoBackend(EvaluatingBackend):
         try:
             model = mujoco.MjModel.from_xml_string(urdf_for_mujoco(urdf_text))
         except ValueError as err:
-            raise BackendError(name, f"cannot load URDF: {str(err).strip().splitlines()[0]}") from None
+            raise BackendError(name, f"cannot load URDF: {library_reason(err)}") from None
         return cls(model, name, joint_names, frames)
 
     def frame_kinematics(self, frame_index: int):

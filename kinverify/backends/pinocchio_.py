@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import os
+import sys
 import tempfile
 
 import numpy as np
 import pinocchio as pin
 
-from kinverify.errors import BackendError, UnknownNameError
+from kinverify.errors import BackendError, UnknownNameError, library_reason
 from kinverify.model.floating import base_transforms, has_base, velocity_map
 from kinverify.model.transforms import matrix_to_quat
 from kinverify.backends.base import EvaluatingBackend, Evaluation
@@ -26,6 +27,30 @@ def frame_id(model: "pin.Model", name: str) -> int:
         if model.existFrame(name, kind):
             return model.getFrameId(name, kind)
     raise UnknownNameError("frame", name, list(dict.fromkeys(f.name for f in model.frames)))
+
+
+def build_urdf_model(urdf_text: str) -> "pin.Model":
+    """``pin.buildModelFromXML`` that keeps the reason of a refusal: urdfdom, Pinocchio's URDF
+    parser, prints why on the process's stderr and raises only "The XML stream does not contain a
+    valid URDF model". What it prints during the call is read back and joined into the
+    ``ValueError`` (:func:`~kinverify.errors.library_reason`); on success it is passed on to stderr."""
+    sys.stderr.flush()
+    saved, failure = os.dup(2), None
+    with tempfile.TemporaryFile() as printed:
+        os.dup2(printed.fileno(), 2)
+        try:
+            model = pin.buildModelFromXML(urdf_text)
+        except (ValueError, RuntimeError) as err:
+            failure = err
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        printed.seek(0)
+        said = printed.read().decode("utf-8", "replace")
+    if failure is None:
+        sys.stderr.write(said)
+        return model
+    raise ValueError("; ".join(r for r in (library_reason(said), library_reason(failure)) if r))
 
 
 class PinocchioBackend(EvaluatingBackend):
@@ -66,9 +91,9 @@ class PinocchioBackend(EvaluatingBackend):
     @classmethod
     def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "pinocchio-urdf") -> "PinocchioBackend":
         try:
-            model = pin.buildModelFromXML(urdf_text)
-        except (ValueError, RuntimeError) as err:
-            raise BackendError(name, f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
+            model = build_urdf_model(urdf_text)
+        except ValueError as err:
+            raise BackendError(name, f"cannot load URDF: {library_reason(err)}") from None
         return cls(model, name, joint_names, frames)
 
     @classmethod
@@ -80,7 +105,7 @@ class PinocchioBackend(EvaluatingBackend):
                 handle.write(mjcf_text)
             model = pin.buildModelFromMJCF(path)
         except (ValueError, RuntimeError) as err:
-            raise BackendError(name, f"cannot load MJCF: {str(err).strip().splitlines()[-1]}") from None
+            raise BackendError(name, f"cannot load MJCF: {library_reason(err)}") from None
         finally:
             os.unlink(path)
         return cls(model, name, joint_names, frames)

@@ -7,7 +7,7 @@ import io
 import numpy as np
 import yourdfpy
 
-from kinverify.errors import BackendError, UnknownNameError
+from kinverify.errors import BackendError, UnknownNameError, library_reason
 from kinverify.model.floating import base_transforms, has_base
 from kinverify.backends.base import BackendBase
 
@@ -82,7 +82,7 @@ class YourdfpyBackend(BackendBase):
         try:
             robot = yourdfpy.URDF.load(io.BytesIO(urdf_text.encode()), **kwargs)
         except Exception as err:  # yourdfpy raises bare lxml/ValueError/KeyError alike
-            raise BackendError(name, f"cannot load URDF: {err}") from None
+            raise BackendError(name, f"cannot load URDF: {library_reason(err)}") from None
         return cls(robot, name, joint_names, frames)
 
     def poses(self, q: np.ndarray) -> np.ndarray:

@@ -43,7 +43,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="override a property's tolerance or goal (repeatable), e.g. --tolerance fk.position=1e-12; "
                         "every property name in the JSON is accepted")
     p.add_argument("--gate", action="append", default=[], metavar="PROPERTY[=GOAL]",
-                   help="make a performance property (ik.success_rate, tracking.*) decide the verdict, at its default goal "
+                   help="make a performance property (ik.failure_rate, tracking.*) decide the verdict, at its default goal "
                         "or GOAL (repeatable); by default only agreement between the models does")
     p.add_argument("--report", help="HTML report path (default reports/<model>.html)")
     p.add_argument("--json", help="JSON results path (default reports/<model>.json)")
@@ -75,6 +75,13 @@ def _number(item: str, flag: str) -> tuple[str, float | None]:
     return name, number
 
 
+def _not_renamed(prop: str, flag: str) -> None:
+    from kinverify.results import RENAMED_PROPERTIES
+
+    if prop in RENAMED_PROPERTIES:
+        raise InputError(f"{flag}: property {prop!r} is now named {RENAMED_PROPERTIES[prop]!r} (see docs/properties.md)")
+
+
 def options_from_args(args):
     from kinverify.run import VerifyOptions
     from kinverify.suites.base import PERFORMANCE
@@ -89,6 +96,7 @@ def options_from_args(args):
     tolerances: dict[str, float] = {}
     for item in args.tolerance:
         prop, value = _number(item, "--tolerance")
+        _not_renamed(prop, "--tolerance")
         if prop not in props:
             raise InputError(f"--tolerance: unknown property {prop!r}; properties: {', '.join(props)}")
         if value is None:
@@ -97,6 +105,7 @@ def options_from_args(args):
     gates: dict[str, float | None] = {}
     for item in args.gate:
         prop, goal = _number(item, "--gate")
+        _not_renamed(prop, "--gate")
         performance = [n for n, p in props.items() if p.kind == PERFORMANCE]
         if prop not in performance:
             raise InputError(f"--gate: {prop!r} is not a performance property; performance properties: {', '.join(performance)}")
@@ -193,19 +202,19 @@ def run(args) -> int:
     json_out, html_out = args.json or default_output(result.model, ".json"), args.report or default_output(result.model, ".html")
     claim_outputs(("--json", json_out), ("--report", html_out))  # both checked before either is written
     t_report = time.perf_counter()
-    json_path = write_json(result, json_out)
-    html_path = write_html(result, html_out)
-    outputs = f"report: {html_path}  json: {json_path}"
+    json_path = write_json(result, json_out)  # the JSON first: it holds everything the page shows
+    written = [f"report: {write_html(result, html_out)}", f"json: {json_path}"]
     if args.junit:
         from kinverify.report.junit import junit_xml
         from kinverify.report.writer import write_atomic
 
-        outputs += f"  junit: {write_atomic(args.junit, junit_xml(result))}"
+        written.append(f"junit: {write_atomic(args.junit, junit_xml(result))}")
+    outputs = "  ".join(written)
     if args.quiet:  # one line, whatever the terminal's width
         console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
                       f"{len(result.failing_findings)} error findings); {outputs}", soft_wrap=True)
-    else:
-        console.print(outputs)
+    else:  # paths are never broken: one line, or one line each when that is too wide
+        console.print(outputs if len(outputs) <= console.width else "\n".join(written), soft_wrap=True, highlight=False)
     if args.profile:
         console.print(profile_line(result, time.perf_counter() - t_report, time.perf_counter() - t_run), highlight=False)
     for err in result.internal_errors:

@@ -23,7 +23,7 @@ import numpy as np
 
 from kinverify.backends import ModelSources, available_backends, names_reading
 from kinverify.backends.mujoco_ import urdf_for_mujoco
-from kinverify.errors import InputError, KinverifyError
+from kinverify.errors import InputError, KinverifyError, library_reason
 from kinverify.filemode.align.geometry import reach
 from kinverify.filemode.align.match import match
 from kinverify.filemode.align.run import identity_alignment, sample_ranges
@@ -33,7 +33,6 @@ from kinverify.filemode.compare.libraries import build_backends, rebuild_mjcf
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
 from kinverify.filemode.read.describe_urdf import describe_urdf
-from kinverify.filemode.read.files import last_line
 from kinverify.filemode.read.loading import load_mjcf, load_urdf
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
 from kinverify.pipeline.sampling import Samples, sample_configurations
@@ -57,18 +56,18 @@ def _describe(kind: str, loaded, findings: list):
             return text, describe_mjcf(text), free
         except ValueError as err:
             raise InputError(f"--mjcf: MuJoCo, the reference reader of MJCF, cannot load {loaded.path}: "
-                             f"{last_line(err)}") from None
+                             f"{library_reason(err)}") from None
     text = prepare_urdf(loaded.text)
     try:
         return text, describe_urdf(loaded.text), []
     except (ValueError, RuntimeError) as err:  # described through MuJoCo's URDF import instead
-        findings.append(finding("parser_refused", f"pinocchio-urdf refuses the URDF: {last_line(err)}",
+        findings.append(finding("parser_refused", f"pinocchio-urdf refuses the URDF: {library_reason(err)}",
                                 {"file": "URDF", "backend": "pinocchio-urdf"}))
 
     try:
         desc = describe_mjcf(urdf_for_mujoco(text))
     except ValueError as err:
-        raise InputError(f"--urdf: neither Pinocchio nor MuJoCo can load {loaded.path}: {last_line(err)}") from None
+        raise InputError(f"--urdf: neither Pinocchio nor MuJoCo can load {loaded.path}: {library_reason(err)}") from None
     return text, dataclasses.replace(desc, kind="urdf", library="mujoco (URDF import)"), []
 
 

@@ -69,21 +69,24 @@ class SerialChain:
     @classmethod
     def from_spec(cls, spec, frame: str) -> "SerialChain":
         """The chain from the spec's base to ``frame`` (a link or a tool) of the spec, over all
-        ``spec.dof`` joints (those after the frame's link get zero columns)."""
+        ``spec.dof`` joints: the joints on the path from the base to the frame's link (in a tree,
+        the frame's own branch), the others (further out, or on another branch) get zero columns."""
         from kinverify.model.kinematics import frame_link_indices
 
         if frame not in spec.frame_names:
             raise UnknownNameError("frame", frame, spec.frame_names)
         link = int(frame_link_indices(spec)[spec.frame_names.index(frame)])
+        path = np.flatnonzero(spec.ancestors()[link])  # base to tip: a joint's parent link always comes earlier
         tools = {t.name: t for t in spec.tools}
         tip = tools[frame].origin.transform if frame in tools else np.eye(4)
-        joints = [(j.origin.transform, j.axis, j.type == "revolute", j.limits.lower, j.limits.upper) for j in spec.joints[:link]]
+        on_path = [spec.joints[i] for i in path]
+        joints = [(j.origin.transform, j.axis, j.type == "revolute", j.limits.lower, j.limits.upper) for j in on_path]
         first = spec.base_origin.transform
         if joints:
             joints[0] = (first @ joints[0][0],) + joints[0][1:]
         else:
             tip = first @ tip
-        return cls.from_joints(joints, tip, [j.name for j in spec.joints[:link]], np.arange(link), spec.dof)
+        return cls.from_joints(joints, tip, [j.name for j in on_path], path, spec.dof)
 
     @classmethod
     def from_urdf(cls, urdf_text: str, base: str | None, tip: str, source: str = "URDF") -> "SerialChain":

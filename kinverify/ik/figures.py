@@ -52,8 +52,8 @@ def success_figure(solvers: list[dict], tol_pos: float, tol_rot: float) -> dict:
         ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, frameon=False)
         fig.tight_layout()
         return figure_entry(fig, "IK success rate per solver and backend",
-                            f"share of the reachable targets solved within {tol_pos:g} m / {tol_rot:g} rad (what ik.success_rate "
-                            "checks; dark) and within the solver's own stopping tolerance (grey)")
+                            f"share of the reachable targets solved within {tol_pos:g} m / {tol_rot:g} rad (dark: "
+                            "1 − ik.failure_rate) and within the solver's own stopping tolerance (grey)")
 
 
 def time_figure(solvers: list[dict]) -> dict:

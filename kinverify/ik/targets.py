@@ -19,20 +19,22 @@ def reachable_targets(backend, frame: str, lower, upper, n: int, seed: int = 0) 
 
 def reach_bound(spec, frame: str) -> tuple[np.ndarray, float]:
     """``(centre, radius)``: no configuration puts ``frame`` farther than ``radius`` from ``centre``
-    (the first joint's origin). Radius = the sum of the offsets after the first joint along the
-    chain to ``frame`` plus each prismatic joint's largest travel."""
+    (the origin of the first joint on the path from the base to ``frame``). Radius = the sum of
+    the offsets after that joint along the path (in a tree, the frame's own branch) plus each
+    prismatic joint's largest travel on it."""
     from kinverify.model.kinematics import frame_link_indices
 
-    first = spec.base_origin.transform @ spec.joints[0].origin.transform
     link = int(frame_link_indices(spec)[spec.frame_names.index(frame)])  # frame rides on link `link`
+    path = [spec.joints[i] for i in np.flatnonzero(spec.ancestors()[link])]
     tools = {t.name: t for t in spec.tools}
     tool_offset = float(np.linalg.norm(tools[frame].origin.transform[:3, 3])) if frame in tools else 0.0
-    if link == 0:  # rides on the base: it never moves
+    if not path:  # rides on the base: it never moves
         from kinverify.model.kinematics import frame_poses
 
         return frame_poses(spec, np.zeros(spec.dof))[0, spec.frame_names.index(frame), :3, 3], 0.0
-    radius = sum(float(np.linalg.norm(j.origin.transform[:3, 3])) for j in spec.joints[1:link])
-    radius += sum(max(abs(j.limits.lower), abs(j.limits.upper)) for j in spec.joints[:link] if j.type == "prismatic")
+    first = spec.base_origin.transform @ path[0].origin.transform
+    radius = sum(float(np.linalg.norm(j.origin.transform[:3, 3])) for j in path[1:])
+    radius += sum(max(abs(j.limits.lower), abs(j.limits.upper)) for j in path if j.type == "prismatic")
     return first[:3, 3], radius + tool_offset
 
 

@@ -18,15 +18,15 @@ from pathlib import Path
 
 import numpy as np
 
-from kinverify.errors import InputError
-from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.errors import InputError, library_reason
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
-from kinverify.filemode.read.model import ModelDesc
+from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_urdf
+from kinverify.filemode.read.model import ModelDesc
+from kinverify.model.transforms import geodesic_distance
+from kinverify.pipeline.sampling import sample_configurations
 from kinverify.regression.fileparams import pair_names, param_changes
 from kinverify.regression.modeldiff import DIFF_SAMPLES, REACH_SAMPLES, FrameChange, ModelDiff, ReachChange
-from kinverify.pipeline.sampling import sample_configurations
-from kinverify.model.transforms import geodesic_distance
 
 KINDS = {".urdf": "urdf", ".xml": "mjcf", ".mjcf": "mjcf"}
 ROOTS = {"robot": "urdf", "mujoco": "mjcf"}
@@ -58,7 +58,7 @@ def _load(path: str, kind: str) -> tuple[LoadedFile, ModelDesc]:
         desc = describe_urdf(loaded.text) if kind == "urdf" else describe_mjcf(loaded.text)
     except (ValueError, RuntimeError) as err:
         lib = "Pinocchio" if kind == "urdf" else "MuJoCo"
-        raise InputError(f"{path}: {lib} cannot load the {kind.upper()}: {str(err).strip().splitlines()[-1]}") from None
+        raise InputError(f"{path}: {lib} cannot load the {kind.upper()}: {library_reason(err)}") from None
     return loaded, desc
 
 

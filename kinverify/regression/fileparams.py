@@ -28,10 +28,10 @@ import math
 
 import numpy as np
 
-from kinverify.filemode.read.model import ModelDesc
 from kinverify.filemode.align.match import match_joints
-from kinverify.regression.specdiff import ATOL, ParamChange
+from kinverify.filemode.read.model import ModelDesc
 from kinverify.model.transforms import geodesic_distance, invert_transform, matrix_to_rpy
+from kinverify.regression.specdiff import ATOL, ParamChange
 
 
 def _number(v) -> bool:

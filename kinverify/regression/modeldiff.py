@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 
 from kinverify.model.kinematics import frame_poses, geometric_jacobians
-from kinverify.pipeline.sampling import spec_samples
 from kinverify.model.spec import ArmSpec
-from kinverify.regression.specdiff import ParamChange, diff_specs
 from kinverify.model.transforms import geodesic_distance
+from kinverify.pipeline.sampling import spec_samples
+from kinverify.regression.specdiff import ParamChange, diff_specs
 
 DIFF_SAMPLES = 200
 REACH_SAMPLES = 2000

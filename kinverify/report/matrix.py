@@ -4,7 +4,7 @@ per backend under test, each cell coloured by ``log10(max error / tolerance)``.
 A check compares two views ``(a, b)``; its column is the side being tested and the row says what
 it was compared against:
 
-- ``(x, x)``: a solver on its own backend (``ik.success_rate``): column ``x``, against its goal;
+- ``(x, x)``: a solver on its own backend (``ik.failure_rate``): column ``x``, against its goal;
 - one side is not a backend (``finite-difference``, ``limits``, ``geometry``, ``plan``...): column
   is the backend, against the other side;
 - both are backends: the side that is not the reference is tested (``analytic`` vs ``mujoco``:

@@ -2,55 +2,89 @@
 table (one row per property; one per property and backend where something fails) and the
 performance table (goals, not counted unless gated), then what failed and the verdict.
 
-Tables fit the terminal: text columns wrap, numbers never break, and when even that is too wide
-the least useful columns are dropped (:func:`fit_table`).
+At 80 columns, the width of a CI log (rich falls back to 80 when no stream is a terminal), no
+row wraps and no value is split or cut: backends have short labels (``pin-urdf``, ``analytic vs
+5``), numbers a compact form (``4.45e-16``, ``1e-9``), the unit follows the tolerance, and the
+columns that do not fit are dropped, least useful first (:func:`fit_table`). A passing run
+takes about 40 lines. A wider terminal shows the dropped columns and the backends by name.
 """
 
 from __future__ import annotations
 
 from typing import Sequence
 
-from rich import box
+from rich.cells import cell_len
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
-from kinverify.report.matrix import column_of, reference
-from kinverify.suites.base import EXPLAINED, PERFORMANCE
-from kinverify.results import VerifyResult
+from kinverify.report.matrix import reference
 from kinverify.report.units import display_unit, revolute as revolute_of
-from kinverify.suites.base import PERFORMANCE, Check, joint_unit
+from kinverify.results import VerifyResult
+from kinverify.suites.base import EXPLAINED, PERFORMANCE, Check, joint_unit
 
 Column = tuple[str, dict]  # (plain-text header, rich column options)
-NUMBER = {"justify": "right", "overflow": "fold"}  # one word each: never wider than its column (fit_table)
-NAME = {"overflow": "fold"}  # identifiers (property names): one word, never broken either
-TEXT = {"overflow": "fold"}  # wraps between words; folds only a word longer than the column
+NUMBER = {"justify": "right", "overflow": "fold"}  # one word, as wide as its column: never broken (fit_table)
+NAME = {"overflow": "fold"}  # identifiers (property names, results): one word, never broken either
+TEXT = {"overflow": "fold", "vertical": "top"}  # wraps between words, only when dropping columns leaves no room
+GAP = 2  # spaces between columns
+# backend and reference labels as the terminal prints them (the report and the JSON keep the full names)
+SHORT = {"pinocchio-urdf": "pin-urdf", "pinocchio-mjcf": "pin-mjcf", "finite-difference": "finite-diff"}
+UNITS = {"fraction of the move": "× move"}  # a goal relative to the move: 0.15 × move
+
+
+def compact(x: float) -> str:
+    """A number in at most 3 significant digits, exponent without padding: ``4.45e-16``, ``1e-9``,
+    ``0.0422``, ``0``, ``inf``."""
+    text = f"{x:.3g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        text = f"{mantissa}e{int(exponent)}"
+    return text
+
+
+def short(name: str) -> str:
+    return SHORT.get(name, name)
 
 
 def fit_table(console: Console, columns: Sequence[Column], rows: Sequence[Sequence[str]], optional: Sequence[str] = (),
-              **table_options) -> Table:
+              wrap_headers: bool = False, **table_options) -> Table:
     """A table of ``columns`` (plain headers) and ``rows`` (rich markup) as wide as the console
-    allows: cells and headers wrap between words, no word (a number, a name) is ever broken, and
-    the ``optional`` headers are dropped in that order until the table fits."""
+    allows. The ``optional`` headers are dropped in that order until every row fits on one line;
+    only if none does even then, :data:`TEXT` cells wrap between words. No word (a number, a
+    name) is ever broken; headers wrap (between words) only with ``wrap_headers``."""
     plain = [[h for h, _ in columns]] + [[Text.from_markup(c).plain for c in row] for row in rows]
 
-    def least(i: int) -> int:  # the longest word of the column
-        return max(max((len(w) for w in r[i].split()), default=0) for r in plain)
+    def header(i: int) -> int:
+        words = columns[i][0].split() if wrap_headers else [columns[i][0]]
+        return max((cell_len(w) for w in words), default=0)
+
+    def whole(i: int) -> int:
+        return max([header(i)] + [cell_len(r[i]) for r in plain[1:]])
+
+    def least(i: int) -> int:  # the longest word of a text column; the whole cell of the others
+        if columns[i][1] is not TEXT:
+            return whole(i)
+        return max([header(i)] + [cell_len(w) for r in plain[1:] for w in r[i].split()])
+
+    def span(widths: dict[int, int]) -> int:
+        return sum(widths.values()) + GAP * (len(widths) - 1)
 
     keep = list(range(len(columns)))
     for drop in [None, *optional]:
         keep = [i for i in keep if columns[i][0] != drop]
-        if sum(least(i) for i in keep) + 3 * len(keep) + 1 <= console.width:
+        widths = {i: whole(i) for i in keep}
+        if span(widths) <= console.width:
             break
-    widths = {i: least(i) for i in keep}
-    most = {i: max(len(r[i]) for r in plain) for i in keep}
-    spare = console.width - 3 * len(keep) - 1 - sum(widths.values())
-    while spare > 0 and any(widths[i] < most[i] for i in keep):  # widen the column that wraps most
-        i = min((i for i in keep if widths[i] < most[i]), key=lambda i: most[i] - widths[i])  # unwrap what is nearly whole
-        widths[i] += 1
-        spare -= 1
-    table = Table(box=box.SIMPLE_HEAD, **table_options)
+    else:  # too narrow even so: wrap the text columns that wrap the least
+        widths = {i: least(i) for i in keep}
+        spare = console.width - span(widths)
+        while spare > 0 and any(widths[i] < whole(i) for i in keep):
+            i = min((i for i in keep if widths[i] < whole(i)), key=lambda i: whole(i) - widths[i])
+            widths[i] += 1
+            spare -= 1
+    table = Table(box=None, show_edge=False, pad_edge=False, padding=(0, GAP // 2), header_style="bold", **table_options)
     for i in keep:
         table.add_column(escape(columns[i][0]), width=widths[i], **columns[i][1])
     for row in rows:
@@ -59,11 +93,12 @@ def fit_table(console: Console, columns: Sequence[Column], rows: Sequence[Sequen
 
 
 def suite_lines(result: VerifyResult) -> list[tuple[str, str, str, str]]:
-    """(mark, suite, what, time) per suite that ran: its checks and how they did."""
+    """(mark, suite, what, time) per suite that ran checks or was skipped, then one line for the
+    suites that only add a section to the report."""
     from kinverify.suites.registry import SUITES
 
     suite_of = {p.name: s.name for s in SUITES for p in s.properties}
-    lines = []
+    lines, report_only = [], []
     for s in SUITES:
         if s.name not in result.timings:
             continue
@@ -71,20 +106,27 @@ def suite_lines(result: VerifyResult) -> list[tuple[str, str, str, str]]:
         failed = [c for c in checks if c.decisive_failure]
         missed = [c for c in checks if not c.passed and not c.counts and c.kind == PERFORMANCE]
         explained = [c for c in checks if not c.passed and c.kind == EXPLAINED]
+        sec = result.sections.get(s.name)
+        summary = sec.summary if sec is not None else ""
         if failed:
             mark, what = "[bold red]✗[/]", f"[red]{len(failed)} of {len(checks)} checks fail[/]"
         elif explained:
             mark, what = "[yellow]![/]", f"{len(checks) - len(explained)} of {len(checks)} checks pass"
         elif checks:
             mark, what = "[green]✓[/]", f"{len(checks)} checks pass"
+        elif summary.startswith("skipped"):
+            mark, what = "·", escape(_first_clause(summary))
         else:
-            sec = result.sections.get(s.name)
-            mark, what = "·", escape(_first_sentence(sec.summary)) if sec is not None and sec.summary else "report only"
+            report_only.append(s.name)
+            continue
         if missed:
             what += f", [yellow]{len(missed)} below goal[/]"
         if explained:
-            what += f", {len(explained)} differ as a finding says (the finding counts)"
+            what += f", {len(explained)} differ as findings say"
         lines.append((mark, s.name, what, f"[dim]{result.timings[s.name]:.1f} s[/]"))
+    if report_only:
+        seconds = sum(result.timings[n] for n in report_only)
+        lines.append(("·", "report", f"{', '.join(report_only)}: sections of the report", f"[dim]{seconds:.1f} s[/]"))
     return lines
 
 
@@ -97,8 +139,9 @@ def suites_grid(result: VerifyResult) -> Table:
     return grid
 
 
-def _first_sentence(text: str) -> str:
-    return text.split("; ")[0].split(". ")[0]
+def _first_clause(text: str) -> str:
+    """``skipped: tracking needs a fixed base`` of a summary that goes on to explain why."""
+    return text.split("; ")[0].split(". ")[0].split(" (")[0]
 
 
 def _rows(result: VerifyResult, kind: str) -> list[tuple[str, str, list[Check]]]:
@@ -125,94 +168,129 @@ def _rows(result: VerifyResult, kind: str) -> list[tuple[str, str, list[Check]]]
 
 
 def _who(checks: list[Check], col: str = "") -> str:
-    """The backends of a row: ``a vs b`` for one pair, ``flipped vs 6 backends`` (every pair
-    has ``col``), ``analytic vs 5 backends``, ``5 backends vs finite-difference``, ``5
-    backends`` (each against its goal) or ``25 pairs``."""
+    """The backends of a row, short: ``a vs b`` for one pair, ``flipped vs 6`` (every pair has
+    ``col``), ``analytic vs 5`` (one against five others), ``5 vs finite-diff``, ``5 backends``
+    (each against its goal) or ``25 pairs``."""
     pairs = list(dict.fromkeys(c.backends for c in checks))
     firsts, seconds = list(dict.fromkeys(p[0] for p in pairs)), list(dict.fromkeys(p[1] for p in pairs))
     if len(pairs) == 1:
         a, b = pairs[0]
-        return a if a == b else f"{a} vs {b}"
+        return short(a) if a == b else f"{short(a)} vs {short(b)}"
     if col and all(col in p for p in pairs):
-        return f"{col} vs {len({x for p in pairs for x in p if x != col})} backends"
+        return f"{short(col)} vs {len({x for p in pairs for x in p if x != col})}"
     if len(firsts) == 1:
-        return f"{firsts[0]} vs {len(seconds)} backends"
+        return f"{short(firsts[0])} vs {len(seconds)}"
     if len(seconds) == 1:
-        return f"{len(firsts)} backends vs {seconds[0]}"
+        return f"{len(firsts)} vs {short(seconds[0])}"
     if all(a == b for a, b in pairs):
         return f"{len(pairs)} backends"
     return f"{len(pairs)} pairs"
 
 
 def _mark(checks: list[Check]) -> str:
+    """``ok``; ``FAIL`` (counts); ``finding`` (differs as a finding says, which counts); ``missed`` (a goal)."""
     if all(c.passed for c in checks):
         return "[green]ok[/]"
-    return "[bold red]FAIL[/]" if any(c.decisive_failure for c in checks) else "[yellow]below goal[/]"
+    if any(c.decisive_failure for c in checks):
+        return "[bold red]FAIL[/]"
+    return "[yellow]finding[/]" if any(c.kind == EXPLAINED and not c.passed for c in checks) else "[yellow]missed[/]"
 
 
 def _worst(checks: list[Check]) -> Check:
     return max(checks, key=lambda c: (not c.passed, c.max_error / c.tolerance if c.tolerance else c.max_error))
 
 
-def results_tables(result: VerifyResult, console: Console) -> list[Table]:
+def _unit(unit: str, revolute) -> str:
+    """The unit as the terminal prints it: joint-space units in the model's terms (rad, m, rad|m),
+    ``X or X/s`` as ``X(/s)``, a fraction of the move as ``× move``."""
+    unit = display_unit(unit, revolute)
+    first, _, second = unit.partition(" or ")
+    if second == f"{first}/s":
+        unit = f"{first}(/s)"
+    return UNITS.get(unit, unit)
+
+
+def _limit(value: float, unit: str) -> str:
+    """``1e-9 m``: a tolerance or goal and its unit, one cell (a column each would take two more)."""
+    return escape(f"{compact(value)} {unit}".rstrip())
+
+
+def results_tables(result: VerifyResult, console: Console) -> list[tuple[str, Table]]:
+    """``(title, table)``: the agreement table (its title says what was sampled) and the
+    performance table (its first header says what it is)."""
     revolute = revolute_of(result)
-    title = f"{result.model}: {result.samples} configurations, seed {result.seed}; reference {reference(result)}"
-    rows = []
-    for prop, who, checks in _rows(result, "agreement"):
-        w = _worst(checks)
-        unit = escape(display_unit(w.unit, revolute))
-        rows.append([escape(prop), escape(who), str(len(checks)), escape(w.frame), f"{w.max_error:.2e}",
-                     f"{max(c.p99_error for c in checks):.2e}", f"{w.tolerance:.0e} {unit}", _mark(checks)])
-    cols = [("property", NAME), ("backends", TEXT), ("checks", NUMBER), ("worst at", TEXT), ("max error", NUMBER),
-            ("p99 error", NUMBER), ("tolerance", TEXT), ("result", TEXT)]
-    tables = [fit_table(console, cols, rows, optional=("p99 error", "checks", "worst at"), title=title)] if rows else []
-    perf = []
+    out = []
+    rows = [(prop, who, checks, _worst(checks)) for prop, who, checks in _rows(result, "agreement")]
+    if rows:
+        cells = [[escape(prop), escape(who), str(len(checks)), escape(w.frame), compact(w.max_error),
+                  compact(max(c.p99_error for c in checks)), _limit(w.tolerance, _unit(w.unit, revolute)), _mark(checks)]
+                 for prop, who, checks, w in rows]
+        cols = [("property", NAME), ("backends", TEXT), ("checks", NUMBER), ("worst at", TEXT), ("max error", NUMBER),
+                ("p99 error", NUMBER), ("tolerance", TEXT), ("", NAME)]
+        title = f"{result.model}: {result.samples} configurations, seed {result.seed}, reference {short(reference(result))}"
+        out.append((escape(title), fit_table(console, cols, cells, optional=("p99 error", "checks", "worst at"))))
     from kinverify.suites.registry import properties
 
     props = properties()
-    for prop, who, checks in _rows(result, PERFORMANCE):
-        w = _worst(checks)
-        what = props[prop].compares if prop in props else ""
-        unit = escape(display_unit(w.unit, revolute))
-        perf.append([escape(prop), escape(who), f"{w.max_error:.3g}", f"{w.tolerance:.3g} {unit}", escape(what), _mark(checks)])
+    perf = [(prop, who, checks, _worst(checks)) for prop, who, checks in _rows(result, PERFORMANCE)]
     if perf:
-        cols = [("property", NAME), ("solver / controller", TEXT), ("measured", NUMBER), ("goal", TEXT),
-                ("what is measured", TEXT), ("result", TEXT)]
-        tables.append(fit_table(console, cols, perf, optional=("what is measured",),
-                                title="performance: shown against goals, not counted unless --gate"))
-    return tables
+        cells = [[escape(prop), escape(who), compact(w.max_error), _limit(w.tolerance, _unit(w.unit, revolute)),
+                  escape(props[prop].compares if prop in props else ""), _mark(checks)] for prop, who, checks, w in perf]
+        cols = [("performance", NAME), ("backends", TEXT), ("measured", NUMBER), ("goal", TEXT), ("what is measured", TEXT),
+                ("result", NAME)]
+        out.append(("", fit_table(console, cols, cells, optional=("what is measured",))))
+    return out
 
 
 def print_result(result: VerifyResult, console: Console | None = None) -> None:
     console = console or Console()
     console.print(suites_grid(result))
-    for table in results_tables(result, console):
+    for title, table in results_tables(result, console):
+        if title:
+            console.print(title, highlight=False)
         console.print(table)
     revolute = revolute_of(result)
+    notes = Table.grid(padding=(0, 1))  # a tag, then the text with a hanging indent
+    notes.add_column(no_wrap=True)
+    notes.add_column(overflow="fold", ratio=1)
     for c in result.first_failures():
         q = ", ".join(f"{v:.6g}" for v in c.worst_q)
-        console.print(f"[red]first disagreeing frame[/] for {c.property} ({escape(' vs '.join(c.backends))}): "
+        notes.add_row("[bold red]✗[/]", f"{c.property} ({escape(' vs '.join(c.backends))}): first disagreeing frame "
                       f"[bold]{escape(c.frame)}[/], max error {c.max_error:.3e} {display_unit(c.unit, revolute)} at q = [{q}]")
     style = {"error": "bold red", "warning": "yellow", "info": "cyan"}
     for f in result.findings:
         tag = "accepted" if f.accepted else f.severity
-        console.print(f"[{style[f.severity] if not f.accepted else 'dim'}]{tag}[/] {f.kind} ({escape(f.label)}): {escape(f.message)}")
+        notes.add_row(f"[{style[f.severity] if not f.accepted else 'dim'}]{tag}[/]", f"{f.kind} ({escape(f.label)}): {escape(f.message)}")
     for note in result.notes:
-        console.print(f"[yellow]note:[/] {escape(note)}")
-    console.print(f"verdict: {verdict_line(result)}")
+        notes.add_row("[yellow]note[/]", escape(note))
+    if notes.row_count:
+        console.print(notes)
+    console.print(f"verdict: {verdict_line(result, console.width - len('verdict: '))}", highlight=False)
 
 
-def verdict_line(result: VerifyResult) -> str:
-    """``PASS: ...`` / ``FAIL (...)`` / ``ERROR``: one line with what decided it."""
-    n_fail, n_err = len(result.failed), len(result.failing_findings)
-    what = f"{len(result.checks)} checks and {len(result.findings)} findings across {', '.join(result.backends)} in {result.duration_s:.1f} s"
-    missed = f"; {len(result.missed_goals)} performance goal(s) missed (not counted)" if result.missed_goals else ""
-    if result.verdict == "pass":
-        return f"[bold green]PASS[/]: {what}{missed}"
-    if result.verdict == "error":
-        return f"[bold red]ERROR[/] (internal error in {len(result.internal_errors)} suite(s)): {what}"
-    parts = [f"{n_fail} of {len(result.checks)} checks" if n_fail else "", f"{n_err} error findings" if n_err else ""]
-    return f"[bold red]FAIL[/] ({', '.join(p for p in parts if p)}): {what}{missed}"
+def verdict_line(result: VerifyResult, width: int | None = None) -> str:
+    """``PASS: ...`` / ``FAIL (...)`` / ``ERROR``: one line with what decided it; the backends by
+    name when that fits in ``width`` columns (None: always), else how many."""
+    n_fail, n_err, n_missed = len(result.failed), len(result.failing_findings), len(result.missed_goals)
+    checks, findings, seconds = len(result.checks), len(result.findings), f"{result.duration_s:.1f} s"
+
+    def line(what: str, missed: str) -> str:
+        missed = missed if n_missed else ""
+        if result.verdict == "pass":
+            return f"[bold green]PASS[/]: {what}{missed}"
+        if result.verdict == "error":
+            return f"[bold red]ERROR[/] (internal error in {len(result.internal_errors)} suite(s)): {what}"
+        parts = [f"{n_fail} of {checks} checks" if n_fail else "", f"{n_err} error findings" if n_err else ""]
+        return f"[bold red]FAIL[/] ({', '.join(p for p in parts if p)}): {what}{missed}"
+
+    goals = f"{n_missed} performance goal{'s' if n_missed != 1 else ''} missed"
+    forms = [line(f"{checks} checks and {findings} findings across {', '.join(result.backends)} in {seconds}",
+                  f"; {goals} (not counted)"),
+             line(f"{checks} checks and {findings} findings across {len(result.backends)} backends in {seconds}",
+                  f"; {goals} (not counted)"),
+             line(f"{checks} checks, {findings} findings, {len(result.backends)} backends, {seconds}",
+                  f"; {goals.replace('performance ', '')}")]
+    return next((f for f in forms if width is None or cell_len(Text.from_markup(f).plain) <= width), forms[-1])
 
 
 def track_table(spec, result, console: Console) -> Table:
@@ -228,4 +306,4 @@ def track_table(spec, result, console: Console) -> Table:
              f"{m.final_speed:.3e}", "[green]ok[/]" if m.passed else "[bold red]FAIL[/]"] for m in result.metrics]
     return fit_table(console, cols, rows, optional=(f"speed at end of hold [{u}/s]", f"overshoot [{u}]", "settling time [s]",
                                                     "tool path deviation [m]", f"error at end of motion [{u}]"),
-                     title=f"kinverify track: {spec.name}, {t.duration:g} s motion + {t.hold:g} s hold")
+                     wrap_headers=True, title=f"kinverify track: {spec.name}, {t.duration:g} s motion + {t.hold:g} s hold")

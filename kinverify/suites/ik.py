@@ -4,8 +4,9 @@ Targets are FK (reference backend) of uniform random configurations inside the l
 pose for arms with >= 6 joints, position only below. The LM solver (:mod:`kinverify.ik.lm`)
 runs on every backend with analytic Jacobians, each on its own FK (batched on ``analytic``,
 target by target elsewhere), restarting from one seed table; the seed's solver runs next to it
-for the report only (it is not expected to reach 1e-6). Checks: ``ik.success_rate``, ``ik.limits``, ``ik.cross_fk`` (each solution
-through every other backend's FK), ``ik.closed_form`` (arm3-shaped specs), ``ik.unreachable``.
+for the report only (it is not expected to reach 1e-6). Checks: ``ik.failure_rate``, ``ik.limits``, ``ik.cross_fk`` (each solution
+through every other backend's FK), ``ik.closed_form`` (arm3-shaped specs), ``ik.unreachable``. A solver that solves
+fewer than half of the reachable targets is also a warning finding (``ik_solver_fails``): every target has a solution.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import numpy as np
 
 from kinverify.errors import InputError
 from kinverify.model.floating import has_base
-from kinverify.suites.base import AGREEMENT, PERFORMANCE, Check, Property, Section, Suite, SuiteResult, VerifyContext
+from kinverify.suites.base import AGREEMENT, PERFORMANCE, Check, Finding, Property, Section, Suite, SuiteResult, VerifyContext
 from kinverify.ik.closed_form import Arm3ClosedForm
 from kinverify.ik.figures import ik_figures, solver_data
 from kinverify.ik.frame_model import FrameModel, residuals
@@ -26,14 +27,15 @@ DEFAULT_TARGETS = 50
 DEFAULT_UNREACHABLE = 5
 TOL_POS, TOL_ROT = 1e-6, 1e-6  # m, rad
 TOL_JOINT = 1e-6  # rad: numeric solution against the nearest closed-form branch (+ residual/σ_min)
+WARN_SOLVED_BELOW = 0.5  # a solver that solves less than this share of reachable targets is broken: a warning finding
 
 
 class IKSuite(Suite):
     name = "ik"
     title = "Inverse kinematics"
     properties = (
-        Property("ik.success_rate", "fraction", 0.001, PERFORMANCE,
-                 f"fraction of random reachable targets NOT solved within {TOL_POS:g} m / {TOL_ROT:g} rad by the LM solver"),
+        Property("ik.failure_rate", "fraction", 0.001, PERFORMANCE,
+                 f"fraction of random reachable targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad by the LM solver"),
         Property("ik.cross_fk", "m|rad", 1e-6, AGREEMENT,
                  "each IK solution through every other backend's FK: max(position [m], rotation [rad]) error"),
         Property("ik.limits", "rad|m", 0.0, PERFORMANCE, "largest distance of a returned configuration outside the limits"),
@@ -73,7 +75,7 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     solvers = [b for b in ctx.backends.values() if b.jacobian_method == "analytic"]
     models = _models(solvers, frame, src.revolute, opts.reference)
     closed = suite.closed_form(src, frame)
-    checks, rows, failures, plotted = [], [], [], []
+    checks, rows, failures, plotted, solved_by = [], [], [], [], {}
     ik_opts = IKOptions(seed=opts.seed, start="seeded")
     report = opts.on_progress or (lambda done, total: None)
     for k, backend in enumerate(solvers):
@@ -81,7 +83,8 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
         model = models[backend.name]
         sol = suite.solve(backend, model, targets, lower, upper, position_only, ik_opts)
         ok = sol.solved(TOL_POS, TOL_ROT)
-        checks.append(_success_check(ctx, sol, ok, frame))
+        solved_by[backend.name] = int(ok.sum())
+        checks.append(_failure_check(ctx, sol, ok, frame))
         checks.append(_limits_check(ctx, sol, lower, upper, frame))
         checks += _cross_checks(ctx, sol, ok, targets, ctx.backends, frame)
         if closed is not None:
@@ -121,9 +124,10 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
         section.table("Unreachable targets", ["solver", "targets", "reported solved", "min closest approach [m]",
                                               "reach lower bound [m]"], unreach_rows)
     section.notes += [
-        "ik.success_rate: max_error and p99_error are the fraction of targets NOT solved within "
-        f"{TOL_POS:g} m / {TOL_ROT:g} rad; the goal is the allowed fraction. A solver's performance: shown, "
-        "not counted in the verdict unless gated (--gate ik.success_rate).",
+        "ik.failure_rate: max_error and p99_error are the fraction of targets not solved within "
+        f"{TOL_POS:g} m / {TOL_ROT:g} rad; the goal is the largest fraction allowed. A solver's performance: shown, "
+        f"not counted in the verdict unless gated (--gate ik.failure_rate); below {WARN_SOLVED_BELOW:.0%} solved, a "
+        "warning finding.",
         "ik.cross_fk: error = max(position error [m], rotation error [rad]) of each solution through "
         "the confirming backend's FK.",
         "seed-pinv (the seed's pseudo-inverse IK: step 0.1, tolerance 1e-3 m, 100 iterations, from q = 0, "
@@ -133,7 +137,26 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
         f"and the best of {ik_opts.seed_samples} stored configurations (a table built once, not timed), restarts from "
         "the next ones.",
     ]
-    return SuiteResult(checks, section)
+    return SuiteResult(checks, section, _unsolved_findings(solved_by, n, frame))
+
+
+def _unsolved_findings(solved_by: dict[str, int], n: int, frame: str) -> list[Finding]:
+    """One warning when some solvers solve fewer than ``WARN_SOLVED_BELOW`` of the reachable
+    targets (FK of configurations inside the limits: each has a solution), naming them and what
+    the others solved."""
+    broken = {b: k for b, k in solved_by.items() if k < WARN_SOLVED_BELOW * n}
+    if not n or not broken:
+        return []
+    others = {b: k for b, k in solved_by.items() if b not in broken}
+    told = "; ".join(f"{b} solves {k} of {n}" for b, k in broken.items())
+    rest = (f" (the other solvers: {', '.join(f'{b} {k}' for b, k in others.items())} of {n})" if others else
+            " (so does every other solver)")
+    return [Finding("ik_solver_fails", "warning",
+                    f"LM IK on reachable targets for {frame}: {told}{rest}; each target is the FK of a configuration inside "
+                    "the limits, so a solution exists: the solver or this backend's FK or Jacobian of the frame is wrong",
+                    subject=frame, subject_type="frame", property="ik.failure_rate",
+                    values={"solved": dict(solved_by), "targets": n, "backends": list(broken)},
+                    magnitude=1.0 - min(broken.values()) / n, unit="fraction")]
 
 
 def _models(solvers, frame, revolute, reference) -> dict[str, FrameModel]:
@@ -168,11 +191,11 @@ def _row(sol: IKSolutions, ok) -> list:
             float(sol.rot_error.max()), sol.batched]
 
 
-def _success_check(ctx, sol, ok, frame) -> Check:
+def _failure_check(ctx, sol, ok, frame) -> Check:
     fail = float(1 - ok.mean())
     worst = int(np.argmin(ok)) if not ok.all() else int(np.argmax(np.maximum(sol.pos_error, sol.rot_error)))
     q = sol.seed_q[worst] if not ok.all() else sol.q[worst]
-    return IKSuite.value_check(ctx.options, "ik.success_rate", frame, (sol.backend, sol.backend), fail, q, samples=len(sol),
+    return IKSuite.value_check(ctx.options, "ik.failure_rate", frame, (sol.backend, sol.backend), fail, q, samples=len(sol),
                                note=f"fraction of {len(sol)} targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad "
                                "(max_error = p99_error = that fraction); worst_q: a failing target's last seed, else the worst solution")
 

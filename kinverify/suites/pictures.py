@@ -28,6 +28,7 @@ import zlib
 
 import numpy as np
 
+from kinverify.errors import library_reason
 from kinverify.suites.base import Figure, Section, Suite, SuiteResult, VerifyContext, tolerance
 
 WIDTH, HEIGHT = 480, 360
@@ -266,7 +267,7 @@ class PicturesSuite(Suite):
         try:
             visible = visible_arm_geoms(src.mjcf)
         except Exception as err:  # MuJoCo refuses the MJCF: the skeleton still stands
-            visible, reason = 0, f"rendering unavailable: MuJoCo cannot load the MJCF ({type(err).__name__})"
+            visible, reason = 0, f"rendering unavailable: MuJoCo cannot load the MJCF ({library_reason(err)})"
         else:
             reason = "" if visible else "no MuJoCo rendering: the MJCF has no visible geometry on the arm (meshes are not loaded)"
         pngs = []

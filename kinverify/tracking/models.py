@@ -27,7 +27,8 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from kinverify.errors import BackendError, UnknownNameError
+from kinverify.backends.pinocchio_ import build_urdf_model
+from kinverify.errors import BackendError, UnknownNameError, library_reason
 from kinverify.model.floating import base_transforms, has_base, velocity_map
 from kinverify.model.transforms import matrix_to_quat
 
@@ -62,9 +63,9 @@ class PinocchioDynamics:
     def build_model(urdf: str):
         """Pinocchio's model of the text (a subclass may read another format)."""
         try:
-            return pin.buildModelFromXML(urdf)
-        except (ValueError, RuntimeError) as err:
-            raise BackendError("pinocchio-urdf", f"cannot load URDF: {str(err).strip().splitlines()[-1]}") from None
+            return build_urdf_model(urdf)
+        except ValueError as err:
+            raise BackendError("pinocchio-urdf", f"cannot load URDF: {library_reason(err)}") from None
 
     def _in(self, x) -> np.ndarray:
         out = np.empty(len(self.idx_v))
@@ -137,7 +138,7 @@ class MujocoDynamics:
         try:
             self.model = mujoco.MjModel.from_xml_string(mjcf)
         except ValueError as err:
-            raise BackendError("mujoco", f"cannot load MJCF: {str(err).strip().splitlines()[0]}") from None
+            raise BackendError("mujoco", f"cannot load MJCF: {library_reason(err)}") from None
         m = self.model
         if rigid:
             for flag in RIGID_BODY_DISABLED:

@@ -19,7 +19,7 @@ from tests.fuzz.harness import fuzz_settings, log_example, run_checked
 from tests.paths import MODELS
 
 NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1", "2", "1e308", "-1e308", str(10**30), "abc", "", "0x10", "1_000"]
-NAMES = ["fk.position=1e-12", "fk.position=-1", "fk.position=nan", "ik.success_rate", "nope=1", "=", "", "ik", "everything",
+NAMES = ["fk.position=1e-12", "fk.position=-1", "fk.position=nan", "ik.failure_rate", "ik.success_rate", "nope=1", "=", "", "ik", "everything",
          "analytic", "mujoco,analytic", "pybullet", "base=base", "joint1=joint1", "a=b=c"]
 QUICK = ["--backends", "analytic,mujoco", "--skip", "ik", "--skip", "tracking", "--skip", "pictures", "--skip", "workspace",
          "--skip", "dynamics"]

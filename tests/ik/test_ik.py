@@ -150,7 +150,7 @@ def test_verify_ik_suite_passes_and_detects_a_wrong_model():
     result = verify_spec(ARM3, VerifyOptions(samples=0, suites=["ik"], extra={"ik_targets": 8},
                                              backends=["analytic", "pinocchio-urdf", "mujoco"]), extra_backends=[shifted])
     props = {c.property for c in result.checks}
-    assert props == {"ik.success_rate", "ik.cross_fk", "ik.limits", "ik.closed_form", "ik.unreachable"}
+    assert props == {"ik.failure_rate", "ik.cross_fk", "ik.limits", "ik.closed_form", "ik.unreachable"}
     bad = [c for c in result.checks if not c.passed]
     assert bad and all(c.property == "ik.cross_fk" and c.backends[1] == "shifted" for c in bad)
     assert all(c.max_error == pytest.approx(1e-4, rel=1e-3) for c in bad)

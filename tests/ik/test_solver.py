@@ -25,19 +25,21 @@ TOL = 1e-6
 
 
 @settings(max_examples=30, deadline=None)
-@given(kst.arm_specs(min_joints=1, max_joints=8), kst.data())
+@given(kst.arm_specs(min_joints=1, max_joints=8, trees=True), kst.data())
 def test_chain_fk_and_jacobian_equal_the_analytic_ones_for_every_frame(spec, data):
+    """Serial arms and trees: a frame on a branch is moved by its own branch's joints only."""
     q = data.draw(kst.configuration_batches(spec, 1, 6))
     poses = frame_poses(spec, q)
     jac = geometric_jacobians(spec, poses)
     urdf = generate_urdf(spec)
     for f, frame in enumerate(spec.frame_names):
-        for chain in (SerialChain.from_spec(spec, frame), SerialChain.from_urdf(urdf, "world", frame)):
-            rot, p, j = chain.fk_jac(q) if chain.width == spec.dof else chain.fk_jac(q[:, chain.columns])
+        from_spec, from_urdf = SerialChain.from_spec(spec, frame), SerialChain.from_urdf(urdf, "world", frame)
+        assert from_spec.names == from_urdf.names  # the same path, from the base to the frame
+        for chain, cols in ((from_spec, slice(None)), (from_urdf, [spec.joint_names.index(n) for n in from_urdf.names])):
+            rot, p, j = chain.fk_jac(q[:, cols])
             np.testing.assert_allclose(rot, poses[:, f, :3, :3], atol=1e-12)
             np.testing.assert_allclose(p, poses[:, f, :3, 3], atol=1e-12)
-            expected = jac[:, f] if chain.width == spec.dof else jac[:, f][:, :, chain.columns]
-            np.testing.assert_allclose(j, expected, atol=1e-12)
+            np.testing.assert_allclose(j, jac[:, f][:, :, cols], atol=1e-12)
 
 
 @pytest.mark.skipif(not (REAL_ROBOTS / "panda" / "panda_erd.urdf").is_file(), reason="no ../shared/real-robots")

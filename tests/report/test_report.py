@@ -4,6 +4,7 @@ screen, page height, no network)."""
 
 from __future__ import annotations
 
+import dataclasses
 import html as htmllib
 import json
 import re
@@ -19,12 +20,14 @@ from kinverify.cli import main
 from kinverify.model.specfile import load_spec
 from kinverify.model.transforms import geodesic_distance
 from kinverify.report.html import cell, render_html
-from kinverify.report.json_ import write_json
+from kinverify.report.json_ import load_result_json, write_json
 from kinverify.results import VerifyResult
+from kinverify.suites.base import Finding
 from kinverify.run import VerifyOptions, verify
 from tests.paths import ROOT
 from tests.report import browser
 from tests.report.flipped import FLIPPED, flipped_backend
+from tests.report.terminal_checks import PASSING_LINES, assert_fits, render
 
 @pytest.fixture(scope="module")
 def arm3():
@@ -93,6 +96,17 @@ def test_passing_report_states_the_verdict_and_what_was_compared(passing):
     assert page.count("<svg") >= 2  # error distributions and workspace, inline
 
 
+def test_a_warning_of_a_suite_is_shown_on_a_passing_page(passing):
+    """A suite's warning (here the IK one: a solver that solves almost nothing) has its own
+    section on the page, not only a count in the banner; the verdict stays PASS."""
+    warning = Finding("ik_solver_fails", "warning", "LM IK on reachable targets for end_effector: analytic solves 0 of 50",
+                      subject="end_effector", subject_type="frame", property="ik.failure_rate")
+    page = render_html(dataclasses.replace(passing, findings=[warning]))
+    section = _text(_between(page, '<section id="findings">', "</section>"))
+    assert "frame end_effector" in section and "warning" in section and warning.message in section
+    assert 'class="banner pass"' in page and "1 warning" in _text(_between(page, '<header class="banner', "</header>"))
+
+
 def test_every_check_is_in_the_heat_map_with_its_value_and_a_link_to_its_detail(failing, failing_page):
     page = failing_page
     heat = _between(page, '<section id="matrix">', "</section>")
@@ -148,6 +162,20 @@ def test_rerender_from_json_is_identical(failing, failing_page, tmp_path):
     json_path = write_json(failing, tmp_path / "r.json")
     assert main(["report", str(json_path), "--out", str(tmp_path / "again.html")]) == 1  # the saved run failed
     assert (tmp_path / "again.html").read_text(encoding="utf-8") == failing_page
+
+
+def test_a_results_json_from_before_the_ik_rename_reads_as_the_same_result(failing, tmp_path):
+    """Schema 2 named the fraction of IK targets not solved ``ik.success_rate``; such a saved JSON
+    reads under the property's name now, ``ik.failure_rate``, with the same values, so ``kinverify
+    report`` draws the same page from it (a page is the result's alone: test above)."""
+    data = failing.to_dict()
+    old = [c for c in data["checks"] if c["property"] == "ik.failure_rate"]
+    assert old
+    for c in old:
+        c["property"] = "ik.success_rate"
+    data["schema_version"] = 2
+    (tmp_path / "old.json").write_text(json.dumps(data))
+    assert load_result_json(tmp_path / "old.json").to_dict() == failing.to_dict()
 
 
 def test_report_command_rejects_a_file_that_is_not_a_result(tmp_path, capsys):
@@ -221,6 +249,21 @@ def test_default_arm3_report_stays_under_5_mb_and_shows_every_section(default_ar
     tables = re.findall(r"<table>(.*?)</table>", sections, re.S)  # the suites' own tables (the overviews have a class)
     cells = [c for t in tables for c in re.findall(r'<td class="num">([^<]*)</td>', t)]
     assert cells and max(len(c) for c in cells) <= 11, max(cells, key=len)
+
+
+def test_the_default_arm3_run_prints_in_40_lines_at_80_columns(default_arm3):
+    """The full default run (every suite, tracking's rows included), printed from its saved JSON as
+    an 80-column terminal and as a log: every row on one line, every number whole, 40 lines."""
+    result = load_result_json(default_arm3[1])
+    assert {c.property for c in result.checks} >= {"tracking.pd+gravity", "ik.closed_form"} and "pictures" in result.timings
+    for terminal in (True, False):
+        lines = render(result, 80, terminal)
+        assert_fits(lines, result, 80)
+        assert len(lines) <= PASSING_LINES - 1  # and the line naming the report and the JSON
+    shown = _between((ROOT / "docs" / "report.md").read_text(encoding="utf-8"), "```text\n", "\n```").splitlines()[1:]
+    numbers = lambda line: " ".join(re.sub(r"\d[\d.e+-]*", "#", line).split())  # the layout, not the timings
+    assert [numbers(line) for line in shown[:-1]] == [numbers(line) for line in lines]  # docs/report.md shows this run
+    assert shown[-1] == "report: reports/arm3.html  json: reports/arm3.json"
 
 
 def test_error_distributions_only_for_sampled_properties(default_arm3):

@@ -1,9 +1,12 @@
-"""Terminal output read back from rich's recording console at 80 and 200 columns: every line fits,
-no number or name is cut, the labels say what the numbers are; ``kinverify track``'s table; the
+"""Terminal output at 80 and 200 columns, printed from results and by the real CLI in a
+pseudo-terminal and to a log: every line fits, no row wraps, no number or name is cut, the labels
+say what the numbers are; findings wrap under their text; ``kinverify track``'s table; the
 progress every long suite reports; ``--quiet``."""
 
 from __future__ import annotations
 
+import dataclasses
+import itertools
 import re
 
 import numpy as np
@@ -13,13 +16,15 @@ from rich.console import Console
 from kinverify.backends import ModelSources
 from kinverify.cli import main
 from kinverify.model.specfile import load_spec
+from kinverify.report.json_ import load_result_json
 from kinverify.report.progress import UNITS, VerifyProgress
-from kinverify.report.terminal import display_unit, fit_table, print_result, track_table
+from kinverify.report.terminal import compact, display_unit, fit_table, track_table
 from kinverify.run import VerifyOptions, verify
-from kinverify.suites.base import value_check
+from kinverify.suites.base import Finding, value_check
 from kinverify.suites.registry import get_property
 from tests.paths import MODELS
 from tests.report.flipped import FLIPPED, flipped_backend
+from tests.report.terminal_checks import assert_fits, render, run_in_terminal, run_to_file
 
 WIDTHS = (80, 200)
 
@@ -39,36 +44,32 @@ def failing():
 
 
 def _render(result, width: int) -> str:
-    console = Console(width=width, record=True, file=open("/dev/null", "w"))
-    print_result(result, console)
-    return console.export_text()
+    return "\n".join(render(result, width))
 
 
 def rows_of(text: str, name: str) -> list[str]:
-    """Every table row whose first cell is ``name``, its wrapped lines joined: a row's
-    continuation lines are blank in the first column."""
+    """Every table row of property ``name``, its wrapped lines (if any) joined: a row starts with
+    its property's name, a continuation line with a space."""
     lines, out = text.splitlines(), []
     for i, line in enumerate(lines):
-        if line.startswith(f"  {name} "):
-            block = [line]
-            for more in lines[i + 1:]:
-                if not more.strip() or more[2:3] != " ":
-                    break
-                block.append(more)
+        if line.startswith(f"{name} "):
+            block = [line] + list(itertools.takewhile(lambda more: more.startswith(" ") and more.strip(), lines[i + 1:]))
             out.append(" ".join(" ".join(block).split()))
     return out
 
 
 @pytest.mark.parametrize("width", WIDTHS)
 def test_results_fit_the_terminal_and_cut_no_number(failing, width):
+    """Every number whole and equal to its check's; at 80 columns only a row naming this test's
+    long backend name twice ('flipped-urdf vs closed-form') wraps, between words."""
+    for terminal in (False, True):
+        lines = render(failing, width, terminal)
+        assert_fits(lines, failing, width, wrapped_rows_allowed=width == 80)
+        wrapped = [lines[i - 1] for i, line in enumerate(lines) if line.startswith(" ") and lines[i - 1].startswith("ik.")]
+        assert all(FLIPPED in row and "closed" in row for row in wrapped), wrapped
     text = _render(failing, width)
-    assert max(len(l.rstrip()) for l in text.splitlines()) <= width
-    for prop in {c.property for c in failing.failed}:  # its own row, blamed on the flipped backend, the value whole
-        worst = max(c.max_error for c in failing.failed if c.property == prop)
-        assert any(FLIPPED in row and f" {worst:.2e} " in row and "FAIL" in row for row in rows_of(text, prop)), rows_of(text, prop)
-    for c in failing.checks:
-        assert rows_of(text, c.property)  # names whole, never folded
-        assert any(f"{c.tolerance:.0e}" in row or f"{c.tolerance:.3g}" in row for row in rows_of(text, c.property))
+    for prop in {c.property for c in failing.failed}:  # its own row, blamed on the flipped backend
+        assert any(FLIPPED in row and "FAIL" in row for row in rows_of(text, prop)), rows_of(text, prop)
     assert "verdict: FAIL" in text
 
 
@@ -76,20 +77,30 @@ def test_results_fit_the_terminal_and_cut_no_number(failing, width):
 def test_labels_say_what_each_number_is(failing, width):
     text = _render(failing, width)
     lines = text.splitlines()
-    agreement = next(i for i, l in enumerate(lines) if l.strip().startswith("property") and "max error" in l)
+    agreement = next(i for i, l in enumerate(lines) if l.startswith("property ") and "max error" in l)
     assert "tolerance" in lines[agreement] and ("p99 error" in lines[agreement]) == (width == 200)
-    assert any("measured" in l and "goal" in l for l in lines[agreement + 1:])  # the performance table's header
+    assert any(l.startswith("performance ") and "measured" in l and "goal" in l for l in lines[agreement + 1:])
     rms = rows_of(text, "tracking.computed-torque")[0]
-    assert " 3.5e-05 0.0001 " in rms  # 'measured' is the check's value (an RMS here), then the goal
+    assert " 3.5e-5 0.0001 rad " in rms  # 'measured' is the check's value (an RMS here), then the goal and its unit
     pd = rows_of(text, "tracking.pd+gravity")[0]
-    assert " 0.42 0.15 " in pd and "fraction" in pd and "below" in pd and "FAIL" not in pd
+    assert " 0.42 0.15 × move " in pd and pd.endswith("missed") and "FAIL" not in pd
     assert ("RMS joint error over the motion" in rms) == (width == 200)  # what is measured: dropped before any number
     assert "rad|m" not in text  # every joint of arm3 is revolute: joint-space errors are in rad
+    verdict = next(l for l in lines if l.startswith("verdict: "))
+    assert len(verdict) <= width  # the backends by name where the line has room, else how many
+    assert f"{len(failing.backends)} backends" in verdict or all(b in verdict for b in failing.backends)
+    assert "pin-urdf vs mujoco" in rows_of(text, "dynamics.gravity")[0]  # short labels in the tables
+
+
+def test_compact_numbers_keep_three_digits_and_drop_exponent_padding():
+    assert [compact(x) for x in (7.69e-16, 1e-9, 0.0422, 0.0, 1.0, 2.46e6, float("inf"), 1e-4)] == [
+        "7.69e-16", "1e-9", "0.0422", "0", "1", "2.46e6", "inf", "0.0001"]
 
 
 def test_suites_get_one_line_each(failing):
     text = _render(failing, 80)
-    lines = [l for l in text.splitlines() if re.match(r"^[✓✗·] ", l)]
+    head = text.split(f"\n{failing.model}: ")[0]  # before the tables (a failure below starts with ✗ too)
+    lines = [l for l in head.splitlines() if re.match(r"^[✓✗·] ", l)]
     assert [l.split()[1] for l in lines] == ["kinematics", "ik", "dynamics"]
     assert "✗ kinematics" in text and "checks fail" in lines[0] and lines[0].rstrip().endswith("s")
 
@@ -163,3 +174,35 @@ def test_quiet_is_one_line(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 0 and len(out.strip().splitlines()) == 1, out
     assert out.startswith("arm3: pass (0 of ") and "r.html" in out
+
+
+CHEAP = ["--samples", "20", "--ik-targets", "5", *(a for s in ("tracking", "pictures", "workspace", "diagnosis") for a in ("--skip", s)),
+         "--json", "r.json", "--report", "r.html"]  # every table row but tracking's (the full run: test_report.py)
+
+
+@pytest.mark.parametrize("model, where", [("gripper", "terminal"), ("space_arm", "log")])
+def test_verify_at_80_columns_in_a_terminal_and_in_a_log(model, where, tmp_path):
+    """The real CLI in an 80-column pseudo-terminal (what ``script`` with ``stty cols 80`` gives)
+    and with stdout to a file (rich falls back to 80 columns): what it leaves is the saved result
+    printed at 80 columns, every row on one line. Every shipped spec is printed both ways from
+    its result in tests/test_models.py; the full default arm3 run in tests/report/test_report.py."""
+    argv = ["verify", str(MODELS / f"{model}.toml"), *CHEAP]
+    lines, code = run_in_terminal(argv, tmp_path, 80) if where == "terminal" else run_to_file(argv, tmp_path)
+    result = load_result_json(tmp_path / "r.json")
+    assert code == 0 and result.passed
+    assert_fits(lines, result, 80)
+    assert lines[:-1] == render(result, 80, terminal=where == "terminal")  # the same as printed from the saved result
+    assert lines[-1] == "report: r.html  json: r.json"
+
+
+def test_findings_and_notes_wrap_under_their_text_and_keep_every_word(failing):
+    """File mode prints long findings: a tag, then the message with a hanging indent, no word cut."""
+    long = ("the MJCF's world is the URDF's moved by xyz = [0, 0, 0] m, rpy = [0, 0, 3.14159] rad (180° turn) in "
+            "/a/rather/long/path/to/robot_description/urdf/robot_with_a_long_name.urdf, fitted over 7 frames")
+    finding = Finding("base_transform", "error", long, subject_type="model")
+    lines = render(dataclasses.replace(failing, findings=[finding], notes=["note " + long]), 80)
+    assert max(len(line) for line in lines) <= 80
+    start = next(i for i, line in enumerate(lines) if line.startswith("error "))
+    indent = lines[start].index("base_transform")  # continuation lines start under the text
+    block = [lines[start]] + list(itertools.takewhile(lambda line: line[:indent].isspace(), lines[start + 1:]))
+    assert len(block) > 1 and all(line[indent] != " " for line in block) and " ".join(" ".join(block).split()) == f"error base_transform (model): {' '.join(long.split())}"

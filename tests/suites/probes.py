@@ -154,7 +154,7 @@ def dynamics(prop: str, what: str) -> Callable[[float, dict], Check]:
 
 def ik(prop: str) -> Callable[[float, dict], Check]:
     """IK probes: ``cross_fk`` through a confirming backend offset by δ; ``closed_form`` against
-    branches moved by δ·1e-6 rad (δ in units of the ratio's allowance); ``success_rate`` and
+    branches moved by δ·1e-6 rad (δ in units of the ratio's allowance); ``failure_rate`` and
     ``unreachable`` with ⌈δ·n⌉ answers spoiled; ``limits`` with one answer δ beyond a limit."""
 
     class Suite(IKSuite):
@@ -164,7 +164,7 @@ def ik(prop: str) -> Callable[[float, dict], Check]:
             sol = super().solve(backend, model, targets, lower, upper, position_only, options)
             n, d = len(sol), self.delta
             unreachable = options.max_restarts == 3  # the suite's unreachable targets
-            if prop == "ik.success_rate" and not unreachable:
+            if prop == "ik.failure_rate" and not unreachable:
                 k = math.ceil(d * n - 1e-9)
                 sol.pos_error[:k] = 1.0  # k answers that miss their target by 1 m
             elif prop == "ik.unreachable" and unreachable:
@@ -265,7 +265,7 @@ PROBES: dict[str, Callable[[float, dict], Check]] = {
     "dynamics.damping": dynamics("dynamics.damping", "damping"),
     "dynamics.friction": dynamics("dynamics.friction", "friction"),
     "dynamics.armature": dynamics("dynamics.armature", "armature"),
-    "ik.success_rate": ik("ik.success_rate"),
+    "ik.failure_rate": ik("ik.failure_rate"),
     "ik.cross_fk": ik("ik.cross_fk"),
     "ik.limits": ik("ik.limits"),
     "ik.closed_form": ik("ik.closed_form"),
@@ -278,7 +278,7 @@ PROBES: dict[str, Callable[[float, dict], Check]] = {
 
 # Properties whose error is a count over a few items (k/n): probed at a tolerance on the grid so
 # "just under" lands exactly on it (which must pass: an error equal to the tolerance passes).
-QUANTIZED = {"ik.success_rate": 1 / IK_TARGETS, "ik.unreachable": 1 / 5}
+QUANTIZED = {"ik.failure_rate": 1 / IK_TARGETS, "ik.unreachable": 1 / 5}
 
 # The smallest real difference each property must catch at its default tolerance: a requirement
 # on sensitivity (a threshold loosened at its source, by a factor of 1000, lets these through).
@@ -290,7 +290,7 @@ MUST_CATCH = {
     "dynamics.mass_matrix": 1e-6, "dynamics.gravity": 1e-6, "dynamics.bias": 1e-6,  # kg·m², N·m on arm3
     "dynamics.inverse": 1e-6, "dynamics.forward": 1e-6,
     "dynamics.damping": 1e-6, "dynamics.friction": 1e-6, "dynamics.armature": 1e-6,
-    "ik.success_rate": 1 / IK_TARGETS,  # one target of ten missed
+    "ik.failure_rate": 1 / IK_TARGETS,  # one target of ten missed
     "ik.cross_fk": 1e-5,  # m: an IK answer 10 µm off in another backend's FK
     "ik.limits": 1e-9, "ik.unreachable": 1 / 5,
     "ik.closed_form": 10.0,  # ten times the allowance (1e-5 rad from the nearest branch)

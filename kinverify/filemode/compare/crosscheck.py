@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from kinverify.backends import names_reading
+from kinverify.errors import library_reason
 from kinverify.filemode.findings.table import finding
 from kinverify.model.transforms import geodesic_distance, invert_transform
 
@@ -64,8 +65,7 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                 p1 = backends[name].poses(q)[:, [i for i, _ in common]]
             except Exception as err:  # the library fails on this file: a finding, not a crash
                 keep.pop(name)
-                findings.append(finding("parser_refused", f"{name} cannot evaluate the {side}: "
-                                        f"{str(err).strip().splitlines()[-1] if str(err).strip() else type(err).__name__}",
+                findings.append(finding("parser_refused", f"{name} cannot evaluate the {side}: {library_reason(err)}",
                                         {"file": side, "backend": name}))
                 continue
             pos, rot = pose_errors(p0, p1)

@@ -9,11 +9,10 @@ import importlib
 import numpy as np
 
 from kinverify.backends import available_backends
-from kinverify.errors import InputError, KinverifyError, UnknownNameError
+from kinverify.errors import InputError, KinverifyError, UnknownNameError, library_reason
 from kinverify.filemode.align.view import AlignedBackend
 from kinverify.filemode.compare.crosscheck import MJCF_SIDE, URDF_SIDE
 from kinverify.filemode.findings.table import finding
-from kinverify.filemode.read.files import last_line
 from kinverify.model.floating import BASE_COORDINATES
 
 
@@ -56,7 +55,7 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
             if isinstance(err, KeyboardInterrupt):
                 raise
             side = "URDF" if name in URDF_SIDE else "MJCF"
-            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {last_line(err)}"
+            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {library_reason(err)}"
             findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}",
                                     {"file": side, "backend": name}))
     return out

@@ -11,6 +11,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pinocchio as pin
 
+from kinverify.backends.pinocchio_ import build_urdf_model
 from kinverify.filemode.read.model import INF, BodyInertial, Coupling, JointDesc, ModelDesc, inertial_world
 from kinverify.filemode.read.prepare import continuous_joints, prepare_urdf
 
@@ -19,7 +20,7 @@ def describe_urdf(urdf_text: str) -> ModelDesc:
     """Pinocchio's reading of the URDF (fixed base, every joint at 0). Continuous joints are read
     as unlimited revolute joints (see :func:`kinverify.filemode.read.prepare.prepare_urdf`)."""
 
-    model = pin.buildModelFromXML(prepare_urdf(urdf_text))
+    model = build_urdf_model(prepare_urdf(urdf_text))
     data = model.createData()
     q = pin.neutral(model)
     pin.computeJointJacobians(model, data, q)

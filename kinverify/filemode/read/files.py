@@ -10,7 +10,7 @@ import math
 import xml.etree.ElementTree as ET
 
 from kinverify.backends.mujoco_ import urdf_for_mujoco
-from kinverify.errors import InputError
+from kinverify.errors import InputError, library_reason
 from kinverify.filemode.align.floating import UrdfBase, decide, fixed_urdf, floating_urdf, urdf_base
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
@@ -19,11 +19,6 @@ from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_urdf
 from kinverify.filemode.read.model import ModelDesc
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
 from kinverify.filemode.read.stated import mjcf_joint_values, urdf_joint_values, urdf_links_without_inertial
-
-
-def last_line(err: Exception) -> str:
-    lines = str(err).strip().splitlines()
-    return lines[-1] if lines else type(err).__name__
 
 
 def read_urdf(path: str, findings: list, free=()):
@@ -41,13 +36,13 @@ def read_urdf(path: str, findings: list, free=()):
     try:
         return loaded, text, with_statements(describe_urdf(fixed), loaded), "pinocchio", decision
     except (ValueError, RuntimeError) as err:
-        findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {last_line(err)}; read with MuJoCo's URDF "
+        findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {library_reason(err)}; read with MuJoCo's URDF "
                                 "import instead", {"file": "URDF", "library": "pinocchio"}))
     try:
         desc = dataclasses.replace(describe_mjcf(urdf_for_mujoco(text)), kind="urdf", library="mujoco (URDF import)")
         return loaded, text, with_statements(desc, loaded), "mujoco", decision
     except ValueError as err:
-        raise InputError(f"--urdf: no library can load {path}: {last_line(err)}") from None
+        raise InputError(f"--urdf: no library can load {path}: {library_reason(err)}") from None
 
 
 @dataclasses.dataclass
@@ -74,11 +69,11 @@ def read_mjcf(path: str, findings: list):
             return loaded, text, with_statements(describe_mjcf(text), loaded), free
         except ValueError as err:
             if attempt == 0 and "mesh assets resolved" in " ".join(loaded.warnings):
-                findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({last_line(err)}): meshes "
+                findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({library_reason(err)}): meshes "
                                         "dropped (they do not change kinematics or dynamics)", {"file": "MJCF", "library": "mujoco"}))
                 loaded = load_mjcf(path, keep_meshes=False)
                 continue
-            raise InputError(f"--mjcf: MuJoCo cannot load {path}: {last_line(err)}") from None
+            raise InputError(f"--mjcf: MuJoCo cannot load {path}: {library_reason(err)}") from None
 
 
 def with_statements(desc: ModelDesc, loaded: LoadedFile) -> ModelDesc:

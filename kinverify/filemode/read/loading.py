@@ -22,7 +22,7 @@ import defusedxml
 import defusedxml.ElementTree as DET
 import mujoco
 
-from kinverify.errors import InputError
+from kinverify.errors import InputError, library_reason
 from kinverify.filemode.read.stated import attribute, class_defaults
 from kinverify.filemode.read.xacro import compile_xacro, is_xacro
 from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
@@ -228,7 +228,7 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
         spec = mujoco.MjSpec.from_string(cleaned)
         spec.compile()
     except ValueError as err:
-        warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {_first_line(err)}")
+        warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {library_reason(err)}")
     return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings), tuple(massless))
 
 
@@ -321,10 +321,5 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
             if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
                 contact.remove(pair)
     return dropped, massless
-
-
-def _first_line(err: Exception) -> str:
-    lines = str(err).strip().splitlines()
-    return lines[0] if lines else type(err).__name__
 
 

@@ -18,7 +18,7 @@ from pathlib import Path
 from xacrodoc import XacroDoc
 from xacrodoc import packages as xpackages
 
-from kinverify.errors import InputError
+from kinverify.errors import InputError, library_reason
 
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
@@ -64,13 +64,8 @@ def compile_xacro(path: str | Path, packages: dict[str, str] | None = None,
         missing = re.search(r"Package not found: (\S+)", str(err))
         if missing:
             raise InputError(f"{path}: xacro package {missing[1]!r} not found (give it with --package NAME=PATH)") from None
-        raise InputError(f"{path}: xacro cannot compile it: {_one_line(err)}") from None
+        raise InputError(f"{path}: xacro cannot compile it: {library_reason(err)}") from None
     finally:
         xpackages.reset()
     warnings = [f"xacro: {line.strip()}" for line in printed.getvalue().splitlines() if line.strip().startswith("warning")]
     return text, warnings
-
-
-def _one_line(err: Exception) -> str:
-    text = " ".join(str(err).split())
-    return text or type(err).__name__
