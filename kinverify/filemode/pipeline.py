@@ -62,7 +62,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     fl = floors(*precision, matching.frames, reach(u), len(matching.independent))
     lower, upper, revolute = sample_ranges(u, matching.independent)
     q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)
-    al, poses = run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal)
+    al, poses = run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal, base_fixes_frame=base.floating)
     poses_u, poses_m = zero_poses(poses, al)
     info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), poses_u, poses_m,
                         frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original), base_coordinates=base.floating)

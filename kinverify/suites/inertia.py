@@ -87,7 +87,7 @@ def _describe(r) -> str:
               f"principal moments {_vec(t['urdf_principal'])} (URDF) vs {_vec(t['mjcf_principal'])} (MJCF) kg·m²"
               + (f", axes up to {t['largest_axis_angle_deg']:.3g}° apart" if t["largest_axis_angle_deg"] > 1e-3 else ""))
              + f": ΔI {r.diff.tensor:.3g} kg·m²" if r.diff.tensor > r.tol[2] else ""]
-    lumped = [p.name for p in r.group.urdf if p.twin is None] + [p.name for p in r.group.mjcf if p.twin is None]
+    lumped = [p.name for p in r.group.urdf + r.group.mjcf if p.twin is None and not any(p is x for x in r.moved)]
     text = "; ".join(p for p in parts if p)
     return text + (f" (including {', '.join(lumped)}, fixed to it in one file only)" if lumped else "")
 

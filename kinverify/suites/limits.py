@@ -108,6 +108,9 @@ class LimitsSuite(Suite):
         for jm in info.alignment.joints:
             ju, jmj = info.u.joint(jm.urdf), info.m.joint(jm.mjcf)
             lo, up = mapped_bounds(ju.lower, ju.upper, jm.sign, jm.offset)
+            if ju.type == "revolute":  # a zero offset is a turn, known up to whole turns: the one that fits
+                lo, up = min(((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)),
+                             key=lambda b: max(_error(b[0], jmj.lower) or 0.0, _error(b[1], jmj.upper) or 0.0))
             pos = [_error(lo, jmj.lower), _error(up, jmj.upper)]
             row = {"joint": jm.urdf, "mjcf": jm.mjcf, "label": jm.urdf if jm.urdf == jm.mjcf else f"{jm.urdf} / {jm.mjcf}",
                    "revolute": ju.type == "revolute", "pair": ("urdf", "mjcf"), "lower": (lo, jmj.lower),

@@ -39,6 +39,7 @@ from kinverify.filemode.read.precision import Floors
 from kinverify.model.transforms import axis_angle_to_matrix, geodesic_distance, invert_transform, skew
 
 TOL = 1e-9  # m and rad: agreement of exact double-precision readings
+NEAR_PARALLEL = 0.1  # sin of the angle between two axes below which their common perpendicular is ill-conditioned
 
 
 def _line_local(desc: ModelDesc, joint: str) -> tuple[np.ndarray, np.ndarray]:
@@ -51,6 +52,11 @@ def _line_local(desc: ModelDesc, joint: str) -> tuple[np.ndarray, np.ndarray]:
 def _apply(t: np.ndarray, x: np.ndarray) -> np.ndarray:
     """One transform (4, 4) applied to points (..., 3)."""
     return x @ t[:3, :3].T + t[:3, 3]
+
+
+def _crossing(point: np.ndarray, normal: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Where the line ``p + s·d`` crosses the plane through ``point`` normal to ``normal``."""
+    return p + float((point - p) @ normal) / float(d @ normal) * d
 
 
 def _carry(poses: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -170,7 +176,12 @@ class Aligner:
             cu_a, cu_p = self.line("u", c, pu0)
             cm_a, cm_p = self.line("m", cm, pm0)
             cu_a, cu_p = cu_a[0] @ t[:3, :3].T, _apply(t, cu_p[0])
-            points.append((foot_on_line(pm, am, cm_p[0], cm_a[0]), foot_on_line(pu, au, cu_p, cu_a)))
+            if np.linalg.norm(np.cross(am, cm_a[0])) < NEAR_PARALLEL:
+                # nearly parallel: the foot of the common perpendicular is ill-conditioned; both
+                # lines are taken where they cross one plane across the axis (through the MJCF's anchor)
+                points.append((_crossing(pm, am, cm_p[0], cm_a[0]), _crossing(pm, am, cu_p, cu_a)))
+            else:
+                points.append((foot_on_line(pm, am, cm_p[0], cm_a[0]), foot_on_line(pu, au, cu_p, cu_a)))
             dirs.append((cm_a[0], cu_a))
         for fu, fm, _ in self.frame_pairs:
             if self.p.u.frame_owner.get(fu) == a and self.p.m.frame_owner.get(fm) == b:
@@ -221,8 +232,11 @@ class Aligner:
 
     @staticmethod
     def _turns_onto(pairs, theta: float, axis, point, tol: float) -> bool:
+        """Whether turning by ``theta`` about the axis carries each MJCF point onto its URDF twin,
+        across the axis (a turn moves nothing along it; and where a next axis is nearly parallel
+        to this one, the foot of their common perpendicular is known across the axis only)."""
         rot = axis_angle_to_matrix(axis, np.array([theta]))[0]
-        return all(np.linalg.norm(rot @ (xm - point) + point - xu) <= tol for xm, xu in pairs)
+        return all(np.linalg.norm(planar(rot @ (xm - point) + point - xu, axis)) <= tol for xm, xu in pairs)
 
     # --- step 3: least-squares world transform ------------------------------------------------
     def refit(self, t: np.ndarray, signs: dict, offsets: dict) -> tuple[np.ndarray, list[str]]:
@@ -372,15 +386,26 @@ class Aligner:
                 offsets, (bad, fits, axis_errors) = trial_offsets, trial
         return t, offsets, bad, fits, axis_errors
 
-    def solve(self) -> Alignment:
+    def solve(self, candidates=None, refit: bool = True) -> Alignment:
+        """The best of ``candidates`` (default :meth:`candidates`), each refined by refitting ``T``
+        (``refit``; else ``T`` is kept as given and only the joints are solved)."""
         best, best_key = None, None
-        for label, t in self.candidates():
+        for label, t in candidates or self.candidates():
             signs, offsets = self.solve_joints(t)
-            for _ in range(2):
+            used = [fu for fu, _, _ in self.frame_pairs]
+            if refit:
+                for _ in range(2):
+                    t, used = self.refit(t, signs, offsets)
+                    signs, offsets = self.solve_joints(t)
                 t, used = self.refit(t, signs, offsets)
-                signs, offsets = self.solve_joints(t)
-            t, used = self.refit(t, signs, offsets)
-            t, offsets, bad, fits, axis_errors = self.simplest(t, signs, offsets)
+                t, offsets, bad, fits, axis_errors = self.simplest(t, signs, offsets)
+                if _is_identity(t, self.scale):  # solved again on the exact T, not the refit's round-off
+                    signs2, offsets2 = self.solve_joints(t)
+                    trial = self.evaluate(t, signs2, offsets2)
+                    if trial[0] <= bad:
+                        signs, offsets, (bad, fits, axis_errors) = signs2, offsets2, trial
+            else:
+                bad, fits, axis_errors = self.evaluate(t, signs, offsets)
             n_explain = (int(not _is_identity(t, self.scale)) + sum(s < 0 for s in signs.values())
                          + sum(abs(o) > TOL for o in offsets.values()))
             root_offsets = sum(abs(offsets[a]) > TOL for a, _ in self.pairs if self.p.u.joint(a).parent is None)
@@ -404,6 +429,17 @@ def _is_identity(t: np.ndarray, scale: float) -> bool:
     return float(np.abs(t[:3, 3]).max()) <= TOL * scale and float(geodesic_distance(t[:3, :3], np.eye(3))) <= TOL
 
 
-def align(poses: PairPoses, matching: Matching, floors: Floors, samples: np.ndarray) -> Alignment:
-    """The best alignment of the MJCF onto the URDF (see the module docstring)."""
-    return Aligner(poses, matching, floors, samples).solve()
+def align(poses: PairPoses, matching: Matching, floors: Floors, samples: np.ndarray,
+          base_fixes_frame: bool = False) -> Alignment:
+    """The best alignment of the MJCF onto the URDF (see the module docstring). ``base_fixes_frame``
+    (both files float): the base bodies fix the frame, both at the same base coordinates, so ``T``
+    stays the identity unless another transform explains every feature (a base frame the files
+    define differently); a fit that leaves differences would only move them from leg to leg."""
+    aligner = Aligner(poses, matching, floors, samples)
+    if not base_fixes_frame:
+        return aligner.solve()
+    fixed = aligner.solve(candidates=[("base frames", np.eye(4))], refit=False)
+    if fixed.unexplained == 0:
+        return fixed
+    fitted = aligner.solve()
+    return fitted if fitted.unexplained == 0 else fixed

@@ -33,10 +33,11 @@ def identity_alignment(u: ModelDesc, matching: Matching) -> Alignment:
                      matching.independent)
 
 
-def run_alignment(u, m, matching, urdf_text, mjcf_text, library, floors, samples, internal: list) -> tuple[Alignment, PairPoses]:
+def run_alignment(u, m, matching, urdf_text, mjcf_text, library, floors, samples, internal: list,
+                  base_fixes_frame: bool = False) -> tuple[Alignment, PairPoses]:
     poses = PairPoses(u, m, matching, urdf_text, mjcf_text, library)
     try:
-        return align(poses, matching, floors, samples), poses
+        return align(poses, matching, floors, samples, base_fixes_frame), poses
     except (KinverifyError, KeyboardInterrupt):
         raise
     except Exception as err:  # our bug: compare unaligned, say so

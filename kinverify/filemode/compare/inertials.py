@@ -56,6 +56,7 @@ class Part:
     twin: str | None  # the other file's body in the same role, None when it has none
     snapped: float = 0.0  # MuJoCo dropped this rotation of its principal axes [rad] (see describe)
     known: bool = True  # False: part of its mass came from a mesh file that is absent
+    moved_by: str | None = None  # the joint in this file only that moves it (held at zero here)
     unset_twin: str | None = None  # the other file's link in the same role, which states no inertial
 
 
@@ -69,9 +70,9 @@ class Group:
     fixed_base_root: bool  # welded to the world of a fixed-base robot: no effect on its motion
     seated: tuple[float, float] = (0.0, 0.0)  # its joint's axis lines differed by (rad, m): compared seated on it
 
-    def total(self, side: str, twins_only: bool = False) -> Inertial:
+    def total(self, side: str, leave_out=()) -> Inertial:
         parts = self.urdf if side == "urdf" else self.mjcf
-        return combine([(p.mass, p.com, p.inertia) for p in parts if p.twin is not None or not twins_only])
+        return combine([(p.mass, p.com, p.inertia) for p in parts if not any(p is x for x in leave_out)])
 
     def twinless(self, side: str) -> list[Part]:
         return [p for p in (self.urdf if side == "urdf" else self.mjcf) if p.twin is None and p.mass > 0]
@@ -103,6 +104,16 @@ def _owner_key(desc: ModelDesc, owner: str | None, to_key: dict) -> str:
     return ROOT if owner is None else to_key[owner]
 
 
+def _moved_by(desc: ModelDesc, owner: str | None, to_key: dict) -> str | None:
+    """The joint in this file only that moves a body (the nearest such ancestor), if any."""
+    parent = {j.name: j.parent for j in desc.joints}
+    while owner is not None and owner not in to_key:
+        if desc.has_joint(owner) and owner not in desc.held:
+            return owner
+        owner = parent.get(owner)
+    return None
+
+
 def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, poses_m: dict,
            floating: bool) -> list[Group]:
     """The rigid bodies of both files, paired. ``poses_u``/``poses_m``: body frame name -> pose at
@@ -131,14 +142,16 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
         silent = twin if twin is not None and m.body(twin) is None and twin in m.no_inertial else None
         twin = twin if twin is not None and m.body(twin) is not None else None
         out[_owner_key(u, body.owner, key_u)].urdf.append(Part(body.name, body.mass, com, inertia, twin,
-                                                               known=body.mass_known, unset_twin=silent))
+                                                               known=body.mass_known, unset_twin=silent,
+                                                               moved_by=_moved_by(u, body.owner, key_u)))
     for body in m.bodies:
         com, inertia = place(body, poses_m.get(body.name))
         twin = twin_m.get(body.name)
         silent = twin if twin is not None and u.body(twin) is None and twin in u.no_inertial else None
         twin = twin if twin is not None and u.body(twin) is not None else None
         out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped,
-                                                               body.mass_known, silent))
+                                                               known=body.mass_known, unset_twin=silent,
+                                                               moved_by=_moved_by(m, body.owner, key_m)))
     return [g for g in out.values() if g.urdf or g.mjcf]
 
 
@@ -187,17 +200,20 @@ def describe_tensors(a: np.ndarray, b: np.ndarray, frame: np.ndarray | None, mom
 class GroupResult:
     """A rigid body compared: both files' inertials, their difference, the tolerances in effect
     and the verdict: ``agree``, ``rounding`` (within the written precision only), ``explained``
-    (agree once the bodies with no twin are left out), ``unset`` (agree once the bodies whose twin
-    in the other file states no inertial are left out), ``unknown`` (part of a mass came from an
-    absent mesh: not compared) or ``differs``."""
+    (agree once the bodies with no twin are left out: ``extra``), ``unset`` (agree once the bodies
+    whose twin in the other file states no inertial are left out), ``unknown`` (part of a mass came
+    from an absent mesh: not compared) or ``differs``. The parts a joint in one file only moves
+    (``moved``) are that joint's, said once with it, and never compared here."""
     group: Group
     urdf: Inertial
     mjcf: Inertial
     diff: Difference
     tol: tuple[float, float, float]  # mass [kg], com [m], tensor [kg·m²]
     status: str
-    without_twinless: Difference | None = None
+    without_extra: Difference | None = None
+    extra: list[Part] = field(default_factory=list)  # the parts whose leaving out makes the files agree
     tensors: dict = field(default_factory=dict)  # describe_tensors of the two inertias
+    moved: list[Part] = field(default_factory=list)  # parts a joint in one file only moves: left out, that joint's
 
     @property
     def label(self) -> str:
@@ -272,20 +288,27 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
                                                 + 2 * big * (lever + fl.com) * com_floor), defaults[2] + snapped)
         diff = difference(a, b)
         tol = (mass_tol, com_tol, tensor_tol)
+        # what a joint in one file only moves, with no twin in the other file, is that joint's part
+        # (an extra part, said with it), not this body's, unless the bodies agree with it held at zero
+        moved = [p for p in g.urdf + g.mjcf if p.moved_by and p.twin is None and p.mass > 0]
+        if moved and not diff.within(*tol):
+            a, b = g.total("urdf", moved), g.total("mjcf", moved)
+            diff = difference(a, b)
+        else:
+            moved = []
         if diff.within(*tol):
             exact = (defaults[0], defaults[1], defaults[2] + snapped)
             status = "rounding" if not diff.within(*exact) and info.file_mode else "agree"
-            result = GroupResult(g, a, b, diff, tol, status)
+            result = GroupResult(g, a, b, diff, tol, status, moved=moved)
         elif not all(p.known for p in g.urdf + g.mjcf):
-            result = GroupResult(g, a, b, diff, tol, "unknown")
+            result = GroupResult(g, a, b, diff, tol, "unknown", moved=moved)
         else:
-            without = None
-            status = "differs"
-            if g.twinless("urdf") or g.twinless("mjcf"):
-                without = difference(g.total("urdf", twins_only=True), g.total("mjcf", twins_only=True))
-                unset = all(p.unset_twin for p in g.twinless("urdf") + g.twinless("mjcf"))
-                status = ("unset" if unset else "explained") if without.within(*tol) else "differs"
-            result = GroupResult(g, a, b, diff, tol, status, without)
+            result = GroupResult(g, a, b, diff, tol, "differs", moved=moved)
+            extra = [p for p in g.twinless("urdf") + g.twinless("mjcf") if not any(p is x for x in moved)]
+            without = difference(g.total("urdf", moved + extra), g.total("mjcf", moved + extra)) if extra else None
+            if without is not None and without.within(*tol):
+                status = "unset" if all(p.unset_twin for p in extra) else "explained"
+                result = GroupResult(g, a, b, diff, tol, status, without, extra, moved=moved)
         frame = info.poses_u.get(g.urdf_link)
         result.tensors = describe_tensors(a.inertia, b.inertia, frame, tensor_tol)
         out.append(result)

@@ -36,9 +36,9 @@ def part_findings(info, results, tol_mass: float) -> list:
         other = "MJCF" if side == "URDF" else "URDF"
         parts, groups = [], []
         for r in results:
-            if r.status != "explained" or r.group.fixed_base_root:
-                continue
-            twinless = r.group.twinless("urdf" if side == "URDF" else "mjcf")
+            twinless = [p for p in r.moved if any(p is x for x in _side(r, side))]
+            if r.status == "explained" and not r.group.fixed_base_root:
+                twinless += [p for p in r.extra if any(p is x for x in _side(r, side))]
             if twinless:
                 groups.append(r.group.key)
             for p in twinless:
@@ -54,8 +54,8 @@ def part_findings(info, results, tol_mass: float) -> list:
             text.append("link" + ("s " if len(parts) > 1 else " ") + ", ".join(
                 f"{p['name']} ({p['mass']:.6g} kg, {p['how']})" for p in parts))
         msg = (f"the {side} has parts the {other} lacks: {'; '.join(text)}"
-               + (f": {mass:.6g} kg in all, which is what the rigid bodies {', '.join(sorted(set(p['body'] for p in parts)))} "
-                  "differ by" if parts else "") + (" (not compared; held at zero)" if unmatched else ""))
+               + (f": {mass:.6g} kg in all, left out when comparing the rigid bodies they join "
+                  f"({', '.join(sorted(set(p['body'] for p in parts)))})" if parts else "") + (" (not compared; held at zero)" if unmatched else ""))
         out.append(finding("extra_parts", msg, {"file": side, "joints": list(unmatched), "links": parts, "mass_kg": mass,
                                                 "groups": groups, "checks": [[p, "rigid bodies"] for p in
                                                                               ("inertia.mass", "inertia.com", "inertia.tensor")]},
@@ -75,7 +75,7 @@ def _unset_inertials(results) -> list:
     """Links one file gives no ``<inertial>`` (massless by default) while the other states one."""
     out = []
     for side, other in (("URDF", "MJCF"), ("MJCF", "URDF")):
-        parts = [(p, r) for r in results if r.status == "unset" for p in _side(r, other) if p.unset_twin]
+        parts = [(p, r) for r in results if r.status == "unset" for p in r.extra if any(p is x for x in _side(r, other))]
         if not parts:
             continue
         out.append(finding("inertial_unset", f"the {side} leaves the inertial of {len(parts)} link{'s' if len(parts) > 1 else ''} "

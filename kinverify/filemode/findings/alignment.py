@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from kinverify.filemode.align.geometry import line_distance
 from kinverify.filemode.align.match import Matching
 from kinverify.filemode.align.result import Alignment
 from kinverify.filemode.findings.table import finding, fmt, unit_factor
@@ -34,6 +35,16 @@ def _downstream(u: ModelDesc, joint: str) -> list[str]:
     return [f for f, owner in u.frame_owner.items() if below(owner)]
 
 
+def _to_parent(desc: ModelDesc, joint: str) -> tuple[float, float]:
+    """How a joint's axis line lies on its parent joint's: the distance between the two lines [m]
+    and the angle between them [rad, 0 to π/2, whichever way each axis points]. Both are fixed in
+    the body between the two joints: no joint value, zero offset or world transform changes them."""
+    j = desc.joint(joint)
+    p = desc.joint(j.parent)
+    angle = math.atan2(float(np.linalg.norm(np.cross(p.axis, j.axis))), abs(float(p.axis @ j.axis)))  # exact near 0
+    return line_distance(p.anchor, p.axis, j.anchor, j.axis), angle
+
+
 def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Alignment, compared: list[str], tol) -> list[Finding]:
     """One finding per thing alignment solved: the world transform, each zero offset and sign
     flip (the checks compare after them), each axis that still differs (``values["frames"]``: the
@@ -44,7 +55,7 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
     t = al.T
     dist, ang = float(np.linalg.norm(t[:3, 3])), _angle(t)
     if dist > 1e-9 * max(1.0, dist) or ang > 1e-9:
-        noise = max(1e-12, 10 * max(al.residual))  # below the fit's residual a value is zero
+        noise = 1e-9 * max(1.0, dist)  # double precision at the size of the move: below it a value is zero
         t = np.where(np.abs(t) < noise, 0.0, t)
         xyz = np.where(np.abs(t[:3, 3]) < noise, 0.0, t[:3, 3]).tolist()
         rpy = np.where(np.abs(r := matrix_to_rpy(t[:3, :3])) < noise, 0.0, r).tolist()
@@ -75,27 +86,31 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
         upstream = uj.parent
         while upstream is not None and upstream not in differs:
             upstream = u.joint(upstream).parent
-        if upstream is not None:  # moved by a joint that differs: said there, once
-            differs.add(j.urdf)
-            continue
         after = " (and everything it moves with it)" if any(f != uj.child for f in frames) else ""
-        if uj.type != mj.type:
+        if upstream is not None:  # moved by a joint that differs, said there: only how it sits on its parent
+            differs.add(j.urdf)
+            (du, au), (dm, am) = _to_parent(u, j.urdf), _to_parent(m, j.mjcf)
+            angle, distance = abs(au - am), abs(du - dm)
+            how = (f" on its parent joint {uj.parent} ({du:.6g} m and {math.degrees(au):.4g}° from its axis in the URDF, "
+                   f"{dm:.6g} m and {math.degrees(am):.4g}° in the MJCF), besides what {upstream} already moves")
+        elif uj.type != mj.type:
             differs.add(j.urdf)
             out.append(finding("type_difference", f"joint {j.urdf}/{j.mjcf}: {uj.type} in the URDF, {mj.type} in the MJCF",
                                {"urdf": uj.type, "mjcf": mj.type, "frames": frames}, **names))
             continue
-        angle, distance = al.axis_errors.get(j.urdf, (0.0, 0.0))
+        else:
+            angle, distance = al.axis_errors.get(j.urdf, (0.0, 0.0))
+            how = f" after alignment{after}"
         ptol, rtol = tol(uj.child)
         if angle > rtol:
             differs.add(j.urdf)
             out.append(finding("axis_direction", f"joint {j.urdf}/{j.mjcf}: the axes differ by {angle:.4g} rad "
-                               f"({math.degrees(angle):.4g}°) after alignment{after}", {"angle_rad": angle, "frames": frames},
+                               f"({math.degrees(angle):.4g}°){how}", {"angle_rad": angle, "frames": frames},
                                magnitude=angle, unit="rad", **names))
         elif distance > ptol:
             differs.add(j.urdf)
-            out.append(finding("axis_position", f"joint {j.urdf}/{j.mjcf}: the axis lines are {distance:.4g} m apart after "
-                               f"alignment{after}", {"distance_m": distance, "frames": frames}, magnitude=distance, unit="m",
-                               **names))
+            out.append(finding("axis_position", f"joint {j.urdf}/{j.mjcf}: the axis lines are {distance:.4g} m apart{how}",
+                               {"distance_m": distance, "frames": frames}, magnitude=distance, unit="m", **names))
     renamed = [(a, b, how) for a, b, how in matching.joints if a != b]
     if renamed:
         hows = sorted({how for _, _, how in renamed})

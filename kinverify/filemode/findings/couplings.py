@@ -11,7 +11,8 @@ def coupling_findings(u, m, matching) -> list:
     """Couplings (URDF <mimic>, MJCF <equality joint>) that differ, or that one file lacks."""
     out = []
     to_u = {b: a for a, b, _ in matching.joints}
-    mine = {c.follower: c for c in u.couplings}
+    matched = set(to_u.values())  # a joint in one file only is said once, as an extra part
+    mine = {c.follower: c for c in u.couplings if c.follower in matched and c.leader in matched}
     theirs = {}
     for c in m.couplings:
         f, lead = to_u.get(c.follower), to_u.get(c.leader)

@@ -26,8 +26,11 @@ def _tol(opts, name: str) -> float:
 
 def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
     snapped = {r.group.key for r in results if any(p.snapped for p in r.group.mjcf)}
-    groups = {r.group.key: r.mjcf for r in results
-              if (r.status in ("differs", "explained", "unset", "unknown") or r.group.key in snapped) and not r.group.fixed_base_root}
+    # the MJCF's whole rigid body, with what a joint in one file only moves (held at zero, as the
+    # locked models hold it)
+    groups = {r.group.key: r.group.total("mjcf") for r in results
+              if (r.status in ("differs", "explained", "unset", "unknown") or r.moved or r.group.key in snapped)
+              and not r.group.fixed_base_root}
     subs = [f"the MJCF's inertial of {r.label}" + (" (MuJoCo aligned its principal axes with the body frame)"
                                                    if r.group.key in snapped else "") for r in results if r.group.key in groups]
     subs += [f"the MJCF's damping of {', '.join(sorted(damping_joints))}"] if damping_joints else []

@@ -222,7 +222,8 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     if kept:
         warnings.append(f"MJCF: {len(kept)} mesh assets resolved to existing files and kept")
     if massless:
-        warnings.append(f"MJCF bodies without <inertial> whose mass came from their (absent) meshes: {', '.join(massless)}")
+        warnings.append(f"MJCF bodies without <inertial> whose mass came from their (absent) meshes, not compared (a body "
+                        f"left with no mass at all holds {PLACEHOLDER_MASS:g} kg so that MuJoCo loads it): {', '.join(massless)}")
     cleaned = ET.tostring(root, encoding="unicode")
     try:
         spec = mujoco.MjSpec.from_string(cleaned)
@@ -258,6 +259,9 @@ def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:
                 mesh.set("file", str(found))
                 kept.add(mesh.get("name") or Path(filename).stem)
     return kept
+
+
+PLACEHOLDER_MASS, PLACEHOLDER_INERTIA = 1e-6, 1e-12  # kg, kg·m²: a body whose mass was all in absent meshes
 
 
 def _mesh_of(geom: ET.Element, parents: dict, defaults: dict) -> str | None:
@@ -301,6 +305,11 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
             if body.tag == "body" and weighs and (from_geoms or body.find("inertial") is None) \
                     and (body.get("name") or "?") not in massless:
                 massless.append(body.get("name") or "?")
+    for body in root.iter("body"):  # massless now: MuJoCo refuses a moving body without mass
+        if (body.get("name") or "?") in massless and body.find("inertial") is None \
+                and not any(_weighs(g, parents, defaults) for g in body.findall("geom")):
+            ET.SubElement(body, "inertial", pos="0 0 0", mass=repr(PLACEHOLDER_MASS),
+                          diaginertia=" ".join([repr(PLACEHOLDER_INERTIA)] * 3))
     for geom in root.iter("geom"):  # a default class naming a dropped mesh: the mesh is gone
         if parents[geom].tag == "default" and geom.get("mesh") is not None and geom.get("mesh") not in kept:
             del geom.attrib["mesh"]
@@ -309,9 +318,10 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
     for asset in root.iter("asset"):
         for el in list(asset):
             kept_mesh = el.tag == "mesh" and (el.get("name") or Path(el.get("file") or "").stem) in kept
-            if (el.tag in ("mesh", "skin", "hfield") and not kept_mesh) or (el.tag == "texture" and el.get("file") is not None):
-                if el.tag == "texture":
-                    gone_tex.add(el.get("name"))
+            from_file = any(k.startswith("file") for k in el.attrib)  # file, or a cube's fileright, fileup, ...
+            if (el.tag in ("mesh", "skin", "hfield") and not kept_mesh) or (el.tag == "texture" and from_file):
+                if el.tag == "texture":  # unnamed: MuJoCo names it after its file
+                    gone_tex.add(el.get("name") or Path(el.get("file") or "").stem)
                 asset.remove(el)
     for material in root.iter("material"):
         if material.get("texture") in gone_tex:

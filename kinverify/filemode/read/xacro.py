@@ -23,6 +23,7 @@ from kinverify.errors import InputError, library_reason
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 
+COMMENT = re.compile(r"<!--.*?-->", re.S)
 XACRO_USE = re.compile(r"<\w+:(include|macro|property|arg|if|unless|call|element|attribute|insert_block)\b|\$[({]")
 
 
@@ -31,7 +32,9 @@ def is_xacro(path: str | Path, text: str | None = None) -> bool:
     properties, ``${...}``, ``$(...)``): xacro's own output keeps the declaration and is plain URDF."""
     if str(path).endswith(".xacro"):
         return True
-    return text is not None and XACRO_NAMESPACE in text[:4096] and XACRO_USE.search(text) is not None
+    if text is None or XACRO_NAMESPACE not in text[:4096]:
+        return False
+    return XACRO_USE.search(COMMENT.sub("", text)) is not None  # a use inside a comment is no use
 
 
 def parse_pairs(items, flag: str) -> dict[str, str]:
