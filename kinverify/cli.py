@@ -8,7 +8,7 @@ still writes what it computed), 130 interrupted (SIGINT), 143 terminated (SIGTER
 
 Before a command runs, its arguments that name files are checked here, in one place: seeds,
 sample counts and chunk sizes against :mod:`kinverify.pipeline.limits`, and every output path
-against every input (:mod:`kinverify.report.output`), so a bad path is refused before a long run.
+against every input (:mod:`kinverify.io.plan`), so a bad path is refused before a long run.
 Set ``KINVERIFY_DEBUG=1`` to see the traceback of an internal error.
 """
 
@@ -97,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
     args.argv = list(sys.argv[1:] if argv is None else argv)
     previous = _catch_sigterm()
     try:
-        from kinverify.report.output import output_plan
+        from kinverify.io.plan import output_plan
 
         check_args(args)
         inputs, outputs = run_files(args)

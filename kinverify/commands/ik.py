@@ -149,7 +149,7 @@ def _batch(args) -> int:
     if len(targets) == 1 and sol.solved(args.tol_pos, args.tol_rot)[0]:
         print(f"q = [{', '.join(f'{x:.9g}' for x in sol.q[0])}]")
     if args.json:
-        from kinverify.report.writer import write_atomic
+        from kinverify.io.write import write_atomic
 
         path = write_atomic(args.json, json.dumps(data, indent=1) + "\n")
         print(f"json: {os.fspath(path)}")

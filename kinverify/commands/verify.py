@@ -188,7 +188,7 @@ def run(args) -> int:
             result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
     if not args.quiet:
         print_result(result, console)
-    from kinverify.report.output import claim_outputs, default_output
+    from kinverify.io.plan import claim_outputs, default_output
 
     json_out, html_out = args.json or default_output(result.model, ".json"), args.report or default_output(result.model, ".html")
     claim_outputs(("--json", json_out), ("--report", html_out))  # both checked before either is written
@@ -198,7 +198,7 @@ def run(args) -> int:
     outputs = f"report: {html_path}  json: {json_path}"
     if args.junit:
         from kinverify.report.junit import junit_xml
-        from kinverify.report.writer import write_atomic
+        from kinverify.io.write import write_atomic
 
         outputs += f"  junit: {write_atomic(args.junit, junit_xml(result))}"
     if args.quiet:  # one line, whatever the terminal's width

@@ -22,7 +22,7 @@ import defusedxml.ElementTree as DET
 
 from kinverify.errors import InputError
 from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
-from kinverify.report.output import note_input
+from kinverify.io.plan import note_input
 
 
 @dataclass(frozen=True)

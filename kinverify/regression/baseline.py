@@ -36,7 +36,7 @@ from kinverify.model.canonical import sha256_text, spec_fingerprint, spec_to_can
 from kinverify.errors import InputError
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.kinematics import frame_poses, geometric_jacobians
-from kinverify.report.writer import write_atomic
+from kinverify.io.write import write_atomic
 from kinverify.pipeline.sampling import spec_samples
 from kinverify.regression.quantities import dynamics_records, ik_fixed, ik_parse, ik_records
 from kinverify.model.spec import ArmSpec

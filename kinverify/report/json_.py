@@ -7,7 +7,7 @@ from pathlib import Path
 
 from kinverify.errors import InputError
 from kinverify.results import SCHEMA_VERSION, VerifyResult
-from kinverify.report.writer import write_atomic
+from kinverify.io.write import write_atomic
 
 
 def result_json(result: VerifyResult) -> str:

@@ -1,7 +1,7 @@
 """Atomic file writes: an output is either complete or absent, never half-written.
 
 Every file kinverify writes goes through :func:`write_atomic`: the target is checked first
-(:mod:`kinverify.report.output`: not an input of the run, not another output, not a directory
+(:mod:`kinverify.io.plan`: not an input of the run, not another output, not a directory
 or device), the data goes to a temporary file in the target's directory, is flushed and
 ``fsync``-ed, its size is checked, and only then is it renamed over the target. A failed or
 short write (disk full, file size limit) is a one-line :class:`InputError` and nothing is
@@ -15,7 +15,7 @@ import tempfile
 from pathlib import Path
 
 from kinverify.errors import InputError
-from kinverify.report.output import target_for_write
+from kinverify.io.plan import target_for_write
 
 
 def _umask() -> int:

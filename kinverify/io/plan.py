@@ -10,7 +10,7 @@ when it is
   temporary-file-then-rename write would otherwise *replace* ``/dev/full`` or a FIFO.
 
 Inputs discovered while loading (meshes a URDF or MJCF references) are added with
-:func:`note_input`. :func:`kinverify.report.writer.write_atomic` checks every target against the
+:func:`note_input`. :func:`kinverify.io.write.write_atomic` checks every target against the
 open plan again just before it writes, so a default path computed after the run (``reports/
 <model>.json``) gets the same protection. Without an open plan (library use) only the target
 itself is checked (directory, non-regular file).
@@ -104,7 +104,7 @@ class OutputPlan:
         return target
 
     def before_write(self, path) -> Path:
-        """The check :func:`~kinverify.report.writer.write_atomic` makes: a path claimed earlier keeps
+        """The check :func:`~kinverify.io.write.write_atomic` makes: a path claimed earlier keeps
         its label; one path is written at most once per run."""
         target = Path(path).resolve()
         label = self.outputs[target].label if target in self.outputs else ""
@@ -163,7 +163,7 @@ def default_output(name: str, suffix: str, folder: str = "reports") -> str:
 
 
 def target_for_write(path) -> Path:
-    """Where :func:`~kinverify.report.writer.write_atomic` writes ``path``: checked against the open
+    """Where :func:`~kinverify.io.write.write_atomic` writes ``path``: checked against the open
     plan, or on its own without one."""
     plan = _PLAN.get()
     return plan.before_write(path) if plan is not None else check_target(path)
