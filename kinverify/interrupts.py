@@ -80,14 +80,11 @@ def exit_code(signum: int | None = None) -> int:
 
 @contextlib.contextmanager
 def held() -> Iterator[None]:
-    """SIGINT and SIGTERM held (blocked) for the block, delivered when it ends: renaming the
-    outputs into place is not cut half-way."""
-    try:
-        signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
-    except (AttributeError, OSError, ValueError):  # pragma: no cover - no POSIX signal masks
-        yield
-        return
+    """SIGINT and SIGTERM only recorded during the block (renaming the outputs into place is not
+    cut half-way); :func:`check` after it acts on them. (Not a signal mask: a process-directed
+    signal may be delivered to any thread, and Python runs the handler in the main thread anyway.)"""
+    armed, _state["armed"] = _state["armed"], False
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
+        _state["armed"] = armed and _state["received"] is None
