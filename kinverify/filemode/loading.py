@@ -65,7 +65,7 @@ def read_xml(path: str, kind: str, text: str | None = None) -> tuple[str, ET.Ele
         check_urdf_numbers(root, path, label)
     elif kind == "mjcf":
         root, included = expand_includes(root, path, label, len(text.encode()))
-        if included:
+        if len(included) > 1:
             text = ET.tostring(root, encoding="unicode")
         check_mjcf_numbers(root, path, label)
     check_supported(root, kind, path)

@@ -1,6 +1,6 @@
 """Checks on a URDF or MJCF tree before any library sees it, and MJCF ``<include>`` expansion.
 
-- A URDF's links form one tree (:func:`check_urdf_tree`): every joint names a parent and a child
+- A URDF's links form one tree (:func:`check_urdf_tree`): links and joints have unique names, every joint names a parent and a child
   link of the file, a link has at most one parent joint, exactly one link is no joint's child,
   and every link is reached from it (a joint from a link back to an ancestor is a cycle, on which
   Pinocchio's URDF parser crashes the process and a chain walk never ends). Joint types are
@@ -44,8 +44,12 @@ def check_urdf_tree(root: ET.Element, path, label: str = "") -> None:
             raise InputError(f"{where}: link {name!r} is defined twice")
         links[name] = link
     parent_of: dict[str, tuple[str, str]] = {}  # child link -> (parent link, joint)
+    joint_names: set[str] = set()
     for joint in root.findall("joint"):
         name = joint.get("name")
+        if name is None or name in joint_names:
+            raise InputError(f"{where}: joint {name!r} is defined twice" if name else f"{where}: a <joint> has no name")
+        joint_names.add(name)
         kind = joint.get("type")
         if kind not in URDF_JOINT_TYPES:
             raise InputError(f"{where}: joint {name!r} has type {kind!r}: unsupported (URDF joint types: "
@@ -93,10 +97,12 @@ def _cycle(parent_of: dict[str, tuple[str, str]], start: str) -> str:
         seen.append(link)
         link = parent_of[link][0]
     loop = seen[seen.index(link):]
-    return " -> ".join(reversed([*loop, loop[0]]))
+    return " -> ".join(repr(name) for name in reversed([*loop, loop[0]]))
 
 
-def _finite(element: ET.Element, attribute: str, count: int | None, where: str, what: str) -> None:
+def _finite(element: ET.Element, attribute: str, count: int | None, where: str, what: str, finite: bool = True) -> None:
+    """``attribute`` of ``element``, when present, is ``count`` numbers (finite ones unless
+    ``finite=False``); :class:`InputError` naming it otherwise."""
     text = element.get(attribute)
     if text is None:
         return
@@ -104,13 +110,25 @@ def _finite(element: ET.Element, attribute: str, count: int | None, where: str, 
         values = [float(x) for x in text.split()]
     except ValueError:
         values = None
-    if values is None or (count is not None and len(values) != count) or not all(map(math.isfinite, values)):
-        amount = f"{count} finite numbers" if count and count > 1 else "finite numbers"
+    if values is None or (count is not None and len(values) != count) or (finite and not all(map(math.isfinite, values))):
+        kind = "finite number" if finite else "number"
+        amount = f"a {kind}" if count == 1 else f"{count} {kind}s" if count else f"{kind}s"
         raise InputError(f"{where}: {what}: {attribute}={text!r} is not {amount}")
 
 
+# numbers a URDF holds besides poses: they must be numbers (a non-finite mass or inertia is left
+# to the inertial validation, which names it as a non-physical inertial)
+URDF_NUMBERS = {"inertial/mass": {"value": 1}, "inertial/inertia": dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 1),
+                "limit": {"effort": 1, "velocity": 1}, "dynamics": {"damping": 1, "friction": 1},
+                "mimic": {"multiplier": 1, "offset": 1}, "geometry/box": {"size": 3}, "geometry/cylinder": {"radius": 1, "length": 1},
+                "geometry/sphere": {"radius": 1}, "geometry/mesh": {"scale": 3}}
+
+
 def check_urdf_numbers(root: ET.Element, path, label: str = "") -> None:
-    """Joint origins and axes, inertial origins and joint limits are finite numbers."""
+    """Joint origins and axes, the origins of inertials, visuals and collisions, and joint limits
+    are finite numbers; masses, inertias, efforts, speeds, damping, mimic factors and geometry
+    sizes are numbers (Pinocchio's parser prints its complaint to the terminal and refuses the
+    file; others read 0)."""
     where = _where(path, label)
     for joint in root.findall("joint"):
         what = f"joint {joint.get('name')!r}"
@@ -121,10 +139,22 @@ def check_urdf_numbers(root: ET.Element, path, label: str = "") -> None:
         for limit in joint.findall("limit"):
             for attribute in ("lower", "upper"):
                 _finite(limit, attribute, 1, where, f"{what} <limit>")
+        for tag in ("limit", "dynamics", "mimic"):
+            for element in joint.findall(tag):
+                for attribute, count in URDF_NUMBERS[tag].items():
+                    _finite(element, attribute, count, where, f"{what} <{tag}>", finite=False)
     for link in root.findall("link"):
-        for origin in link.findall("inertial/origin"):
-            for attribute in ("xyz", "rpy"):
-                _finite(origin, attribute, 3, where, f"link {link.get('name')!r} <inertial><origin>")
+        what = f"link {link.get('name')!r}"
+        for part in ("inertial", "visual", "collision"):
+            for origin in link.findall(f"{part}/origin"):
+                for attribute in ("xyz", "rpy"):
+                    _finite(origin, attribute, 3, where, f"{what} <{part}><origin>")
+        for tag, attributes in URDF_NUMBERS.items():
+            if tag.startswith(("inertial/", "geometry/")):
+                found = link.findall(tag) if tag.startswith("inertial/") else link.findall(f"*/{tag}")
+                for element in found:
+                    for attribute, count in attributes.items():
+                        _finite(element, attribute, count, where, f"{what} <{tag.split('/')[-1]}>", finite=False)
 
 
 MJCF_POSES = {"pos": 3, "quat": 4, "axis": 3, "euler": 3, "axisangle": 4, "xyaxes": 6, "zaxis": 3, "fromto": 6}
@@ -155,10 +185,11 @@ def tree_depth(root: ET.Element) -> int:
 
 def expand_includes(root: ET.Element, path, label: str = "", size: int = 0) -> tuple[ET.Element, list[str]]:
     """``root`` with every ``<include file>`` replaced by the included file's elements (paths
-    relative to the main file's folder, as MuJoCo reads them), and the files included.
+    relative to the main file's folder, as MuJoCo reads them), and the files read (the main file
+    first; a file included twice, or including one above it, is refused).
     ``size``: bytes of the main file (the whole stays within ``MAX_MODEL_BYTES``)."""
     base = Path(path).resolve().parent
-    included: list[str] = []
+    included: list[str] = [str(Path(path).resolve())]
     budget = [MAX_MODEL_BYTES - size]
 
     def too_deep() -> InputError:
@@ -187,8 +218,8 @@ def expand_includes(root: ET.Element, path, label: str = "", size: int = 0) -> t
                 data = read_bytes(file, "the MJCF's <include>", max(budget[0], 0))
             except InputFileError as err:
                 if err.too_large:
-                    raise InputError(f"{_where(path, label)} with the files it includes is above the "
-                                     f"{MAX_MODEL_BYTES // 2**20} MB kinverify reads (see docs/robustness.md)") from None
+                    raise InputError(f"{_where(path, label)}: <include file={name!r}>: with the files it includes the MJCF is "
+                                     f"above the {MAX_MODEL_BYTES // 2**20} MB kinverify reads (see docs/robustness.md)") from None
                 raise InputError(f"{_where(path, label)}: <include file={name!r}>: {file} {err.reason}") from None
             budget[0] -= len(data)
             sub = xml_parse(data, file, f"{_where(path, label)}: <include file={name!r}>")
@@ -197,9 +228,8 @@ def expand_includes(root: ET.Element, path, label: str = "", size: int = 0) -> t
                                  "expected <mujoco>)")
             if level + tree_depth(sub) - 1 > MAX_XML_DEPTH:
                 raise too_deep()
-            for item in list(sub):
-                expand(item, level + 1, depth + 1)
-                items.append(item)
+            expand(sub, level, depth + 1)  # its children take the <include>'s place, beside this element's
+            items.extend(sub)
             changed = True
         if changed:
             element[:] = items
