@@ -9,5 +9,8 @@
   XML), each with bounded nesting.
 - :mod:`kinverify.io.models`: checks on a URDF or MJCF tree before any library sees it (a URDF's
   links form one tree; finite poses and axes; MJCF ``<include>`` expanded through the reader).
+- :mod:`kinverify.io.plan`: the inputs and outputs of a run: an output that is an input, another
+  output, a folder or a device is refused; the outputs are committed together at the end.
+- :mod:`kinverify.io.write`: the atomic writer (a temporary file, ``fsync``, a rename).
 - :mod:`kinverify.io.quiet`: library messages kept off the terminal during a command.
 """

@@ -108,14 +108,6 @@ def _open(path: str, label: str) -> tuple[int, int]:
     return fd, st.st_size
 
 
-def is_regular_file(path) -> bool:
-    """``path`` exists and is a regular file (symbolic links followed); never blocks."""
-    try:
-        return stat.S_ISREG(os.stat(path).st_mode)
-    except (OSError, ValueError):
-        return False
-
-
 def _regular(path: str, label: str, mode: int) -> None:
     if not stat.S_ISREG(mode):
         kind = KINDS.get(stat.S_IFMT(mode), "not a regular file")
