@@ -219,7 +219,7 @@ def main(argv=None) -> int:
         results["models"][path.stem] = bench_model(path, args.quick, log, big)
     print_table(results)
     if args.json:
-        from kinverify.report.writer import write_atomic
+        from kinverify.io.write import write_atomic
 
         write_atomic(args.json, json.dumps(results, indent=1))
     if old is not None:

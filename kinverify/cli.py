@@ -8,7 +8,7 @@ still writes what it computed), 130 interrupted (SIGINT), 143 terminated (SIGTER
 
 Before a command runs, its arguments that name files are checked here, in one place: seeds,
 sample counts and chunk sizes against :mod:`kinverify.pipeline.limits`, and every output path
-against every input (:mod:`kinverify.report.output`), so a bad path is refused before a long run.
+against every input (:mod:`kinverify.io.plan`), so a bad path is refused before a long run.
 Set ``KINVERIFY_DEBUG=1`` to see the traceback of an internal error.
 """
 
@@ -19,21 +19,17 @@ import importlib
 import os
 import signal
 import sys
-import warnings
 
 from kinverify import __version__
 
 COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff", "check")
 ISSUES = "the kinverify issue tracker"
 # argument -> how messages name it; these name files a command reads
+# (files found while loading, such as an MJCF's includes, are added by the reader: kinverify.io.read)
 INPUTS = {"model": "the spec MODEL", "urdf": "--urdf", "mjcf": "--mjcf", "results": "RESULTS", "baseline": "--baseline",
-          "old": "OLD", "new": "NEW"}
-OUTPUTS = {"json": "--json", "report": "--report", "junit": "--junit", "out": "--out"}  # generate's --out is a directory, not a file
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, handled like SIGINT: raised in the main process so every ``finally`` runs (worker
-    processes stopped, temporary files removed, nothing half-written)."""
+          "old": "OLD", "new": "NEW", "accept": "--accept", "targets": "--targets", "initial": "--initial"}
+OUTPUTS = {"json": "--json", "report": "--report", "junit": "--junit", "out": "--out",  # generate's --out is a directory
+           "write_accepted": "--write-accepted"}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -90,59 +86,81 @@ def _one_line(err: BaseException, limit: int | None = None) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run ``kinverify argv`` (default: the process's arguments); returns the exit code.
+
+    SIGINT and SIGTERM are handled from the first line (:mod:`kinverify.interrupts`): whenever one
+    arrives, no output is written and the exit code is 130 or 143. Library messages stay off the
+    terminal (:mod:`kinverify.io.quiet`). The outputs are committed together at the end
+    (:mod:`kinverify.io.plan`), with the signals held for the renames."""
+    from kinverify import interrupts
+
+    previous = interrupts.install()
+    try:
+        try:
+            return _main(argv)
+        except KeyboardInterrupt:  # a signal while an error was being reported
+            return _interrupted()
+    finally:
+        if argv is not None or not previous:  # called in-process: give the caller its handlers back
+            interrupts.restore(previous)
+        else:  # the process exits now: a late signal must not print a traceback on the way out
+            interrupts.restore({sig: signal.SIG_IGN for sig in previous})
+
+
+def _interrupted() -> int:
+    from kinverify import interrupts
+
+    code = interrupts.exit_code()
+    print(f"kinverify: {'terminated' if code == 128 + signal.SIGTERM else 'interrupted'}", file=sys.stderr)
+    return code
+
+
+def _main(argv: list[str] | None) -> int:
+    from kinverify import interrupts
     from kinverify.errors import KinverifyError
+    from kinverify.io.quiet import library_output
 
     parser = build_parser()
     args = parser.parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)
-    previous = _catch_sigterm()
+    debug = bool(os.environ.get("KINVERIFY_DEBUG"))
     try:
-        from kinverify.report.output import output_plan
+        with library_output(quiet=not debug):
+            from kinverify.io.plan import output_plan
 
-        check_args(args)
-        inputs, outputs = run_files(args)
-        with output_plan(inputs, outputs), warnings.catch_warnings():
-            # numpy's overflow/invalid-value warnings on extreme inputs are noise here: every
-            # result is checked for finiteness where it matters
-            warnings.simplefilter("ignore", RuntimeWarning)
-            return args.run(args)
+            check_args(args)
+            inputs, outputs = run_files(args)
+            with output_plan(inputs, outputs) as plan:
+                code = args.run(args)
+                interrupts.check()  # a signal a library swallowed: nothing is written
+                with interrupts.held():
+                    interrupts.check()
+                    plan.commit()
+            interrupts.check()  # held during the renames: the outputs are complete, the signal still counts
+            return code
+    except KeyboardInterrupt:
+        return _interrupted()
     except KinverifyError as err:
+        if interrupts.received():  # e.g. a library whose import was interrupted, reported as unavailable
+            return _interrupted()
         print(f"kinverify: error: {_one_line(err)}", file=sys.stderr)
         return 2
-    except Terminated:
-        print("kinverify: terminated", file=sys.stderr)
-        return 128 + signal.SIGTERM
-    except KeyboardInterrupt:
-        print("kinverify: interrupted", file=sys.stderr)
-        return 130
     except OSError as err:  # the system refused (disk full, file size limit, permissions): not a bug
+        if interrupts.received():
+            return _interrupted()
         where = f"{err.filename}: " if err.filename else ""
         print(f"kinverify: error: {where}{err.strerror or _one_line(err)} (a system error)", file=sys.stderr)
         return 2
     except Exception as err:  # a kinverify bug: say so in one line, never a traceback
-        if os.environ.get("KINVERIFY_DEBUG"):
+        if interrupts.received():  # an interrupted import or call surfacing as another exception
+            return _interrupted()
+        if debug:
             import traceback
 
             traceback.print_exc()
         print(f"kinverify: internal error: {type(err).__name__}: {_one_line(err, 300)} (please report it at {ISSUES} "
               "with the command line)", file=sys.stderr)
         return 3
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
-
-
-def _raise_terminated(signum, frame):
-    raise Terminated()
-
-
-def _catch_sigterm():
-    """Handle SIGTERM like SIGINT while a command runs (main thread only); the previous handler,
-    to restore, or None."""
-    try:
-        return signal.signal(signal.SIGTERM, _raise_terminated)
-    except ValueError:  # not the main thread
-        return None
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -15,6 +15,7 @@ from datetime import datetime, timezone
 from typing import Any, Callable
 
 from kinverify.backends import ModelSources, build_backends
+from kinverify import interrupts
 from kinverify.errors import InputError, KinverifyError
 from kinverify.model.spec import ArmSpec
 from kinverify.pipeline.limits import MAX_CHUNK, MAX_SAMPLES, cap_jobs, check_count, check_seed, chunk_for
@@ -64,6 +65,7 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
             options, notes = dataclasses.replace(options, jobs=jobs), [note]
     started, t0 = datetime.now(timezone.utc), time.perf_counter()
     backends = {b.name: b for b in build_backends(sources, options.backends)}
+    interrupts.check()
     for b in extra_backends:
         backends[b.name] = b
     if options.reference not in backends:
@@ -81,6 +83,7 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
     for suite_cls in SUITES:
         if options.suites is not None and suite_cls.name not in options.suites:
             continue
+        interrupts.check()  # a signal a library swallowed (e.g. while importing it) stops the run here
         if progress:
             progress(suite_cls.name)
         t_suite, c_suite = time.perf_counter(), cpu_seconds()

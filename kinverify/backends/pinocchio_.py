@@ -33,7 +33,7 @@ def build_urdf_model(urdf_text: str) -> "pin.Model":
     """``pin.buildModelFromXML`` that keeps the reason of a refusal: urdfdom, Pinocchio's URDF
     parser, prints why on the process's stderr and raises only "The XML stream does not contain a
     valid URDF model". What it prints during the call is read back and joined into the
-    ``ValueError`` (:func:`~kinverify.errors.library_reason`); on success it is passed on to stderr."""
+    ``ValueError`` (:func:`~kinverify.errors.library_reason`); on success it is passed on to descriptor 2."""
     sys.stderr.flush()
     saved, failure = os.dup(2), None
     with tempfile.TemporaryFile() as printed:
@@ -48,7 +48,8 @@ def build_urdf_model(urdf_text: str) -> "pin.Model":
         printed.seek(0)
         said = printed.read().decode("utf-8", "replace")
     if failure is None:
-        sys.stderr.write(said)
+        if said:  # passed on to descriptor 2, where it was going (kept off the terminal during a command)
+            os.write(2, said.encode())
         return model
     raise ValueError("; ".join(r for r in (library_reason(said), library_reason(failure)) if r))
 

@@ -40,9 +40,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def baseline_for(spec_path: Path, folder: str | None) -> Path | None:
-    """The baseline of ``spec_path``, when one exists: ``DIR/<stem>.json``."""
+    """The baseline of ``spec_path``, when one exists: ``DIR/<stem>.json`` (a FIFO or folder of that
+    name is refused when read)."""
     places = [Path(folder)] if folder else [spec_path.parent / "baselines", Path("baselines")]
-    return next((p / f"{spec_path.stem}.json" for p in places if (p / f"{spec_path.stem}.json").is_file()), None)
+    return next((p / f"{spec_path.stem}.json" for p in places if (p / f"{spec_path.stem}.json").exists()), None)
 
 
 def jobs(files: list[str]) -> list[tuple[str, Path, Path | None]]:
@@ -115,11 +116,12 @@ def check_spec(path: Path, options, args) -> tuple[int, str]:
 
 
 def _is_mjcf(path: Path) -> bool:
+    from kinverify.io.read import InputFileError, read_head
+
     try:
-        head = path.read_text(errors="replace")[:4096]
-    except OSError:
+        return b"<mujoco" in read_head(path, 4096)
+    except InputFileError:  # absent, or not a regular file (a FIFO is never opened): not a model to check
         return False
-    return "<mujoco" in head
 
 
 def check_audit(path: Path, options) -> tuple[int, str]:

@@ -61,7 +61,7 @@ def run(args) -> int:
     console = Console() if sys.stdout.isatty() else Console(width=160)
     doc = diff_document(result, args.old, args.new)
     print_document(doc, console)
-    from kinverify.report.output import default_output
+    from kinverify.io.plan import default_output
 
     path = write_document(doc, args.report or default_output(f"diff-{result.old_name}-{result.new_name}", ".html"))
     console.print(f"report: {path}")

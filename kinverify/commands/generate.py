@@ -17,10 +17,10 @@ def run(args) -> int:
     from pathlib import Path
 
     from kinverify.generate import generate_mjcf, generate_urdf
-    from kinverify.report.writer import write_atomic
+    from kinverify.io.write import write_atomic
     from kinverify.model.specfile import load_spec
 
-    from kinverify.report.output import claim_outputs
+    from kinverify.io.plan import claim_outputs
 
     spec = load_spec(args.model)
     out = Path(args.out)

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 
 from kinverify.commands.ik_single import ALL_STARTS
+from kinverify.pipeline.limits import MAX_TARGET_M
 
 
 def add_parser(sub):
@@ -80,6 +81,8 @@ def _values(name: str, values, count: int) -> list[float]:
             raise InputError(f"{name}: not a number: {v!r}") from None
         if not math.isfinite(x):
             raise InputError(f"{name}: values must be finite, got {v!r}")
+        if name == "--target" and abs(x) > MAX_TARGET_M:
+            raise InputError(f"{name}: {v} m is more than {MAX_TARGET_M:g} m from the base (see docs/robustness.md)")
         out.append(x)
     return out
 
@@ -149,26 +152,35 @@ def _batch(args) -> int:
     if len(targets) == 1 and sol.solved(args.tol_pos, args.tol_rot)[0]:
         print(f"q = [{', '.join(f'{x:.9g}' for x in sol.q[0])}]")
     if args.json:
-        from kinverify.report.writer import write_atomic
+        from kinverify.io.write import write_atomic
 
         path = write_atomic(args.json, json.dumps(data, indent=1) + "\n")
         print(f"json: {os.fspath(path)}")
     return 0 if data["solved"] == data["targets"] else 1
 
 
-def _urdf_text(args) -> str:
-    """The --urdf file's text; a xacro file compiled first (``--package``, ``--xacro-arg``)."""
+def _urdf_text(args):
+    """The --urdf file's text (a xacro file compiled first: ``--package``, ``--xacro-arg``) and its
+    root element, checked as file mode checks a URDF (one tree of links, finite poses) before
+    the chain is walked or Pinocchio reads it."""
     from kinverify.errors import InputError
     from kinverify.filemode.read.xacro import compile_xacro, is_xacro, parse_pairs
     from kinverify.ik.files import read_text
+    from kinverify.io.formats import xml_parse
+    from kinverify.io.models import check_urdf_numbers, check_urdf_tree
 
     text = read_text(args.urdf, "--urdf")
     packages, xacro_args = parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")
     if is_xacro(args.urdf, text):
-        return compile_xacro(args.urdf, packages, xacro_args)[0]
-    if xacro_args:
+        text = compile_xacro(args.urdf, packages, xacro_args)[0]
+    elif xacro_args:
         raise InputError(f"--xacro-arg: {args.urdf} is not a xacro file")
-    return text
+    root = xml_parse(text.encode(), args.urdf, "--urdf")
+    if root.tag != "robot":
+        raise InputError(f"--urdf: {args.urdf} is not a URDF (root element <{root.tag}>, expected <robot>)")
+    check_urdf_tree(root, args.urdf, "--urdf")
+    check_urdf_numbers(root, args.urdf, "--urdf")
+    return text, root
 
 
 def _batch_model(args):
@@ -179,17 +191,14 @@ def _batch_model(args):
     from kinverify.ik import FrameModel, SerialChain
 
     if args.urdf:
-        from kinverify.ik.files import read_text
-
-        text = _urdf_text(args)
-        chain = SerialChain.from_urdf(text, args.base, args.tip, args.urdf)
+        text, root = _urdf_text(args)
+        chain = SerialChain.from_urdf_root(root, args.base, args.tip, args.urdf)
         where = f"{args.urdf}: {args.base or 'root'} -> {args.tip}"
         if args.per_target:
             from kinverify.backends.pinocchio_ import PinocchioBackend
             from kinverify.ik.chain import root_link
-            import defusedxml.ElementTree as DET
 
-            if args.base and args.base != root_link(DET.fromstring(text.encode()), args.urdf):
+            if args.base and args.base != root_link(root, args.urdf):
                 raise InputError(f"--per-target solves on Pinocchio, which places frames in the root link; --base {args.base} "
                                  "is not the root (drop --per-target to solve the chain in numpy)")
             batched = FrameModel.from_chain(chain, "urdf", args.tip)

@@ -143,6 +143,11 @@ def _run_cartesian(args, spec, default, controllers) -> int:
     if rpys and len(rpys) != len(args.target):
         raise InputError(f"give one --rpy per --target or none, got {len(rpys)} for {len(args.target)}")
     parsed = [parse_target(xyz, rpys[k] if rpys else None) for k, xyz in enumerate(args.target)]
+    from kinverify.pipeline.limits import MAX_TARGET_M
+
+    for t, _ in parsed:
+        if not abs(t[:3, 3]).max() <= MAX_TARGET_M:
+            raise InputError(f"--target {_vec(t[:3, 3])} m is more than {MAX_TARGET_M:g} m from the base (see docs/robustness.md)")
     position_only = not rpys
     durations = None if args.duration is None else [args.duration]
     cplan = plan_cartesian(spec, [t for t, _ in parsed], default.q0, durations, position_only, args.ik_backend,

@@ -9,6 +9,7 @@ reads that file, compared with each other. A ``.xacro`` URDF is compiled first (
 from __future__ import annotations
 
 import argparse
+import math
 
 from kinverify.commands import count as _count
 from kinverify.errors import InputError
@@ -70,8 +71,8 @@ def _number(item: str, flag: str) -> tuple[str, float | None]:
         number = float(value)
     except ValueError:
         raise InputError(f"{flag}: {item!r} is not PROPERTY=NUMBER") from None
-    if not number >= 0:  # also refuses NaN
-        raise InputError(f"{flag}: {item!r} must be a non-negative number")
+    if not 0 <= number < math.inf:  # also refuses NaN
+        raise InputError(f"{flag}: {item!r} must be a non-negative finite number")
     return name, number
 
 
@@ -112,6 +113,8 @@ def options_from_args(args):
         gates[prop] = goal
     if args.chunk < 1:
         raise InputError("--chunk must be >= 1")
+    if not [n for n in names if n not in args.skip]:
+        raise InputError("--skip: every suite is skipped, so nothing would be compared (drop a --skip)")
     return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra, tolerances=tolerances, gates=gates,
                          backends=args.backends.split(",") if args.backends else None,
                          suites=[n for n in names if n not in args.skip],
@@ -195,9 +198,13 @@ def run(args) -> int:
         with VerifyProgress(console, spec.name) as bar:
             options.on_progress = bar.advance
             result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
+    if not (result.checks or result.findings or result.internal_errors):
+        raise InputError(f"{result.source}: nothing was compared (no check and no finding with these options: "
+                         f"--skip {', --skip '.join(args.skip) or '(none)'}, --backends {args.backends or 'all'}); "
+                         "no report written")
     if not args.quiet:
         print_result(result, console)
-    from kinverify.report.output import claim_outputs, default_output
+    from kinverify.io.plan import claim_outputs, default_output
 
     json_out, html_out = args.json or default_output(result.model, ".json"), args.report or default_output(result.model, ".html")
     claim_outputs(("--json", json_out), ("--report", html_out))  # both checked before either is written
@@ -206,7 +213,7 @@ def run(args) -> int:
     written = [f"report: {write_html(result, html_out)}", f"json: {json_path}"]
     if args.junit:
         from kinverify.report.junit import junit_xml
-        from kinverify.report.writer import write_atomic
+        from kinverify.io.write import write_atomic
 
         written.append(f"junit: {write_atomic(args.junit, junit_xml(result))}")
     outputs = "  ".join(written)

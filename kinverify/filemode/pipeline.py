@@ -132,7 +132,7 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
 
     t0 = time.perf_counter()
     options = options or VerifyOptions()
-    entries = acc.load(accept) if accept else (acc.load(p) if (p := acc.default_path(urdf)) else [])
+    entries = acc.load(accept) if accept else (acc.load(p, "the accepted differences") if (p := acc.default_path(urdf)) else [])
     internal: list[str] = []
     diag = _guarded(internal, "reading the files", lambda: diagnose_files(urdf, mjcf, options, frames, joints), None)
     if diag is None:

@@ -121,7 +121,7 @@ class SerialChain:
         by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
         path, link = [], tip
         while link != base:
-            if link not in by_child:
+            if link not in by_child or len(path) >= len(by_child):  # at most one step per joint (a cycle never ends)
                 raise InputError(f"{source}: link {tip!r} is not below link {base!r}")
             path.append(by_child[link])
             link = by_child[link].find("parent").get("link")

@@ -10,34 +10,29 @@ is not ``0 0 0 1``.
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import numpy as np
 
 from kinverify.errors import InputError
+from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_IK_TARGETS, MAX_TARGET_M
 
 ROTATION_TOL = 1e-6  # ‖RᵀR − I‖ and |det R − 1| allowed in a target's rotation block
 
 
 def read_text(path: str, flag: str) -> str:
-    """A text file's content, or an :class:`InputError` naming the flag and the file."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{flag}: {path} is not a file")
-    try:
-        return p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        raise InputError(f"{flag}: cannot read {path}: {err}") from None
+    """A text file's content (:mod:`kinverify.io.read`: a regular file within the model size
+    limit), or an :class:`InputError` naming the flag and the file."""
+    from kinverify.io.read import read_text as read
+
+    return read(path, flag)
 
 
 def _load(path: str, flag: str) -> np.ndarray:
-    if not Path(path).is_file():
-        raise InputError(f"{flag}: {path} is not a file")
-    try:
-        data = np.load(path, allow_pickle=False)
-    except (OSError, ValueError, EOFError):
-        raise InputError(f"{flag}: {path} is not an .npy file (an array written by numpy.save)") from None
-    if not isinstance(data, np.ndarray) or not np.issubdtype(data.dtype, np.number) or np.iscomplexobj(data):
+    from kinverify.io.formats import npy_load
+    from kinverify.io.read import read_bytes
+
+    data = npy_load(read_bytes(path, flag, MAX_DATA_BYTES), path, flag)
+    if not np.issubdtype(data.dtype, np.number) or np.iscomplexobj(data):
         raise InputError(f"{flag}: {path} must hold a real-valued array (an .npz archive or object array is not one)")
     return data.astype(float)
 
@@ -49,9 +44,16 @@ def load_targets(path: str, flag: str = "--targets") -> np.ndarray:
         t = t[None]
     if t.ndim != 3 or t.shape[1:] != (4, 4) or len(t) == 0:
         raise InputError(f"{flag}: {path} has shape {t.shape}; expected (N, 4, 4) homogeneous poses of the tip in the base frame")
+    if len(t) > MAX_IK_TARGETS:
+        raise InputError(f"{flag}: {path} holds {len(t):,} targets, above the {MAX_IK_TARGETS:,} kinverify solves in one run "
+                         "(see docs/robustness.md)")
     bad = ~np.isfinite(t).all(axis=(1, 2))
     if bad.any():
         raise InputError(f"{flag}: {path}: target {int(np.argmax(bad))} has a non-finite value (NaN or inf)")
+    far = np.abs(t[:, :3, 3]).max(axis=1) > MAX_TARGET_M
+    if far.any():
+        raise InputError(f"{flag}: {path}: target {int(np.argmax(far))} is more than {MAX_TARGET_M:g} m from the base "
+                         "(see docs/robustness.md)")
     last = np.abs(t[:, 3] - [0.0, 0.0, 0.0, 1.0]).max(axis=1) > 0
     if last.any():
         raise InputError(f"{flag}: {path}: target {int(np.argmax(last))}'s last row is {t[np.argmax(last), 3].tolist()}, not [0, 0, 0, 1]")

@@ -7,6 +7,7 @@ The format is documented in the README ("Spec format"). Every error is a one-lin
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -298,20 +299,23 @@ def _link_name(jt, i: int) -> str:
 
 
 def load_spec(path: str | Path) -> ArmSpec:
-    """Read and validate a spec file; raise :class:`SpecError` naming the file on any problem."""
-    path = Path(path)
+    """Read and validate a spec file; raise :class:`SpecError` naming the file on any problem
+    (read by :mod:`kinverify.io.read`: a regular file of at most ``MAX_MODEL_BYTES``)."""
+    from kinverify.io.formats import toml_loads
+    from kinverify.io.read import InputFileError, read_bytes
+
     file = str(path)
     try:
-        if path.stat().st_size > MAX_MODEL_BYTES:
-            raise SpecError("", f"{path.stat().st_size / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB kinverify "
-                            "reads (see docs/robustness.md)", file)
-        raw = path.read_bytes()
-    except OSError as err:
-        raise SpecError("", f"cannot read spec file: {err.strerror or err}", file) from None
+        raw = read_bytes(path, "the spec MODEL", MAX_MODEL_BYTES)
+    except InputFileError as err:
+        reason = f"cannot read spec file: {os.strerror(err.errno)}" if err.errno else err.reason.removeprefix("is ")
+        raise SpecError("", reason, file) from None
     try:
-        data = tomllib.loads(raw.decode("utf-8"))
+        data = toml_loads(raw.decode("utf-8"), file)
     except UnicodeDecodeError:
         raise SpecError("", "not a UTF-8 text file", file) from None
     except tomllib.TOMLDecodeError as err:
         raise SpecError("", f"malformed TOML: {err}", file) from None
+    except InputFileError as err:
+        raise SpecError("", err.reason, file) from None
     return spec_from_dict(data, file)

@@ -18,6 +18,17 @@ line (exit 2) instead of running away with memory or time.
   per configuration grows with the square of the number of frames and joints (a Jacobian per
   frame) and, for yourdfpy, faster still with the chain's depth: a 200-link chain needed 7.5 GB
   and six minutes. Real arms have 6-7 joints, a quadruped 12 (largest test file: 31 links, 25 kB).
+  ``MAX_MODEL_BYTES`` bounds every text input (spec, URDF, MJCF with everything it ``<include>``s,
+  xacro sources, accepted-differences files); ``MAX_DATA_BYTES`` the data inputs (results JSON,
+  baselines, ``.npy`` arrays: a panda baseline at ``MAX_STORED_SAMPLES`` is about 120 MB). Both
+  are measured by reading (:mod:`kinverify.io.read`), never by ``stat`` alone: ``/dev/zero`` or a
+  FIFO reports 0 bytes.
+- ``MAX_XML_DEPTH``, ``MAX_JSON_DEPTH``: element (value) nesting of an XML (JSON, TOML) input. A
+  serial MJCF chain of ``MAX_LINKS`` bodies nests about 260 deep; kinverify's own JSON about 8.
+- ``MAX_INCLUDE_DEPTH``: ``<include>`` inside included files.
+- ``MAX_IK_TARGETS``: ``kinverify ik --targets`` (the solver holds about 4 kB per target).
+- ``MAX_TARGET_M``: an IK target's distance from the base (a 1 km arm is already a typo).
+- ``SCHEDULER_TIMEOUT_S``: connecting to a Dask scheduler (``--scheduler``).
 """
 
 from __future__ import annotations
@@ -35,6 +46,13 @@ MAX_TRACK_SECONDS = 600.0
 MAX_MODEL_BYTES = 8 * 2**20
 MAX_LINKS = 256  # URDF links, MJCF bodies
 MAX_JOINTS = 64  # movable (1-DOF) joints
+MAX_DATA_BYTES = 256 * 2**20
+MAX_XML_DEPTH = 300
+MAX_JSON_DEPTH = 64
+MAX_INCLUDE_DEPTH = 8
+MAX_IK_TARGETS = 100_000
+MAX_TARGET_M = 1e6
+SCHEDULER_TIMEOUT_S = 5.0
 
 
 def available_cores() -> int:

@@ -18,6 +18,7 @@ import signal
 import uuid
 from typing import Any, Callable, Iterator
 
+from kinverify import interrupts
 from kinverify.errors import InputError
 
 EXECUTORS = ("local", "dask")
@@ -86,6 +87,7 @@ def run_chunks(ctx, fn: Callable, chunks: list[tuple[int, int]]) -> Iterator:
     done = 0
     if opts.executor == "local" and (opts.jobs == 1 or len(chunks) <= 1):
         for start, stop in chunks:
+            interrupts.check()  # a signal a library swallowed stops the run at the next chunk
             yield fn(ctx.backends, opts, ctx.q[start:stop], start)
             done += stop - start
             report(done, total)
@@ -96,6 +98,7 @@ def run_chunks(ctx, fn: Callable, chunks: list[tuple[int, int]]) -> Iterator:
     else:
         results = _process_results(fn, payload, chunks, opts.jobs)
     for (start, stop), result in zip(chunks, results):
+        interrupts.check()
         yield result
         done += stop - start
         report(done, total)
@@ -174,7 +177,7 @@ def _dask_results(fn, payload: Payload, chunks, opts) -> Iterator:
         raise InputError("--executor dask needs dask.distributed: pip install 'kinverify[dask]'") from None
     cluster = None
     if opts.scheduler:
-        client = Client(opts.scheduler, timeout="30s")
+        client = _connect(Client, opts.scheduler)
     else:
         cluster = LocalCluster(n_workers=opts.jobs, threads_per_worker=1, processes=True,
                                dashboard_address=None, silence_logs=40)
@@ -197,3 +200,30 @@ def _dask_results(fn, payload: Payload, chunks, opts) -> Iterator:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _connect(client_class, address: str):
+    """A Dask client of the scheduler at ``address``, or a one-line :class:`InputError` within
+    ``SCHEDULER_TIMEOUT_S`` (a refused TCP connection at once)."""
+    import socket
+    from urllib.parse import urlsplit
+
+    from kinverify.pipeline.limits import SCHEDULER_TIMEOUT_S
+
+    unreachable = f"--scheduler {address}: no Dask scheduler answers there within {SCHEDULER_TIMEOUT_S:g} s"
+    parts = urlsplit(address if "://" in address else f"tcp://{address}")
+    if parts.scheme in ("tcp", "tls"):
+        try:
+            port = parts.port
+        except ValueError:
+            port = None
+        if not parts.hostname or port is None:
+            raise InputError(f"--scheduler {address}: expected tcp://HOST:PORT")
+        try:
+            socket.create_connection((parts.hostname, port), timeout=SCHEDULER_TIMEOUT_S).close()
+        except OSError as err:
+            raise InputError(f"{unreachable} ({err.strerror or type(err).__name__})") from None
+    try:
+        return client_class(address, timeout=f"{SCHEDULER_TIMEOUT_S}s")
+    except (OSError, TimeoutError) as err:
+        raise InputError(f"{unreachable} ({' '.join(str(err).split())[:120] or type(err).__name__})") from None

@@ -26,6 +26,8 @@ precision (``repr``), so ``git diff`` of two baselines is readable and re-readin
 from __future__ import annotations
 
 import json
+import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
@@ -36,7 +38,8 @@ from kinverify.model.canonical import sha256_text, spec_fingerprint, spec_to_can
 from kinverify.errors import InputError
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.kinematics import frame_poses, geometric_jacobians
-from kinverify.report.writer import write_atomic
+from kinverify.io.write import write_atomic
+from kinverify.pipeline.limits import MAX_DATA_BYTES
 from kinverify.pipeline.sampling import spec_samples
 from kinverify.regression.quantities import dynamics_records, ik_fixed, ik_parse, ik_records
 from kinverify.model.spec import ArmSpec
@@ -190,18 +193,23 @@ def dumps_baseline(data: dict[str, Any]) -> str:
     return "{\n" + ",\n".join(parts) + "\n}\n"
 
 
-def read_baseline(path, model: str | None = None) -> dict[str, Any]:
-    """Load and validate a baseline file; one-line :class:`InputError` when it is unreadable,
-    corrupt or truncated, not a baseline, from a newer format, or (given ``model``) from
-    another model."""
+def read_baseline(path, model: str | None = None, register: bool = True) -> dict[str, Any]:
+    """Load and validate a baseline file; one-line :class:`InputError` when it is unreadable (read
+    by :mod:`kinverify.io.read`: a regular file of at most ``MAX_DATA_BYTES``), corrupt or
+    truncated, not a baseline, from a newer format, or (given ``model``) from another model.
+    ``register``: record the file as an input of the run (False: a file about to be replaced)."""
+    from kinverify.io.formats import json_loads
+    from kinverify.io.read import InputFileError, read_bytes
+
+    label = "--baseline" if register else "--out"
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as err:
-        raise InputError(f"{path}: cannot read baseline: {err.strerror or err}") from None
+        text = read_bytes(path, label, MAX_DATA_BYTES, register=register).decode("utf-8")
+    except InputFileError as err:
+        raise InputError(f"{path}: cannot read baseline: {os.strerror(err.errno)}" if err.errno else str(err)) from None
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a kinverify baseline (not UTF-8 text)") from None
     try:
-        data = json.loads(text)
+        data = json_loads(text, path, label, allow_nan=False)
     except json.JSONDecodeError as err:
         raise InputError(f"{path}: corrupt or truncated baseline JSON ({err.msg}: line {err.lineno} column {err.colno})") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
@@ -242,17 +250,37 @@ def _validate_schema(path, data: dict[str, Any], schema: dict[str, Any]) -> None
 _JSON_TYPES = {str: "a string", dict: "an object", list: "a list", int: "a whole number"}
 
 
+def finite_numbers(value) -> bool:
+    """Is ``value`` a finite number, or a (nested) list of them? Text, booleans and nulls are not."""
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, list):
+            stack.extend(item)
+        elif isinstance(item, bool) or not isinstance(item, (int, float)) or not math.isfinite(item):
+            return False
+    return True
+
+
+KINEMATICS = ("fk.position", "fk.rotation", "jacobian.linear", "jacobian.angular")  # kinematics_records, per frame and sample
+
+
 def _validate_body(path, data: dict[str, Any]) -> None:
-    try:
-        q = np.asarray(data["q"], dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{path}: malformed baseline: q is not a table of numbers") from None
+    for key in ("frames", "joint_names"):
+        if not data[key] or not all(isinstance(name, str) for name in data[key]):
+            raise InputError(f"{path}: malformed baseline: {key} must be a non-empty list of names")
+    if not data["q"] or not all(isinstance(row, list) for row in data["q"]) or not finite_numbers(data["q"]):
+        raise InputError(f"{path}: malformed baseline: q must be a non-empty table of finite numbers")
+    q = np.asarray(data["q"], dtype=float) if len({len(row) for row in data["q"]}) == 1 else np.zeros((0, 0))
     if q.ndim != 2 or q.shape[1] != len(data["joint_names"]):
         raise InputError(f"{path}: malformed baseline: q must have one column per joint")
     fixed = data.get("fixed", {})
     if not isinstance(fixed, dict):
         raise InputError(f"{path}: malformed baseline: fixed must be an object")
     if "ik" in fixed:
+        if not all(isinstance(t, dict) and finite_numbers(t.get("pose")) and finite_numbers(t.get("start"))
+                   for t in (fixed["ik"].get("targets") or [] if isinstance(fixed["ik"], dict) else [None])):
+            raise InputError(f"{path}: malformed baseline: fixed.ik targets must hold finite numbers")
         try:
             ik_parse(fixed["ik"], len(q))
         except InputError as err:
@@ -263,12 +291,25 @@ def _validate_body(path, data: dict[str, Any]) -> None:
         if (not isinstance(rec, dict) or not {"property", "frame", "sample", "value"} <= rec.keys()
                 or not isinstance(rec["sample"], int) or not 0 <= rec["sample"] < len(q)):
             raise InputError(f"{path}: malformed baseline: records[{i}] is not a record of a stored sample")
-        try:
-            value = np.asarray(rec["value"], dtype=float)
-        except (TypeError, ValueError):
-            value = None
-        if value is None or value.dtype != float:
-            raise InputError(f"{path}: malformed baseline: records[{i}].value is not a number or table of numbers")
+        if not finite_numbers(rec["value"]) or not isinstance(rec["property"], str) or not isinstance(rec["frame"], str):
+            raise InputError(f"{path}: malformed baseline: records[{i}].value is not a finite number or table of numbers")
+    _complete(path, data, len(q))
+
+
+def _complete(path, data: dict[str, Any], samples: int) -> None:
+    """Every saved kinematics record is there (each property, frame and sample): a baseline whose
+    records were removed would otherwise compare less, or nothing, and pass."""
+    if "kinematics" not in data.get("quantities", ["kinematics"]):
+        raise InputError(f"{path}: malformed baseline: quantities must list kinematics")
+    have: dict[tuple[str, str], int] = {}
+    for rec in data["records"]:
+        if rec["property"] in KINEMATICS:
+            have[(rec["property"], rec["frame"])] = have.get((rec["property"], rec["frame"]), 0) + 1
+    for prop in KINEMATICS:
+        for frame in data["frames"]:
+            if have.get((prop, frame), 0) < samples:
+                raise InputError(f"{path}: malformed baseline: records of {prop} at {frame} are missing "
+                                 f"({have.get((prop, frame), 0)} of {samples} samples); save the baseline again")
 
 
 def save_baseline(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
@@ -276,7 +317,7 @@ def save_baseline(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int
     if it is a readable baseline of the same model (anything else: InputError, file untouched)."""
     if Path(path).exists():
         try:
-            read_baseline(path, model=spec.name)
+            read_baseline(path, model=spec.name, register=False)
         except InputError as err:
             raise InputError(f"refusing to overwrite: {err}") from None
     return write_atomic(path, dumps_baseline(build_baseline(spec, samples, seed)))

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from kinverify.errors import InputError
 from kinverify.regression.baseline import (BASELINE_TOLERANCES, QUANTITIES, Tolerance, compute_records, fingerprints, read_baseline,
                                           record_delta)
 from kinverify.model.canonical import spec_from_canonical, spec_to_canonical
@@ -166,6 +167,9 @@ def check_baseline(spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, To
     records = compute_records(spec, q, data.get("fixed") or {})
     order = new_frames + [j for j in spec.coordinate_names if j not in new_frames]
     result.moved, result.compared = compare_records(data["records"], records, q, order, tolerances)
+    if not result.compared and not result.frames_added and not result.frames_removed:
+        raise InputError(f"{source}: no record of the baseline matches what the model computes: nothing was compared "
+                         "(save the baseline again)")
     return result
 
 

@@ -36,12 +36,16 @@ OPEN_RANGE = {"revolute": math.pi, "prismatic": 0.5}  # sampled range of a joint
 def file_kind(path: str) -> str | None:
     """``"urdf"``, ``"mjcf"`` or None (a spec or something else): the root element decides for
     XML files, the extension otherwise."""
+    from kinverify.io.read import InputFileError, read_head
+
     p = Path(path)
     if p.suffix.lower() == ".toml":
         return None
     try:
-        head = p.read_text(encoding="utf-8", errors="replace")[:4096]
-    except OSError:
+        head = read_head(p, 4096).decode("utf-8", errors="replace")
+    except InputFileError as err:
+        if err.errno is None:  # a FIFO, a device, a folder: never read
+            raise InputError(str(err)) from None
         return KINDS.get(p.suffix.lower())
     for root, kind in ROOTS.items():
         if f"<{root}" in head:

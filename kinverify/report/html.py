@@ -24,7 +24,7 @@ from kinverify.report import failures as fail_view
 from kinverify.report import matrix
 from kinverify.report.plots import error_distributions_svg, workspace_svg
 from kinverify.report.units import display_unit, revolute
-from kinverify.report.writer import write_atomic
+from kinverify.io.write import write_atomic
 from kinverify.results import VerifyResult
 from kinverify.suites.base import Check, Section, Table
 

@@ -19,7 +19,7 @@ from rich.table import Table
 from kinverify.regression.check import BaselineCheck
 from kinverify.regression.modeldiff import ModelDiff
 from kinverify.regression.specdiff import ParamChange
-from kinverify.report.writer import write_atomic
+from kinverify.io.write import write_atomic
 
 
 def _num(x: float) -> str:

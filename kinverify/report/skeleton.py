@@ -94,7 +94,7 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
                     if p is None:
                         continue
                     j = parents[i] if i < len(parents) else -1
-                    if j >= 0 and poses[j] is not None:
+                    if 0 <= j < len(poses) and poses[j] is not None:
                         seg = np.array([poses[j][:3, 3], p[:3, 3]])
                         ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color=colour, alpha=alpha, lw=2.4 if not ghost else 2.0,
                                 ls="-" if not ghost else (0, (4, 2)))
@@ -105,7 +105,7 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
                 ax.scatter(*origins.T, color=colour, alpha=alpha, s=10 if not ghost else 8, depthshade=False)
                 if not ghost:
                     for i, p in enumerate(poses):
-                        name = frames[i]
+                        name = frames[i] if i < len(frames) else ""  # a saved file's lists may disagree
                         if p is not None and (i in (0, len(poses) - 1) or marks.get(name) == "error"):
                             ax.text(*p[:3, 3], " " + name, fontsize=6.5, color="#b71c1c" if marks.get(name) == "error" else "#37474f")
             ax.set_xlim(lo[0], hi[0])

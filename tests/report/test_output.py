@@ -20,8 +20,8 @@ from kinverify.cli import main
 from kinverify.errors import InputError
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
-from kinverify.report.output import OutputPlan, check_target, default_output, output_plan
-from kinverify.report.writer import write_atomic
+from kinverify.io.plan import OutputPlan, check_target, default_output, output_plan
+from kinverify.io.write import write_atomic
 from tests.paths import MODELS
 
 FAST = ["--samples", "3", "--skip", "ik", "--skip", "tracking", "--skip", "pictures", "--skip", "workspace",

@@ -24,6 +24,9 @@ import tomllib
 from pathlib import Path
 
 from kinverify.errors import InputError
+from kinverify.io.formats import toml_loads
+from kinverify.io.read import read_text
+from kinverify.io.write import write_atomic
 from kinverify.suites.base import Finding
 
 DEFAULT_NAME = "kinverify-accepted.toml"
@@ -40,31 +43,30 @@ class Entry:
 
 
 def default_path(urdf_path: str) -> Path | None:
+    """``kinverify-accepted.toml`` beside the URDF, when there is one (a FIFO or a folder of that
+    name is there too: :func:`load` refuses it)."""
     p = Path(urdf_path).resolve().parent / DEFAULT_NAME
-    return p if p.is_file() else None
+    return p if p.exists() else None
 
 
-def load(path) -> list[Entry]:
-    """The entries of an accepted-differences file; :class:`InputError` naming what is wrong."""
-    p = Path(path)
+def load(path, label: str = "--accept") -> list[Entry]:
+    """The entries of an accepted-differences file (read by :mod:`kinverify.io.read`, so it is an
+    input no output may replace); :class:`InputError` naming what is wrong."""
     try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"--accept: {path} is not a file") from None
-    except (OSError, UnicodeDecodeError) as err:
-        raise InputError(f"--accept: cannot read {path}: {err}") from None
+        data = toml_loads(read_text(path, label), path, label)
     except tomllib.TOMLDecodeError as err:
-        raise InputError(f"--accept: {path} is not TOML: {err}") from None
+        raise InputError(f"{label}: {path} is not TOML: {err}") from None
     entries = data.get("accepted", [])
     if not isinstance(entries, list):
-        raise InputError(f"--accept: {path}: 'accepted' must be an array of tables ([[accepted]])")
+        raise InputError(f"{label}: {path}: 'accepted' must be an array of tables ([[accepted]])")
     out = []
     for i, e in enumerate(entries):
         if not isinstance(e, dict) or not isinstance(e.get("kind"), str) or not isinstance(e.get("subject", ""), str):
-            raise InputError(f"--accept: {path}: accepted[{i}] needs kind = \"...\" and subject = \"...\"")
+            raise InputError(f"{label}: {path}: accepted[{i}] needs kind = \"...\" and subject = \"...\"")
         magnitude = e.get("magnitude")
-        if magnitude is not None and not isinstance(magnitude, (int, float)):
-            raise InputError(f"--accept: {path}: accepted[{i}].magnitude must be a number")
+        if magnitude is not None and (not isinstance(magnitude, (int, float)) or isinstance(magnitude, bool)
+                                      or math.isnan(magnitude)):
+            raise InputError(f"{label}: {path}: accepted[{i}].magnitude must be a number")
         out.append(Entry(e["kind"], e.get("subject", ""), None if magnitude is None else float(magnitude),
                          str(e.get("unit", "")), str(e.get("reason", ""))))
     return out
@@ -112,9 +114,5 @@ def write(path, findings: list[Finding], source: str) -> Path:
         if f.unit:
             lines.append(f"unit = {_toml_string(f.unit)}")
         lines += [f"# {f.message}", 'reason = ""', ""]
-    p = Path(path)
-    try:
-        p.write_text("\n".join(lines), encoding="utf-8")
-    except OSError as err:
-        raise InputError(f"--write-accepted: cannot write {path}: {err}") from None
-    return p
+
+    return Path(write_atomic(path, "\n".join(lines)))

@@ -18,15 +18,16 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
-import defusedxml
-import defusedxml.ElementTree as DET
 import mujoco
 
 from kinverify.errors import InputError, library_reason
 from kinverify.filemode.read.stated import attribute, class_defaults
 from kinverify.filemode.read.xacro import compile_xacro, is_xacro
-from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
-from kinverify.report.output import note_input
+from kinverify.io.formats import xml_parse
+from kinverify.io.models import check_mjcf_numbers, check_urdf_numbers, check_urdf_tree, expand_includes
+from kinverify.io.plan import note_input
+from kinverify.io.read import read_bytes
+from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
 
 
 @dataclass(frozen=True)
@@ -47,33 +48,35 @@ class LoadedFile:
 
 
 def read_xml(path: str, kind: str, text: str | None = None) -> tuple[str, ET.Element]:
-    """The file's text and its root element; :class:`InputError` on anything unsafe or wrong.
-    ``text``: what the file compiled to (xacro), checked the same way under the file's name."""
-    p = Path(path)
-    if text is None and not p.is_file():
-        raise InputError(f"--{kind}: {path} is not a file")
-    try:
-        size = p.stat().st_size if text is None else len(text.encode())
-        if size > MAX_MODEL_BYTES:
-            raise InputError(f"--{kind}: {path} is {size / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB kinverify "
-                             "reads (see docs/robustness.md)")
-        text = p.read_text(encoding="utf-8") if text is None else text
-    except (OSError, UnicodeDecodeError) as err:
-        raise InputError(f"--{kind}: cannot read {path}: {err}") from None
-    try:
-        root = DET.fromstring(text.encode(), forbid_dtd=False, forbid_entities=True, forbid_external=True)
-    except defusedxml.EntitiesForbidden:
-        raise InputError(f"--{kind}: {path} declares XML entities (external entities and entity expansion "
-                         "are refused for safety; remove the DTD)") from None
-    except (defusedxml.DTDForbidden, defusedxml.ExternalReferenceForbidden, defusedxml.NotSupportedError) as err:
-        raise InputError(f"--{kind}: {path}: unsafe XML refused ({type(err).__name__})") from None
-    except ET.ParseError as err:
-        raise InputError(f"--{kind}: {path} is not XML: {err}") from None
+    """The file's text and its root element; :class:`InputError` on anything unsafe or wrong
+    (:mod:`kinverify.io`: a bounded read of a regular file, bounded nesting, a URDF that is one
+    tree with finite poses, an MJCF's includes expanded). ``text``: what the file compiled to
+    (xacro), checked the same way under the file's name."""
+    label = f"--{kind}"
+    compiled = text is not None
+    if text is None:
+        data = read_bytes(path, label)
+        try:
+            text = data.decode("utf-8-sig")
+        except UnicodeDecodeError as err:
+            raise InputError(f"{label}: cannot read {path}: not UTF-8 text (byte {err.start})") from None
+    elif len(text.encode()) > MAX_MODEL_BYTES:
+        raise InputError(f"{label}: {path} is {len(text.encode()) / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB "
+                         "kinverify reads (see docs/robustness.md)")
+    root = xml_parse(text.encode(), path, label)
     expected = {"urdf": "robot", "mjcf": "mujoco"}[kind]
     if root.tag != expected:
         hint = {"robot": "a URDF", "mujoco": "an MJCF"}.get(root.tag, f"a <{root.tag}> document")
         raise InputError(f"--{kind}: {path} is {hint}, not {'a URDF' if kind == 'urdf' else 'an MJCF'} "
                          f"(root element <{root.tag}>, expected <{expected}>)")
+    if kind == "urdf" and (compiled or not is_xacro(path, text)):  # a xacro source is checked once compiled
+        check_urdf_tree(root, path, label)
+        check_urdf_numbers(root, path, label)
+    elif kind == "mjcf":
+        root, included = expand_includes(root, path, label, len(text.encode()))
+        if len(included) > 1:
+            text = ET.tostring(root, encoding="unicode")
+        check_mjcf_numbers(root, path, label)
     check_supported(root, kind, path)
     return text, root
 
@@ -145,8 +148,13 @@ def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = N
 
 
 def _read_asset(path: Path) -> Path:
-    """An asset the model references is an input of the run: no output may replace it."""
+    """An asset the model references is an input of the run: no output may replace it. The
+    libraries read it themselves: a regular file (``is_file``) whose size is exact, bounded here."""
     path = path.resolve()
+    size = path.stat().st_size
+    if size > MAX_DATA_BYTES:
+        raise InputError(f"{path}: a mesh of {size / 2**20:.1f} MB, above the {MAX_DATA_BYTES // 2**20} MB kinverify lets "
+                         "a library read (see docs/robustness.md)")
     note_input(path, "a mesh the model references:")
     return path
 

@@ -15,10 +15,13 @@ import io
 import re
 from pathlib import Path
 
+import xacro
+import xacrodoc.xacrodoc
 from xacrodoc import XacroDoc
 from xacrodoc import packages as xpackages
 
 from kinverify.errors import InputError, library_reason
+from kinverify.io.read import library_reads
 
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
@@ -59,10 +62,16 @@ def compile_xacro(path: str | Path, packages: dict[str, str] | None = None,
         found[name] = str(folder_path.resolve())
     xpackages.reset()
     xpackages.update_package_cache(found)
+
+
     printed = io.StringIO()  # xacro prints its warnings: keep them for the report, off the terminal
     try:
-        with contextlib.redirect_stderr(printed), contextlib.redirect_stdout(printed):
+        # the file and everything it includes are read by kinverify's reader (bounded, no FIFO)
+        with contextlib.redirect_stderr(printed), contextlib.redirect_stdout(printed), \
+                library_reads((xacro, xacrodoc.xacrodoc), f"{path}: xacro include"):
             text = XacroDoc.from_file(str(path), subargs=dict(args or {}), walk_up=True).to_urdf_string()
+    except InputError:
+        raise
     except Exception as err:  # xacro raises XacroException, NameError, KeyError... for bad files
         missing = re.search(r"Package not found: (\S+)", str(err))
         if missing:

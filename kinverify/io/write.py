@@ -1,11 +1,15 @@
 """Atomic file writes: an output is either complete or absent, never half-written.
 
 Every file kinverify writes goes through :func:`write_atomic`: the target is checked first
-(:mod:`kinverify.report.output`: not an input of the run, not another output, not a directory
+(:mod:`kinverify.io.plan`: not an input of the run, not another output, not a directory
 or device), the data goes to a temporary file in the target's directory, is flushed and
-``fsync``-ed, its size is checked, and only then is it renamed over the target. A failed or
-short write (disk full, file size limit) is a one-line :class:`InputError` and nothing is
-replaced.
+``fsync``-ed, its size is checked, and only then is it renamed over the target: at once without
+an open plan (library use), with every other output of the run at the plan's commit within one
+(the CLI). A failed or short write (disk full, a file size limit) is a one-line
+:class:`InputError` and nothing is replaced.
+
+The temporary file is ``.<name>.<random>.tmp`` beside the target, ``<name>`` shortened so the
+whole stays within the 255 bytes a file name may have.
 """
 
 from __future__ import annotations
@@ -15,7 +19,10 @@ import tempfile
 from pathlib import Path
 
 from kinverify.errors import InputError
-from kinverify.report.output import target_for_write
+from kinverify.io.plan import current_plan, fsync_dir, remove_quietly, target_for_write
+
+NAME_MAX = 255
+_TEMP_EXTRA = len(".") + len(".") + 8 + len(".tmp")  # the dots, mkstemp's random part, the suffix
 
 
 def _umask() -> int:
@@ -24,21 +31,19 @@ def _umask() -> int:
     return mask
 
 
-def _fsync_dir(folder: Path) -> None:
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass  # some filesystems cannot sync a directory; the file itself is synced
-    finally:
-        os.close(fd)
+def temp_prefix(name: str) -> str:
+    """``.<name>.`` with ``name`` cut (on a character boundary) so the temporary file's name fits
+    in ``NAME_MAX`` bytes."""
+    room = NAME_MAX - _TEMP_EXTRA
+    raw = name.encode("utf-8", "surrogateescape")
+    if len(raw) > room:
+        name = raw[:room].decode("utf-8", "ignore")
+    return f".{name}."
 
 
 def write_atomic(path: str | os.PathLike, data: str | bytes) -> Path:
-    """Write ``data`` to a temporary file beside ``path``, ``fsync`` it, then rename it over ``path``.
+    """Write ``data`` to a temporary file beside ``path``, ``fsync`` it, then rename it over
+    ``path`` (within an open plan: at the plan's commit, with the run's other outputs).
 
     Returns ``path`` as given. A symbolic link at ``path`` is kept: its target file is replaced."""
     given = Path(path)
@@ -46,7 +51,7 @@ def write_atomic(path: str | os.PathLike, data: str | bytes) -> Path:
     payload = data.encode("utf-8") if isinstance(data, str) else bytes(data)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=temp_prefix(target.name), suffix=".tmp")
     except OSError as err:
         raise InputError(f"{given}: cannot write: {err.strerror or err}") from None
     try:
@@ -62,19 +67,16 @@ def write_atomic(path: str | os.PathLike, data: str | bytes) -> Path:
         except FileNotFoundError:
             mode = 0o666 & ~_umask()  # mkstemp makes 0600; a report is meant to be shared
         os.chmod(tmp, mode)
+        plan = current_plan()
+        if plan is not None:
+            plan.stage(tmp, target)
+            return given
         os.replace(tmp, target)
     except OSError as err:
-        _remove(tmp)
+        remove_quietly(tmp)
         raise InputError(f"{given}: cannot write: {err.strerror or err}; nothing was replaced") from None
     except BaseException:
-        _remove(tmp)
+        remove_quietly(tmp)
         raise
-    _fsync_dir(target.parent)
+    fsync_dir(target.parent)
     return given
-
-
-def _remove(tmp: str) -> None:
-    try:
-        os.unlink(tmp)
-    except FileNotFoundError:
-        pass
