@@ -24,7 +24,8 @@ from pydrake.multibody.tree import JacobianWrtVariable
 
 from kinverify.backends.base import EvaluatingBackend, Evaluation
 from kinverify.backends.drake_dynamics import DrakeDynamics
-from kinverify.backends.drake_plant import base_positions, base_velocity_map, floating_joint, frame_named, load_plant, one_dof_joint
+from kinverify.backends.drake_plant import (base_positions, base_velocity_map, floating_joint, frame_named, load_plant,
+                                            one_dof_joint, refused_elements)
 from kinverify.model.floating import has_base
 
 
@@ -34,6 +35,8 @@ class DrakeBackend(EvaluatingBackend):
 
     library = "drake"
     dynamics = DrakeDynamics  # Drake's dynamics model of a file (the dynamics suite's third library)
+    load_plant = staticmethod(load_plant)  # Drake's reading of a file (file mode describes an SDFormat file with it)
+    refused_elements = staticmethod(refused_elements)  # what its parser said it ignores, by element
 
     def __init__(self, plant, name: str, joint_names, frames, warnings=()) -> None:
         self.plant, self.name = plant, name

@@ -21,7 +21,7 @@ from kinverify.model.floating import base_transforms, rate_matrices
 from kinverify.model.transforms import matrix_to_quat
 
 FORMATS = {"urdf": "urdf", "sdf": "sdf", "mjcf": "xml"}  # kinverify's source -> Drake's file type
-UNSUPPORTED = re.compile(r"[Tt]he (tag|attribute) '([^']+)' found (?:in|as a child of) an? '([^']+)' tag")
+UNSUPPORTED = re.compile(r"[Tt]he (tag|attribute) '([^']+)' found (?:in an? |as a child of )'([^']+)'")
 
 
 @contextmanager
