@@ -110,7 +110,8 @@ def _disagreement(kind: str, ref: str, name: str, where: dict):
 def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference: str, rows, findings, notes):
 
     compared = {r[1].split(" vs ")[-1]: r for r in rows}
-    refused = {f.values.get("backend") for f in findings if f.kind == "parser_refused"}
+    refused = {f.values.get("backend") for f in findings if f.kind == "parser_refused" and "elements" not in f.values}
+    ignores = {f.values.get("backend"): f.values["elements"] for f in findings if f.kind == "parser_refused" and "elements" in f.values}
     quirks = {f.values.get("backends", ["", ""])[1] for f in findings if f.kind == "parser_quirk"}
     differ = {f.values.get("backend") for f in findings if f.kind == "parser_disagreement"}
     table = []
@@ -130,6 +131,8 @@ def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference
             status = "agrees once the known quirk is corrected (pinocchio#2782)"
         else:
             status = "agrees"
+        if name in ignores and status != "refuses the file":
+            status += f" (its parser ignores {', '.join(ignores[name])})"
         row = compared.get(name)
         table.append([name, status, "" if row is None else f"{row[2]:.3g}", "" if row is None else f"{row[3]:.3g}"])
     readers = [n for n in kept if n in backends]
