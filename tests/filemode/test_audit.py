@@ -159,8 +159,8 @@ def test_the_command_audits_one_file_and_writes_every_output(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["--frames", "a=b"], "--frames pairs a URDF with an MJCF"),
-    (["--accept", "x.toml"], "--accept pairs a URDF with an MJCF"),
+    (["--frames", "a=b"], "--frames pairs two files"),
+    (["--accept", "x.toml"], "--accept pairs two files"),
     (["--backends", "mujoco"], "a one-file audit of a URDF compares pinocchio-urdf"),
 ])
 def test_what_a_one_file_audit_cannot_take_is_one_line(tmp_path, capsys, argv, words):
