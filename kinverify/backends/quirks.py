@@ -42,6 +42,10 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
          "the dynamics suite names such bodies in its notes (MujocoDynamics.snapped_inertia_frames)"),
     ],
     "drake-urdf": [
+        ("Drake 1.51.1 (drake-mjcf and drake-sdf alike) turns a revolute or prismatic axis within about "
+         "1.8e-8 (relative) of a coordinate axis onto that axis (its axial mobilizer): an axis (0, 1, 1e-9) "
+         "is read as (0, 1, 0), so FK and Jacobians differ by that much times the lever arm",
+         "reported as is; kinverify.strategies draws each axis component as 0 or at least 1e-6 of its length"),
         ("Drake 1.51.1 makes every body without an inboard joint a free body: a URDF root link not "
          "welded to a link named world floats (7 more positions), and a URDF floating joint is "
          "ignored with a warning (the child left a free body)",
