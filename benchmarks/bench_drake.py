@@ -30,7 +30,7 @@ def pydrake_blocker(folder: str) -> str:
     """A folder whose ``pydrake`` package cannot be imported (the install without the extra)."""
     package = Path(folder) / "blocker" / "pydrake"
     package.mkdir(parents=True)
-    (package / "__init__.py").write_text('raise ImportError("No module named \'pydrake\' (hidden by benchmarks/bench_drake.py)")\n')
+    (package / "__init__.py").write_text('raise ModuleNotFoundError("No module named \'pydrake\' (hidden by benchmarks/bench_drake.py)")\n')
     return str(package.parent)
 
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from kinverify import load_spec
-from kinverify.backends import ModelSources, build_backend
+from kinverify.backends import ModelSources, backend_info, build_backend
 from tests.paths import ROOT
 
 HIDE_PYDRAKE = "import sys; sys.modules['pydrake'] = None  # ImportError on import, as without the extra\n"
@@ -51,9 +51,10 @@ def test_importing_kinverify_does_not_import_drake():
     assert proc.returncode == 0, proc.stderr[-2000:]
 
 
-pytest.importorskip("pydrake")
+needs_drake = pytest.mark.skipif(not backend_info("drake-sdf").available, reason="the drake extra is not installed")
 
 
+@needs_drake
 def test_an_unwelded_urdf_root_is_welded_like_pinocchio_does_and_floats_only_with_base_coordinates():
     spec = load_spec("models/arm3.toml")
     sources = ModelSources.from_spec(spec)
@@ -66,6 +67,7 @@ def test_an_unwelded_urdf_root_is_welded_like_pinocchio_does_and_floats_only_wit
     assert np.abs(drake.poses(q) - pin.poses(q)).max() < 1e-12
 
 
+@needs_drake
 def test_mjcf_sites_are_frames_and_what_drake_ignores_is_named_by_element():
     spec = load_spec("models/arm3.toml")
     sources = ModelSources.from_spec(spec)
@@ -79,6 +81,7 @@ def test_mjcf_sites_are_frames_and_what_drake_ignores_is_named_by_element():
     assert build_backend("drake-sdf", sources).parser_warnings == []  # the generated SDFormat: nothing ignored
 
 
+@needs_drake
 def test_drake_dynamics_of_the_sdf_agree_with_pinocchio_and_carry_the_armature():
     from kinverify.backends.drake_dynamics import DrakeDynamics
     from kinverify.tracking.models import PinocchioDynamics
