@@ -47,10 +47,12 @@ def test_verify_exits_1_when_a_check_fails(tmp_path, capsys):
     assert all(c["max_error"] > 1e-13 for c in failed)
 
 
-def test_generate_writes_both_files(tmp_path, capsys):
+def test_generate_writes_the_three_files(tmp_path, capsys):
     assert main(["generate", "models/scara.toml", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "scara.urdf").read_text().startswith("<?xml")
     assert "<mujoco" in (tmp_path / "scara.xml").read_text()
+    assert '<sdf version="1.9"' in (tmp_path / "scara.sdf").read_text()
+    assert capsys.readouterr().out.split() == [str(tmp_path / f"scara.{ext}") for ext in ("urdf", "xml", "sdf")]
 
 
 @pytest.mark.parametrize("argv, words", [

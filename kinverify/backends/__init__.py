@@ -26,9 +26,10 @@ class BackendInfo:
     name: str
     module: str  # kinverify module holding the adapter
     cls: str
-    source: str  # "spec", "urdf" or "mjcf"
+    source: str  # "spec", "urdf", "mjcf" or "sdf"
     available: bool
     reason: str = ""  # why it is unavailable
+    extra: str = ""  # the optional extra of kinverify that installs its library
 
     @property
     def backend_class(self) -> type:
@@ -45,10 +46,12 @@ _BUILDERS: dict[str, Callable] = {
     "spec": lambda cls, s, name: cls(s.spec),
     "urdf": lambda cls, s, name: cls.from_urdf(s.urdf, s.joint_names, s.frames, name=name),
     "mjcf": lambda cls, s, name: cls.from_mjcf(s.mjcf, s.mjcf_joint_names or s.joint_names, s.mjcf_frames or s.frames, name=name),
+    "sdf": lambda cls, s, name: cls.from_sdf(s.sdf, s.sdf_joint_names or s.joint_names, s.sdf_frames or s.frames, name=name),
 }
 
-# name, module, class, source: a backend is an adapter class reading one model source. Per
-# source, the first listed is the one file mode takes as that file's primary reader.
+# name, module, class, source[, extra]: a backend is an adapter class reading one model source;
+# ``extra``: the optional extra of kinverify that installs its library. Per source, the first
+# listed is the one file mode takes as that file's primary reader.
 _ENTRIES = (
     ("analytic", ".analytic", "AnalyticBackend", "spec"),
     ("analytic-dh", ".analytic", "AnalyticDHBackend", "spec"),
@@ -57,8 +60,11 @@ _ENTRIES = (
     ("mujoco", ".mujoco_", "MujocoBackend", "mjcf"),
     ("yourdfpy", ".yourdfpy_", "YourdfpyBackend", "urdf"),
     ("mujoco-urdf", ".mujoco_", "MujocoBackend", "urdf"),
+    ("drake-urdf", ".drake_", "DrakeBackend", "urdf", "drake"),
+    ("drake-mjcf", ".drake_", "DrakeBackend", "mjcf", "drake"),
+    ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake"),
 )
-PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco"}  # the reference reader of each file in file mode
+PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf"}  # the reference reader of each file in file mode
 
 
 @lru_cache(maxsize=None)
@@ -67,12 +73,13 @@ def backend_info(name: str) -> BackendInfo:
     entry = next((e for e in _ENTRIES if e[0] == name), None)
     if entry is None:
         raise UnknownNameError("backend", name, [e[0] for e in _ENTRIES])
-    name, module, cls, source = entry
+    name, module, cls, source, extra = (*entry, "")[:5]
     try:
         importlib.import_module(module, __name__)
-        return BackendInfo(name, module, cls, source, True)
+        return BackendInfo(name, module, cls, source, True, extra=extra)
     except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
-        return BackendInfo(name, module, cls, source, False, f"cannot import: {err}")
+        hint = f"; pip install 'kinverify[{extra}]' brings it" if extra and isinstance(err, ImportError) else ""
+        return BackendInfo(name, module, cls, source, False, f"cannot import: {err}{hint}", extra)
 
 
 def available_backends() -> dict[str, BackendInfo]:
@@ -81,8 +88,8 @@ def available_backends() -> dict[str, BackendInfo]:
 
 
 def names_reading(source: str) -> tuple[str, ...]:
-    """Registered backends that read ``source`` ("spec", "urdf" or "mjcf"), the primary reader first."""
-    names = [name for name, _, _, src in _ENTRIES if src == source]
+    """Registered backends that read ``source`` ("spec", "urdf", "mjcf" or "sdf"), the primary reader first."""
+    names = [entry[0] for entry in _ENTRIES if entry[3] == source]
     primary = PRIMARY.get(source)
     return tuple(sorted(names, key=lambda n: n != primary))
 

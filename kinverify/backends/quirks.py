@@ -1,6 +1,7 @@
 """Known quirks of the libraries behind the backends, in one table (shown in reports).
 
-Each entry: backend name -> list of (what happens, what kinverify does about it).
+Each entry: backend name -> list of (what happens, what kinverify does about it). Drake's were
+seen in Drake 1.51.1.
 """
 
 from __future__ import annotations
@@ -39,5 +40,39 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
         ("the compiler marks a body's inertial frame as aligned with the body (body_sameframe) when its "
          "principal axes are rotated by less than about 1e-6 rad, and drops that rotation at run time",
          "the dynamics suite names such bodies in its notes (MujocoDynamics.snapped_inertia_frames)"),
+    ],
+    "drake-urdf": [
+        ("Drake 1.51.1 (drake-mjcf and drake-sdf alike) turns a revolute or prismatic axis within about "
+         "1.8e-8 (relative) of a coordinate axis onto that axis (its axial mobilizer): an axis (0, 1, 1e-9) "
+         "is read as (0, 1, 0), so FK and Jacobians differ by that much times the lever arm",
+         "reported as is; kinverify.strategies draws each axis component as 0 or at least 1e-6 of its length"),
+        ("Drake 1.51.1 makes every body without an inboard joint a free body: a URDF root link not "
+         "welded to a link named world floats (7 more positions), and a URDF floating joint is "
+         "ignored with a warning (the child left a free body)",
+         "the adapter welds each root body to the world at the identity unless the configuration has a "
+         "floating base, which is then Drake's free body, converted to the base coordinates"),
+    ],
+    "drake-mjcf": [
+        ("Drake 1.51.1's MJCF parser reads a subset of MJCF: it ignores <site> and warns about each "
+         "element and attribute it does not support (e.g. frictionloss, <sensor>, <light>)",
+         "each site becomes a frame on its body at the offset MuJoCo's compiler gives it; file mode "
+         "names the ignored elements in a parser_refused warning"),
+        ("Drake 1.51.1's MJCF parser does not take a joint attribute from a default class two levels up: "
+         "in the go2 of MuJoCo Menagerie the thigh joints (class front_hip in hip in go2, axis set in go2) "
+         "turn about z instead of y",
+         "file mode names the library that stands apart from the two that agree (parser_disagreement) and "
+         "leaves it out of the comparison between the files"),
+        ("Drake 1.51.1 puts an MJCF joint's armature on the actuator of that joint (reflected inertia), "
+         "so a joint without an actuator loses its armature",
+         "reported as is (the dynamics comparison reads Drake's SDFormat, which carries it)"),
+    ],
+    "drake-sdf": [
+        ("Drake 1.51.1 reads joint armature only from its own SDFormat extension (drake:rotor_inertia "
+         "times drake:gear_ratio squared), on the joint's actuator, which exists only for a joint "
+         "whose <effort> limit is not zero",
+         "generated SDFormat writes drake:rotor_inertia = armature with drake:gear_ratio 1"),
+        ("the SDFormat parser in Drake 1.51.1 refuses a subnormal number (below 2.2e-308 in size) with "
+         "'Error reading element'",
+         "generated SDFormat writes subnormal numbers as 0 (every other number exactly)"),
     ],
 }

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.generate import generate_mjcf, generate_sdf, generate_urdf
 from kinverify.model.spec import ArmSpec
 
 
 @dataclass(frozen=True)
 class ModelSources:
-    """A model as the backends read it: optional spec, URDF text, MJCF text, the coordinates and
+    """A model as the backends read it: optional spec, URDF, MJCF and SDFormat texts, the coordinates and
     frames to compare (kinverify's order) and the ranges [rad, m] samples are drawn in.
 
     ``joint_names`` are the configuration's coordinates: the joints, after the six base
@@ -28,9 +28,13 @@ class ModelSources:
     # File mode: the MJCF's own names for the same joints and frames (None: same as the URDF's).
     mjcf_joint_names: tuple[str, ...] | None = None
     mjcf_frames: tuple[str, ...] | None = None
+    sdf: str | None = None
+    # File mode: the SDFormat file's own names (None: same as the URDF's).
+    sdf_joint_names: tuple[str, ...] | None = None
+    sdf_frames: tuple[str, ...] | None = None
 
     @classmethod
     def from_spec(cls, spec: ArmSpec) -> "ModelSources":
         lower, upper = spec.coordinate_limits
         return cls(spec.name, spec.coordinate_names, spec.frame_names, tuple(lower), tuple(upper),
-                   spec.coordinate_revolute, spec, generate_urdf(spec), generate_mjcf(spec))
+                   spec.coordinate_revolute, spec, generate_urdf(spec), generate_mjcf(spec), sdf=generate_sdf(spec))

@@ -1,4 +1,4 @@
-"""``kinverify generate MODEL --out DIR``: write DIR/<name>.urdf and DIR/<name>.xml."""
+"""``kinverify generate MODEL --out DIR``: write DIR/<name>.urdf, DIR/<name>.xml and DIR/<name>.sdf."""
 
 from __future__ import annotations
 
@@ -6,8 +6,9 @@ import argparse
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("generate", help="write the URDF and MJCF generated from a spec",
-                       description="Write DIR/<name>.urdf and DIR/<name>.xml generated from a spec file.")
+    p = sub.add_parser("generate", help="write the URDF, MJCF and SDFormat generated from a spec",
+                       description="Write DIR/<name>.urdf, DIR/<name>.xml (MJCF) and DIR/<name>.sdf (SDFormat 1.9) "
+                       "generated from a spec file.")
     p.add_argument("model", help="spec file (models/*.toml)")
     p.add_argument("--out", default=".", help="output directory (default: current directory)")
     return p
@@ -16,7 +17,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def run(args) -> int:
     from pathlib import Path
 
-    from kinverify.generate import generate_mjcf, generate_urdf
+    from kinverify.generate import generate_mjcf, generate_sdf, generate_urdf
     from kinverify.io.write import write_atomic
     from kinverify.model.specfile import load_spec
 
@@ -24,8 +25,9 @@ def run(args) -> int:
 
     spec = load_spec(args.model)
     out = Path(args.out)
-    files = ((out / f"{spec.name}.urdf", generate_urdf(spec)), (out / f"{spec.name}.xml", generate_mjcf(spec)))
-    claim_outputs(*(("", path) for path, _ in files))  # both checked before either is written
+    files = ((out / f"{spec.name}.urdf", generate_urdf(spec)), (out / f"{spec.name}.xml", generate_mjcf(spec)),
+             (out / f"{spec.name}.sdf", generate_sdf(spec)))
+    claim_outputs(*(("", path) for path, _ in files))  # all checked before any is written
     for path, text in files:
         write_atomic(path, text)
         print(path)

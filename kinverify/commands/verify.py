@@ -1,9 +1,9 @@
 """``kinverify verify``: cross-validate every backend, print a table, write HTML + JSON.
 
-Spec mode: ``kinverify verify MODEL.toml``. File mode: ``kinverify verify --urdf R.urdf --mjcf R.xml``.
-One-file audit: ``kinverify verify --urdf R.urdf`` (or ``--mjcf R.xml``) alone: every library that
-reads that file, compared with each other. A ``.xacro`` URDF is compiled first (``--package``,
-``--xacro-arg``).
+Spec mode: ``kinverify verify MODEL.toml``. File mode: ``kinverify verify --urdf R.urdf --mjcf R.xml``
+(or an SDFormat file, ``--sdf R.sdf``, against either, or all three). One-file audit: ``kinverify
+verify --urdf R.urdf`` (or ``--mjcf R.xml``, ``--sdf R.sdf``) alone: every library that reads that
+file, compared with each other. A ``.xacro`` URDF is compiled first (``--package``, ``--xacro-arg``).
 """
 
 from __future__ import annotations
@@ -24,7 +24,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        "Exit 0 when all agree, 1 when a check fails, 2 on bad input.")
     p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf/--mjcf")
     p.add_argument("--urdf", help="file mode: an existing URDF (or .xacro); alone: audit it with every library reading URDF")
-    p.add_argument("--mjcf", help="file mode: an existing MJCF; alone: audit it with MuJoCo and Pinocchio's MJCF parser")
+    p.add_argument("--mjcf", help="file mode: an existing MJCF; alone: audit it with MuJoCo, Pinocchio's and Drake's MJCF parsers")
+    p.add_argument("--sdf", help="file mode: an existing SDFormat file, against --urdf or --mjcf or both (read by Drake: "
+                   "needs kinverify[drake]); alone: Drake's reading of it")
     p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
                    help="where ROS package NAME is (repeatable): resolves package://NAME and xacro's $(find NAME)")
     p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
@@ -132,21 +134,32 @@ def profile_line(result, report_s: float, total_s: float) -> str:
 
 
 def _audit(args, options, console, command: str, packages: dict, xacro_args: dict):
-    """``verify --urdf X`` or ``verify --mjcf Y`` alone: the one-file audit."""
+    """``verify --urdf X``, ``--mjcf Y`` or ``--sdf Z`` alone: the one-file audit."""
     from kinverify.filemode.audit import audit_file
     from kinverify.report.progress import VerifyProgress
 
     for flag, given in (("--frames", args.frames), ("--joints", args.joints), ("--accept", args.accept),
                         ("--write-accepted", args.write_accepted)):
         if given:
-            raise InputError(f"{flag} pairs a URDF with an MJCF: give both --urdf and --mjcf, or drop {flag} for a one-file audit")
-    if args.mjcf and (packages or xacro_args):
+            raise InputError(f"{flag} pairs two files: give two of --urdf, --mjcf and --sdf, or drop {flag} for a one-file audit")
+    if not args.urdf and (packages or xacro_args):
         raise InputError("--package and --xacro-arg go with --urdf")
-    kind, path = ("urdf", args.urdf) if args.urdf else ("mjcf", args.mjcf)
+    kind, path = next((k, p) for k, p in (("urdf", args.urdf), ("mjcf", args.mjcf), ("sdf", args.sdf)) if p)
+    if kind == "sdf":
+        _needs_drake()
     with VerifyProgress(console, "audit") as bar:
         bar.suite("kinematics")
         options.on_progress = bar.advance
         return audit_file(path, kind, options, command=command, packages=packages, xacro_args=xacro_args)
+
+
+def _needs_drake() -> None:
+    """An SDFormat file is read by Drake alone: without the extra, say how to install it (exit 2)."""
+    from kinverify.backends import backend_info
+
+    info = backend_info("drake-sdf")
+    if not info.available:
+        raise InputError(f"--sdf: SDFormat is read by Drake, which is not installed: pip install 'kinverify[drake]' ({info.reason})")
 
 
 def run(args) -> int:
@@ -162,30 +175,41 @@ def run(args) -> int:
     options = options_from_args(args)
     command = "kinverify " + shlex.join(args.argv)
     console = Console()  # the terminal's width (COLUMNS, or 80 when not a terminal); tables fit it
-    if args.urdf or args.mjcf:
+    files = [f for f in (args.urdf, args.mjcf, args.sdf) if f]
+    if files:
         if args.model:
-            raise InputError("give either a spec MODEL or --urdf/--mjcf, not both")
+            raise InputError("give either a spec MODEL or --urdf/--mjcf/--sdf, not both")
         from kinverify.filemode.read.xacro import parse_pairs
         from kinverify.report.progress import VerifyProgress
 
         packages, xacro_args = parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")
-        if not (args.urdf and args.mjcf):
+        if len(files) == 1:
             result = _audit(args, options, console, command, packages, xacro_args)
         else:
-            from kinverify.filemode.pipeline import verify_files
-
+            from kinverify.filemode.pipeline import verify_files, verify_three
+            from kinverify.filemode.read.files import sides
             from kinverify.filemode.read.loading import given_packages, load_urdf
 
+            if args.sdf:
+                _needs_drake()
             with given_packages(packages, xacro_args):
-                load_urdf(args.urdf, keep_meshes=False, packages=packages, xacro_args=xacro_args)  # bad input: exit 2 first
+                if args.urdf:
+                    load_urdf(args.urdf, keep_meshes=False, packages=packages, xacro_args=xacro_args)  # bad input: exit 2 first
                 with VerifyProgress(console, "files") as bar:
                     bar.suite("kinematics")  # file mode: alignment, then the suites on the aligned files
                     options.on_progress = bar.advance
-                    result = verify_files(args.urdf, args.mjcf, options, frames=args.frames, joints=args.joints,
-                                          command=command, accept=args.accept, write_accepted=args.write_accepted)
+                    if len(files) == 3:
+                        if args.frames or args.joints or args.write_accepted:
+                            raise InputError("--frames, --joints and --write-accepted pair two files: give two of --urdf, "
+                                             "--mjcf and --sdf")
+                        result = verify_three(args.urdf, args.mjcf, args.sdf, options, command=command, accept=args.accept)
+                    else:
+                        (kind_a, a), (kind_b, b) = sides(args.urdf, args.mjcf, args.sdf)
+                        result = verify_files(a, b, options, frames=args.frames, joints=args.joints, command=command,
+                                              accept=args.accept, write_accepted=args.write_accepted, kinds=(kind_a, kind_b))
     else:
         if not args.model:
-            raise InputError("give a spec MODEL (models/*.toml), --urdf and/or --mjcf")
+            raise InputError("give a spec MODEL (models/*.toml), or --urdf, --mjcf, --sdf (one to audit, two or three to compare)")
         if args.accept or args.write_accepted:
             raise InputError("--accept and --write-accepted are for file mode (--urdf and --mjcf)")
         if args.package or args.xacro_arg:

@@ -1,8 +1,10 @@
 """One-file audit: does every library read this one file the same way?
 
 ``kinverify verify --urdf R.urdf`` alone reads the URDF with every library that reads URDF
-(Pinocchio, yourdfpy, MuJoCo's URDF import); ``--mjcf R.xml`` alone reads the MJCF with MuJoCo
-and Pinocchio's MJCF parser. The primary reader of the file is the reference; each other
+(Pinocchio, yourdfpy, MuJoCo's URDF import, Drake); ``--mjcf R.xml`` alone reads the MJCF with MuJoCo,
+Pinocchio's MJCF parser and Drake's; ``--sdf R.sdf`` alone is Drake's reading of an SDFormat
+file, which no other library here reads (said so plainly: its kinematics are checked against
+finite differences of its own FK, nothing else). The primary reader of the file is the reference; each other
 library's reading is compared with it configuration by configuration (FK of every link or body,
 Jacobians: the kinematics suite), and where a library reads the file differently, one finding
 names the library and the first element (link or body, with the joint it moves with) it places
@@ -32,8 +34,10 @@ from kinverify.filemode.compare.crosscheck import cross_check, pose_errors, top_
 from kinverify.filemode.compare.libraries import build_backends, rebuild_mjcf
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_sdf import describe_sdf
 from kinverify.filemode.read.describe_urdf import describe_urdf
-from kinverify.filemode.read.loading import load_mjcf, load_urdf
+from kinverify.filemode.read.files import sdf_free_bodies
+from kinverify.filemode.read.loading import load_mjcf, load_sdf, load_urdf
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
 from kinverify.pipeline.sampling import Samples, sample_configurations
 from kinverify.run import VerifyOptions, internal_error, verify
@@ -44,12 +48,20 @@ __all__ = ["audit_file", "AUDIT_SUITES"]
 
 AUDIT_SUITES = ("kinematics", "dynamics")  # dynamics: Pinocchio against MuJoCo on the file (audit_dynamics)
 CHECK_SAMPLES = 64  # configurations (after the edges) each library is first compared on, to name elements
-SIDE = {"urdf": "URDF", "mjcf": "MJCF"}
-ELEMENT = {"urdf": "link", "mjcf": "body"}
+SIDE = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF"}
+ELEMENT = {"urdf": "link", "mjcf": "body", "sdf": "link"}
+SLOTS = {"urdf": ("urdf", "mjcf"), "mjcf": ("urdf", "mjcf"), "sdf": ("sdf", "mjcf")}  # build_backends' sides
+ONLY_READER = ("Drake is the only library here that reads SDFormat: this audit is Drake's reading alone, its FK and "
+               "Jacobians checked against finite differences of its own FK; no other library's reading to compare it with")
 
 
 def _describe(kind: str, loaded, findings: list):
     """(the text the libraries load, the primary reader's description, the free bodies held fixed)."""
+    if kind == "sdf":
+        try:
+            return loaded.text, describe_sdf(loaded.text), sdf_free_bodies(loaded.text)
+        except (RuntimeError, ValueError) as err:
+            raise InputError(f"--sdf: Drake, the only reader of SDFormat, cannot load {loaded.path}: {library_reason(err)}") from None
     if kind == "mjcf":
         text, free = fix_free_bases(loaded.text)
         try:
@@ -92,15 +104,18 @@ def _first_element(kind: str, desc, ref, other, q: np.ndarray, tol: tuple[float,
                 element="site" if desc.frame_kind.get(frame) == "site" else ELEMENT[kind])
 
 
-def _disagreement(kind: str, ref: str, name: str, where: dict):
-    """One error finding per library that reads the file differently, naming its first element."""
+def _disagreement(kind: str, ref: str, name: str, where: dict, agree=()):
+    """One error finding per library that reads the file differently, naming its first element and,
+    with three readings or more, the libraries that agree with each other (``agree``)."""
     how = ("placed elsewhere at q = 0" if where["at_zero"] else
            f"placed alike at q = 0, apart once {where['joint'] or 'the joints'} moves")
     more = len(where["frames"]) - 1
     message = (f"{name} reads the {SIDE[kind]}'s {where['element']} {where['frame']} differently from {ref}: {how}, up to "
                f"{where['position_m']:.3g} m, {where['rotation_rad']:.3g} rad"
-               + (f" ({more} frame{'s' if more > 1 else ''} below it differ with it)" if more > 0 else ""))
-    values = {"file": SIDE[kind], "backends": [ref, name], "backend": name, **{k: where[k] for k in
+               + (f" ({more} frame{'s' if more > 1 else ''} below it differ with it)" if more > 0 else "")
+               + (f"; {' and '.join([', '.join(agree[:-1]), agree[-1]] if len(agree) > 2 else agree)} agree with each other, "
+                  f"{name} stands apart" if len(agree) > 1 else ""))
+    values = {"file": SIDE[kind], "backends": [ref, name], "backend": name, "agree": list(agree), **{k: where[k] for k in
               ("joint", "position_m", "rotation_rad", "at_zero", "frames")}}
     names = {"frame": where["frame"]} if where["element"] == "site" else {"link": where["frame"]}
     return finding("parser_disagreement", message, values, magnitude=max(where["position_m"], where["rotation_rad"]),
@@ -110,7 +125,8 @@ def _disagreement(kind: str, ref: str, name: str, where: dict):
 def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference: str, rows, findings, notes):
 
     compared = {r[1].split(" vs ")[-1]: r for r in rows}
-    refused = {f.values.get("backend") for f in findings if f.kind == "parser_refused"}
+    refused = {f.values.get("backend") for f in findings if f.kind == "parser_refused" and "elements" not in f.values}
+    ignores = {f.values.get("backend"): f.values["elements"] for f in findings if f.kind == "parser_refused" and "elements" in f.values}
     quirks = {f.values.get("backends", ["", ""])[1] for f in findings if f.kind == "parser_quirk"}
     differ = {f.values.get("backend") for f in findings if f.kind == "parser_disagreement"}
     table = []
@@ -130,6 +146,8 @@ def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference
             status = "agrees once the known quirk is corrected (pinocchio#2782)"
         else:
             status = "agrees"
+        if name in ignores and status != "refuses the file":
+            status += f" (its parser ignores {', '.join(ignores[name])})"
         row = compared.get(name)
         table.append([name, status, "" if row is None else f"{row[2]:.3g}", "" if row is None else f"{row[3]:.3g}"])
     readers = [n for n in kept if n in backends]
@@ -177,7 +195,7 @@ def _dynamics(result, kind: str, text: str, top, sources, al, opts, kept: dict, 
 
 
 def audit_file(path: str, kind: str, options=None, command: str = "", packages=None, xacro_args=None):
-    """The one-file audit of ``kind`` ("urdf" or "mjcf") as a :class:`~kinverify.results.VerifyResult`."""
+    """The one-file audit of ``kind`` ("urdf", "mjcf" or "sdf") as a :class:`~kinverify.results.VerifyResult`."""
     t0 = time.perf_counter()
     options = options or VerifyOptions()
     readers = names_reading(kind)
@@ -187,7 +205,7 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
                          f"{', '.join(options.backends or [])}")
     findings: list = []
     loaded = (load_urdf(path, keep_meshes=False, packages=packages, xacro_args=xacro_args) if kind == "urdf"
-              else load_mjcf(path, keep_meshes=False))
+              else load_sdf(path) if kind == "sdf" else load_mjcf(path, keep_meshes=False))
     text, desc, free = _describe(kind, loaded, findings)
     if not desc.joints:
         raise InputError(f"--{kind}: {path} has no movable 1-DOF joints (hinge or slide) to compare")
@@ -198,8 +216,8 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
     scale = max([1.0] + list(reach(desc).values())) + max([0.0] + [float(np.linalg.norm(t[:3, 3])) for t in desc.frames.values()])
     tol = (tolerance(options, get_property("fk.position")) * scale, tolerance(options, get_property("fk.rotation")))
     shim = SimpleNamespace(alignment=al, matching=matching, notes=notes, base_coordinates=False)  # a free base is held fixed here
-    urdf_text, mjcf_text = (text, "") if kind == "urdf" else ("", text)
-    backends = build_backends(shim, urdf_text, mjcf_text, wanted, lambda f: tol, findings)
+    urdf_text, mjcf_text = ("", text) if kind == "mjcf" else (text, "")
+    backends = build_backends(shim, urdf_text, mjcf_text, wanted, lambda f: tol, findings, SLOTS[kind])
     lower, upper, revolute = sample_ranges(desc, al.independent)
     q = sample_configurations(lower, upper, revolute, CHECK_SAMPLES, seed=options.seed)
     top = top_level_pose(text) if kind == "mjcf" else None
@@ -211,23 +229,28 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
         if where is None:
             findings.append(f)
             continue
-        findings.append(_disagreement(kind, reference, name, where))
+        findings.append(_disagreement(kind, reference, name, where, f.values.get("agree", ())))
         kept[name] = backends[name]  # compared in the kinematics suite too: its checks show the size per frame
     if reference is None:
         raise InputError(f"--{kind}: no library can read {path}: "
                          + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
+    if kind == "sdf":
+        notes.insert(0, ONLY_READER)
     if free:
-        findings.append(finding("floating_base", f"the MJCF's free base ({', '.join(free)}) is held at the identity pose: "
+        findings.append(finding("floating_base", f"the {SIDE[kind]}'s free base ({', '.join(free)}) is held at the identity pose: "
                                 "the libraries' readings of everything below it are compared", {"file": "MJCF", "bodies": free}))
     frames = tuple(a for a, _, _ in matching.frames)
     sources = ModelSources(loaded.name, tuple(al.independent), frames, tuple(lower), tuple(upper), tuple(revolute),
                            urdf=text if kind == "urdf" else None, mjcf=text if kind == "mjcf" else None,
+                           sdf=text if kind == "sdf" else None,
                            mjcf_joint_names=tuple(al.independent) if kind == "mjcf" else None,
                            mjcf_frames=frames if kind == "mjcf" else None)
     suites = [s for s in AUDIT_SUITES if options.suites is None or s in options.suites]
     opts = dataclasses.replace(options, reference=reference, backends=[reference], suites=[s for s in suites if s != "dynamics"])
     result = verify(sources, opts, extra_backends=list(kept.values()), source=str(path), command=command)
-    if "dynamics" in suites:
+    if "dynamics" in suites and kind == "sdf":
+        notes.append("dynamics not compared: Drake is the only reader of SDFormat")
+    elif "dynamics" in suites:
         quirk = top if any(f.kind == "parser_quirk" for f in findings) else None
         _dynamics(result, kind, text, quirk, sources, al, opts, kept, notes, desc, scale)
     result.findings = findings + result.findings

@@ -1,4 +1,5 @@
-"""File mode: cross-validate an existing URDF against an existing MJCF, and say what differs.
+"""File mode: cross-validate an existing URDF against an existing MJCF (or an SDFormat file against
+either, read by Drake), and say what differs.
 
 ``verify_files`` reads both files safely (meshes dropped), describes each through its library
 (URDF: Pinocchio, MJCF: MuJoCo), matches joints and frames, aligns the two (world transform, joint
@@ -7,18 +8,24 @@ suite that applies on the aligned files (kinematics with every library that read
 limits, inertia, dynamics) and reports each difference once, as a finding with its size.
 Findings decide the verdict: a failing check whose cause a finding reports is marked explained;
 accepted findings (``kinverify-accepted.toml``) pass. See docs/file-mode.md.
+
+The two files are two *sides* (:mod:`kinverify.filemode.read.files`): the first read as the URDF
+is, the second as the MJCF is; an SDFormat file takes the side of the format it is paired with
+(``kinds``), and what is said of a side names its format. Three files at once (``verify_three``)
+are two pairs, URDF against MJCF and URDF against SDFormat, in one result.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import re
 import time
 from pathlib import Path
 
 import numpy as np
 
 import kinverify.filemode.findings.accepted as acc
-from kinverify.backends import ModelSources
+from kinverify.backends import ModelSources, names_reading
 from kinverify.errors import InputError, KinverifyError
 from kinverify.filemode.align.floating import base_findings, base_samples
 from kinverify.filemode.align.geometry import reach
@@ -32,8 +39,8 @@ from kinverify.filemode.findings.alignment import alignment_findings, convention
 from kinverify.filemode.findings.couplings import coupling_findings
 from kinverify.filemode.findings.finish import finish
 from kinverify.filemode.findings.table import finding
-from kinverify.filemode.read.files import mjcf_angle_unit, read_mjcf, read_urdf
-from kinverify.filemode.read.precision import floors, mjcf_precision, urdf_precision
+from kinverify.filemode.read.files import LABELS, mjcf_angle_unit, read_mjcf, read_sdf, read_urdf
+from kinverify.filemode.read.precision import Precision, floors, mjcf_precision, urdf_precision
 from kinverify.filemode.read.validate import validate_inertials
 from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE, base_limits
 from kinverify.pipeline.sampling import sample_configurations
@@ -42,30 +49,35 @@ from kinverify.run import VerifyOptions, verify
 from kinverify.versions import library_versions
 
 FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics", "pictures")  # pictures: both files drawn, aligned
+URDF_MJCF = ("urdf", "mjcf")
+SDF_SUITES = ("kinematics", "limits", "inertia")  # with an SDFormat side: no MuJoCo drawing, no Pinocchio/MuJoCo dynamics
 PITCH_MARGIN = 1e-3  # rad: base pitch sampled inside ±(π/2 − this) in file mode
 ALIGN_SAMPLES = 24  # configurations (besides q = 0) the alignment fits over
 
 
-def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> dict:
+def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kinds=URDF_MJCF) -> dict:
     """Everything file mode knows before the suites run: both files read and described, matched,
-    aligned, with each library's reading built; the findings so far."""
+    aligned, with each library's reading built; the findings so far. ``urdf`` and ``mjcf`` are the
+    first and second sides, of formats ``kinds``."""
 
     options = options or VerifyOptions()
-    wanted = side_names(options)
+    wanted = side_names(options, kinds)
     findings, internal = [], []
-    M, mjcf_text, m, free = read_mjcf(mjcf, findings)
-    U, urdf_text, u, library, base = read_urdf(urdf, findings, free)
+    M, mjcf_text, m, free = (read_sdf if kinds[1] == "sdf" else read_mjcf)(mjcf, findings)
+    U, urdf_text, u, library, base = (read_sdf if kinds[0] == "sdf" else read_urdf)(urdf, findings, free)
     matching = match(u, m, joints, frames)
     if base.floating:  # the URDF's link above its floating root stays in the world: not the robot's
         matching.frames = [p for p in matching.frames if not (base.urdf.kind == "floating" and p[0] == base.urdf.root)]
-    precision = (urdf_precision(U.text), mjcf_precision(M.original))
+    precision = (urdf_precision(U.text) if kinds[0] == "urdf" else Precision(LABELS[kinds[0]]),
+                 mjcf_precision(M.original) if kinds[1] == "mjcf" else Precision(LABELS[kinds[1]]))
     fl = floors(*precision, matching.frames, reach(u), len(matching.independent))
     lower, upper, revolute = sample_ranges(u, matching.independent)
     q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)
     al, poses = run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal, base_fixes_frame=base.floating)
     poses_u, poses_m = zero_poses(poses, al)
     info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), poses_u, poses_m,
-                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original), base_coordinates=base.floating)
+                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original) if kinds[1] == "mjcf" else "radian",
+                        base_coordinates=base.floating)
 
     tol = info.tol
     twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: frame_twins(info, tol), ([], []))
@@ -75,29 +87,32 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     if base.kind:
         findings.append(finding(base.kind, base.message, {"urdf": base.urdf.kind, "urdf_root": base.urdf.root,
                                                           "mjcf_free_bodies": free}))
-    kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
+    frame_kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
     units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
     info.inertials_explained_by = units[0].kind if units else ""
     findings += units or _guarded(internal, "alignment findings", lambda: base_findings(
-        alignment_findings(u, m, matching, al, compared, tol), base) + convention_findings(al, kinds, tol), [])
+        alignment_findings(u, m, matching, al, compared, tol), base) + convention_findings(al, frame_kinds, tol), [])
     findings += twins
-    findings += _guarded(internal, "inertial validation", lambda: validate_inertials(U, M), [])
+    if kinds == URDF_MJCF:  # an SDFormat file's inertials are Drake's to validate (it refuses a non-physical one)
+        findings += _guarded(internal, "inertial validation", lambda: validate_inertials(U, M), [])
     texts = (base.urdf_text, M.text) if base.floating else (urdf_text, mjcf_text)
-    backends = build_backends(info, *texts, wanted, tol, findings)
+    backends = build_backends(info, *texts, wanted, tol, findings, kinds)
     worst = max([tol(f) for f in compared] or [(1e-9, 1e-9)])
     if base.floating:  # the libraries' readings cross-checked at random base poses too
         q = np.concatenate([base_samples(len(q), options.seed), q], axis=1)
     backends, parser, parser_rows = _guarded(
         internal, "parser cross-check",
-        lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text), rebuild_mjcf), (backends, [], []))
+        lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text) if kinds[1] == "mjcf" else None, rebuild_mjcf),
+        (backends, [], []))
     findings += parser
     findings += _guarded(internal, "couplings", lambda: coupling_findings(u, m, matching), [])
-    ref = next((n for n in ("pinocchio-urdf", "mujoco-urdf", "yourdfpy") if n in backends), None)
-    other = next((n for n in ("mujoco", "pinocchio-mjcf") if n in backends), None)
+    ref = next((n for n in _readers(kinds[0]) if n in backends), None)
+    other = next((n for n in _readers(kinds[1]) if n in backends), None)
     if ref is None or other is None:
-        raise InputError(f"no library could read the {'URDF' if ref is None else 'MJCF'}: "
+        raise InputError(f"no library could read the {LABELS[kinds[0]] if ref is None else LABELS[kinds[1]]}: "
                          + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
-    notes = list(U.warnings + M.warnings) + [f"URDF: {s}" for s in u.skipped] + [f"MJCF: {s}" for s in m.skipped] + info.notes
+    notes = (list(U.warnings + M.warnings) + [f"{LABELS[kinds[0]]}: {s}" for s in u.skipped]
+             + [f"{LABELS[kinds[1]]}: {s}" for s in m.skipped] + info.notes)
     notes.append(f"written precision: {precision[0].describe()}; {precision[1].describe()}")
     if base.floating:
         urdf_text, mjcf_text = texts
@@ -110,6 +125,11 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=()) -> 
     return dict(urdf=U, mjcf=M, urdf_text=urdf_text, mjcf_text=mjcf_text, info=info, matching=matching, alignment=al,
                 backends=backends, reference=ref, findings=findings, notes=notes, parser_rows=parser_rows,
                 internal=internal, lower=lower, upper=upper, revolute=revolute)
+
+
+def _readers(kind: str) -> list[str]:
+    """The libraries reading ``kind``, the primary first and yourdfpy (finite-difference Jacobians) last."""
+    return sorted(names_reading(kind), key=lambda n: n == "yourdfpy")
 
 
 def _guarded(internal: list, what: str, fn, default):
@@ -125,27 +145,31 @@ def _guarded(internal: list, what: str, fn, default):
 
 
 def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), command: str = "", accept=None,
-                 write_accepted=None):
+                 write_accepted=None, kinds=URDF_MJCF):
     """File mode of ``kinverify verify``: the suites on the aligned files and the findings, as a
     VerifyResult. ``accept``: an accepted-differences TOML file (default: ``kinverify-accepted.toml``
-    beside the URDF, when present); ``write_accepted``: write this run's error findings there."""
+    beside the URDF, when present); ``write_accepted``: write this run's error findings there.
+    ``kinds``: the formats of the two sides (``("urdf", "sdf")``, ``("sdf", "mjcf")``)."""
 
     t0 = time.perf_counter()
     options = options or VerifyOptions()
     entries = acc.load(accept) if accept else (acc.load(p, "the accepted differences") if (p := acc.default_path(urdf)) else [])
     internal: list[str] = []
-    diag = _guarded(internal, "reading the files", lambda: diagnose_files(urdf, mjcf, options, frames, joints), None)
+    diag = _guarded(internal, "reading the files", lambda: diagnose_files(urdf, mjcf, options, frames, joints, kinds), None)
     if diag is None:
-        return _failed(urdf, mjcf, options, internal, command)
+        return _failed(urdf, mjcf, options, internal, command, kinds)
     info, U, M = diag["info"], diag["urdf"], diag["mjcf"]
     al, matching = info.alignment, info.matching
     name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
     base = BASE_COORDINATES if info.base_coordinates else ()
+    texts = {"urdf": None, "mjcf": None, "sdf": None, kinds[0]: diag["urdf_text"], kinds[1]: diag["mjcf_text"]}
+    second = dict(joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
+                  frames=tuple(b for _, b, _ in matching.frames))  # the second file's own names
     sources = ModelSources(name, base + tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
-                           tuple(diag["upper"]), tuple(diag["revolute"]), urdf=diag["urdf_text"], mjcf=diag["mjcf_text"],
-                           mjcf_joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
-                           mjcf_frames=tuple(b for _, b, _ in matching.frames))
-    selected = [s for s in FILE_SUITES if options.suites is None or s in options.suites]
+                           tuple(diag["upper"]), tuple(diag["revolute"]), urdf=texts["urdf"], mjcf=texts["mjcf"], sdf=texts["sdf"],
+                           **{f"{kinds[1]}_{k}": v for k, v in second.items()})
+    suites = FILE_SUITES if kinds == URDF_MJCF else SDF_SUITES
+    selected = [s for s in suites if options.suites is None or s in options.suites]
     opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]],
                                suites=[s for s in selected if s != "dynamics"], extra={**options.extra, "filemode": info})
     result = verify(sources, opts, extra_backends=list(diag["backends"].values()), source=f"{urdf} + {mjcf}", command=command)
@@ -153,13 +177,61 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
 
     _guarded(result.internal_errors, "findings",
              lambda: finish(result, diag, sources, opts, "dynamics" in selected, entries, write_accepted, urdf), None)
+    if kinds != URDF_MJCF:
+        relabel(result, kinds)
+        result.model_info["files"] = {kinds[0]: urdf, kinds[1]: mjcf}
+        result.notes.append(f"{LABELS['sdf']}: read by Drake, its only reader here; compared: kinematics, limits and "
+                            "inertials (dynamics and the drawings need Pinocchio and MuJoCo on both files)")
     result.duration_s = time.perf_counter() - t0
     return result
 
 
-def _failed(urdf: str, mjcf: str, options, internal: list[str], command: str):
+def relabel(result, kinds) -> None:
+    """Name each side by its format: what file mode says of its first side ("URDF") and its second
+    ("MJCF") said of the files compared (``kinds``), in findings, checks and report sections."""
+    words = {"URDF": LABELS[kinds[0]], "MJCF": LABELS[kinds[1]], "urdf": kinds[0], "mjcf": kinds[1]}
+    pattern = re.compile(r"\b(URDF|MJCF)\b|(?<=q_)(urdf|mjcf)\b")  # "the MJCF", "q_mjcf = −q_urdf"
+
+    def text(value):
+        if isinstance(value, str):
+            return pattern.sub(lambda m: words[m[0]], value)
+        if isinstance(value, list):
+            return [text(v) for v in value]
+        if isinstance(value, dict):
+            return {k: text(v) for k, v in value.items()}
+        return value
+
+    result.findings = [dataclasses.replace(f, message=text(f.message), values=text(f.values)) for f in result.findings]
+    result.checks = [dataclasses.replace(c, backends=tuple(words.get(b, b) if b in ("urdf", "mjcf") else b for b in c.backends),
+                                         note=text(c.note)) for c in result.checks]
+    for section in result.sections.values():
+        section.title, section.summary, section.notes = text(section.title), text(section.summary), text(section.notes)
+        section.tables = [dataclasses.replace(t, title=text(t.title), columns=text(t.columns), rows=text(t.rows))
+                          for t in section.tables]
+    result.notes = text(result.notes)
+
+
+def verify_three(urdf: str, mjcf: str, sdf: str, options=None, command: str = "", accept=None):
+    """``--urdf``, ``--mjcf`` and ``--sdf`` at once: the URDF against the MJCF and the URDF against the
+    SDFormat file, one result (the second pair's findings, checks and sections added, its sections
+    under ``sdf:`` keys). Joint and frame pairs are found by name and geometry (no ``--joints``)."""
+    first = verify_files(urdf, mjcf, options, command=command, accept=accept)
+    second = verify_files(urdf, sdf, options, command=command, accept=accept, kinds=("urdf", "sdf"))
+    first.findings += second.findings
+    first.checks += second.checks
+    first.backends += [b for b in second.backends if b not in first.backends]
+    first.sections.update({f"sdf:{k}": v for k, v in second.sections.items()})
+    first.internal_errors += second.internal_errors
+    first.notes += [n for n in second.notes if n not in first.notes]
+    first.source = f"{urdf} + {mjcf} + {sdf}"
+    first.model_info["files"] = {"urdf": urdf, "mjcf": mjcf, "sdf": sdf}
+    first.duration_s += second.duration_s
+    return first
+
+
+def _failed(urdf: str, mjcf: str, options, internal: list[str], command: str, kinds=URDF_MJCF):
     """The result of a run kinverify itself could not complete (verdict ``error``, exit 3)."""
 
     return VerifyResult(model=f"{Path(urdf).stem}-vs-{Path(mjcf).stem}", source=f"{urdf} + {mjcf}", seed=options.seed,
                         samples=0, joint_names=[], frames=[], backends=[], checks=[], versions=library_versions(),
-                        command=command, internal_errors=internal, model_info={"files": {"urdf": urdf, "mjcf": mjcf}})
+                        command=command, internal_errors=internal, model_info={"files": {kinds[0]: urdf, kinds[1]: mjcf}})

@@ -43,6 +43,9 @@ def check_urdf_tree(root: ET.Element, path, label: str = "") -> None:
         if name in links:
             raise InputError(f"{where}: link {name!r} is defined twice")
         links[name] = link
+    if links and "world" not in links and any((p := j.find("parent")) is not None and p.get("link") == "world"
+                                              for j in root.findall("joint")):
+        links["world"] = ET.Element("link", name="world")  # the world itself, as Drake and Gazebo read an undeclared one
     parent_of: dict[str, tuple[str, str]] = {}  # child link -> (parent link, joint)
     joint_names: set[str] = set()
     for joint in root.findall("joint"):

@@ -1,4 +1,5 @@
-"""Suite ``dynamics``: the URDF through Pinocchio against the MJCF through MuJoCo, same states.
+"""Suite ``dynamics``: the URDF through Pinocchio against the MJCF through MuJoCo, same states,
+and against the SDFormat file through Drake when the ``drake`` extra is installed (spec mode).
 
 Rigid-body dynamics plus joint damping are compared state by state, with MuJoCo's constraints
 (contacts, limits, ``frictionloss``), springs and actuators disabled (Pinocchio models none of
@@ -29,6 +30,7 @@ import dataclasses
 
 import numpy as np
 
+from kinverify.backends import backend_info
 from kinverify.errors import KinverifyError
 from kinverify.model.floating import has_base
 from kinverify.pipeline.stats import ErrorStats
@@ -36,6 +38,7 @@ from kinverify.suites.base import Finding, Property, Section, Suite, SuiteResult
 from kinverify.tracking.models import MujocoDynamics, PinocchioDynamics
 
 PAIR = ("pinocchio-urdf", "mujoco")
+DRAKE_PAIR = ("pinocchio-urdf", "drake-sdf")  # Drake's dynamics of the SDFormat file (kinverify[drake])
 DEFAULT_SAMPLES = 100  # configurations (edges first) for the state comparisons
 ACCELERATION = 10.0  # random joint accelerations in ±this [rad/s² or m/s²]
 STATE_PROPERTIES = ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias", "dynamics.inverse", "dynamics.forward")
@@ -78,6 +81,13 @@ class DynamicsSuite(Suite):
             armature, origin = mj.armature, "MJCF"
         return PinocchioDynamics(sources.urdf, sources.joint_names, armature), mj, origin
 
+    def drake_model(self, ctx: VerifyContext):
+        """Drake's dynamics of the SDFormat file, or None (no SDFormat, or no ``drake`` extra)."""
+        info = backend_info(DRAKE_PAIR[1])
+        if not ctx.sources.sdf or not info.available:
+            return None
+        return info.backend_class.dynamics(ctx.sources.sdf, "sdf", ctx.sources.sdf_joint_names or ctx.sources.joint_names)
+
     def run(self, ctx: VerifyContext) -> SuiteResult:
         sources, opts = ctx.sources, ctx.options
         if not sources.urdf or not sources.mjcf:
@@ -105,7 +115,15 @@ class DynamicsSuite(Suite):
             check = self.check(ctx.options, p, "joints", PAIR, stats[p], quirk, units[p])
             tol = check.tolerance * max(1.0, scales[p])
             checks.append(dataclasses.replace(check, tolerance=tol, passed=within(check.max_error, tol)))
-        checks += self.parameter_checks(ctx, pin, mj, origin, units)
+        drake = self.drake_model(ctx)
+        if drake is not None:  # the same states (same seed): Drake's dynamics against Pinocchio's
+            stats, scales, drake_breakdown = self.state_errors(pin, drake, q, vmax, effort, opts.seed, compared)
+            breakdown = breakdown if breakdown is not None else drake_breakdown
+            for p in compared:
+                check = self.check(ctx.options, p, "joints", DRAKE_PAIR, stats[p], "", units[p])
+                tol = check.tolerance * max(1.0, scales[p])
+                checks.append(dataclasses.replace(check, tolerance=tol, passed=within(check.max_error, tol)))
+        checks += self.parameter_checks(ctx, pin, mj, origin, units, drake)
         findings = []
         if breakdown:
             findings.append(Finding("numerical_breakdown", "warning", "non-finite dynamics at q = "
@@ -122,6 +140,11 @@ class DynamicsSuite(Suite):
                       [[name, pin.damping[i], mj.damping[i], pin.friction[i], mj.friction[i],
                         f"URDF cannot express; taken from the {origin} ({arm_pin[i]:.6g})", mj.armature[i]]
                        for i, name in enumerate(sources.joint_names[6 * floating:])])
+        if drake is not None:
+            section.notes.append("Drake (drake-sdf) on the SDFormat file: its CalcMassMatrix, gravity, bias and "
+                                 "CalcInverseDynamics (with its own gravity and joint damping forces) against Pinocchio's, "
+                                 "same states; armature is Drake's reflected inertia from drake:rotor_inertia; Drake "
+                                 "models no Coulomb joint friction, so friction is not compared for it.")
         if floating:
             section.notes.append("Floating base: the mass matrix and gravity are compared in the base coordinates "
                                  "(base:x ... base:yaw, then the joints; S^T·M·S and S^T·g from each library's own base "
@@ -174,9 +197,11 @@ class DynamicsSuite(Suite):
         report(len(q), len(q))
         return stats, scales, breakdown
 
-    def parameter_checks(self, ctx: VerifyContext, pin: PinocchioDynamics, mj: MujocoDynamics, origin: str, units) -> list:
+    def parameter_checks(self, ctx: VerifyContext, pin: PinocchioDynamics, mj: MujocoDynamics, origin: str, units,
+                         drake=None) -> list:
         """Joint damping and friction (URDF vs MJCF), armature (spec vs MJCF; in file mode the
-        MJCF's is what Pinocchio uses, so there is nothing to compare)."""
+        MJCF's is what Pinocchio uses, so there is nothing to compare); with Drake, damping (URDF
+        vs SDFormat) and armature (spec vs Drake's reflected inertia)."""
         joints = ctx.sources.joint_names[6 if has_base(ctx.sources.joint_names) else 0:]
 
         def worst(a, b) -> tuple[float, str]:
@@ -194,4 +219,12 @@ class DynamicsSuite(Suite):
             err, joint = worst(spec_arm, mj.armature)
             checks.append(self.value_check(ctx.options, "dynamics.armature", "parameters", ("spec", "mjcf"), err, unit=units["dynamics.armature"],
                                            note="URDF cannot express armature; Pinocchio's is taken from the spec"))
+        if drake is not None:
+            err, joint = worst(pin.damping, drake.damping)
+            checks.append(self.value_check(ctx.options, "dynamics.damping", "parameters", ("urdf", "sdf"), err,
+                                           unit=units["dynamics.damping"], note=f"largest at {joint}" if err > 0 else ""))
+            if origin == "spec":
+                err, joint = worst(spec_arm, drake.armature)
+                checks.append(self.value_check(ctx.options, "dynamics.armature", "parameters", ("spec", "sdf"), err,
+                                               unit=units["dynamics.armature"], note="Drake's reflected inertia (drake:rotor_inertia)"))
         return checks

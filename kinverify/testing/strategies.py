@@ -34,13 +34,18 @@ def vectors(lo: float, hi: float) -> st.SearchStrategy[list[float]]:
     return st.lists(_floats(lo, hi), min_size=3, max_size=3)
 
 
+TINY_AXIS = 1e-6  # Drake snaps an axis within ~1.8e-8 of a coordinate axis onto it (backends/quirks.py)
+
+
 @st.composite
 def axes(draw) -> list[float]:
-    """Axis-aligned (either sign) or arbitrary non-zero directions."""
+    """Axis-aligned (either sign) or arbitrary non-zero directions; a component is 0 or at least
+    1e-6 of the direction's length."""
     if draw(st.booleans()):
         return list(draw(st.sampled_from(_AXES)))
     v = draw(vectors(-1.0, 1.0).filter(lambda v: math.hypot(*v) > 0.1))
-    return v
+    norm = math.hypot(*v)
+    return [0.0 if abs(c) < TINY_AXIS * norm else c for c in v]
 
 
 TINY_ROTATION = 1e-6  # rad: yourdfpy can lose origin rotations of ~1e-8 (backends/quirks.py)

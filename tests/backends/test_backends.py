@@ -101,8 +101,11 @@ def test_backend_errors_are_kinverify_errors():
 
 def test_registry_reports_every_backend():
     registry = available_backends()
-    assert set(registry) >= {"analytic", "analytic-dh", "pinocchio-urdf", "pinocchio-mjcf", "mujoco", "yourdfpy"}
-    assert all(info.available for info in registry.values())
+    assert set(registry) >= {"analytic", "analytic-dh", "pinocchio-urdf", "pinocchio-mjcf", "mujoco", "yourdfpy",
+                             "drake-urdf", "drake-mjcf", "drake-sdf"}
+    assert all(info.available for info in registry.values() if not info.extra)  # the core libraries always import
+    for info in registry.values():  # an optional library: available, or says which extra brings it
+        assert info.available or f"pip install 'kinverify[{info.extra}]'" in info.reason, info
 
 
 @pytest.mark.parametrize("joint_type", ["revolute", "prismatic"])
@@ -125,12 +128,15 @@ def test_capabilities_are_declared_once_on_each_backend_class():
 
     versions = library_versions()
     for name, info in available_backends().items():
+        if not info.available:  # an optional library not installed (its reason names the extra)
+            continue
         cls = info.backend_class
         assert cls.library and cls.library in versions, name
         assert cls.jacobian_method in ("analytic", "finite-difference", None)
-    assert [n for n, i in available_backends().items() if i.backend_class.slow] == ["yourdfpy"]
-    assert names_reading("urdf") == ("pinocchio-urdf", "yourdfpy", "mujoco-urdf")
-    assert names_reading("mjcf") == ("mujoco", "pinocchio-mjcf")
+    assert [n for n, i in available_backends().items() if i.available and i.backend_class.slow] == ["yourdfpy"]
+    assert names_reading("urdf") == ("pinocchio-urdf", "yourdfpy", "mujoco-urdf", "drake-urdf")
+    assert names_reading("mjcf") == ("mujoco", "pinocchio-mjcf", "drake-mjcf")
+    assert names_reading("sdf") == ("drake-sdf",)
 
 
 @settings(max_examples=15, deadline=None)

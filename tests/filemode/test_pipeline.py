@@ -44,7 +44,7 @@ def only(result, kind: str):
 def test_a_generated_pair_agrees_with_every_library(tmp_path, model):
     result = run(tmp_path, model=model, options=ALL)
     assert result.passed, ([c for c in result.failed], above_info(result))
-    assert {f.kind for f in result.findings} <= {"world_parts", "inexpressible"}  # the generator's mount body, armature
+    assert {f.kind for f in result.findings if not P.ignored_by_drake(f)} <= {"world_parts", "inexpressible"}  # mount body, armature
     assert {"pinocchio-urdf", "yourdfpy", "mujoco-urdf", "mujoco", "pinocchio-mjcf"} <= set(result.backends)
     assert {"kinematics", "limits", "inertia", "dynamics"} <= set(result.timings)
     data = result.to_dict()
@@ -222,7 +222,7 @@ def test_mimic_joints_are_driven_by_their_leader_in_every_library(tmp_path):
                 P.sub_once(r'(<body name="link3"[^>]*>)', lambda m: m[1] + bodies, mjcf)
                 .replace("</mujoco>", '<equality><joint joint1="g2" joint2="g1"/></equality></mujoco>'))
     result = run(tmp_path, gripper, model="arm3", options=ALL)
-    assert "yourdfpy" in result.backends and not [f for f in result.findings if f.kind == "parser_refused"]
+    assert "yourdfpy" in result.backends and not [f for f in result.findings if f.kind == "parser_refused" and not P.ignored_by_drake(f)]
     assert result.joint_names == ["joint1", "joint2", "joint3", "g1"] and result.passed, above_info(result)
 
 

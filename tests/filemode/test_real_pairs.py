@@ -42,8 +42,13 @@ def one(robot: str, kind: str):
     return hits[0]
 
 
+def drake_reading(f) -> bool:
+    """Drake's notes on its own reading (what its parsers ignore, a reading standing apart): tested below."""
+    return str(f.values.get("backend") or f.values.get("apart") or "").startswith("drake")
+
+
 def serious(robot: str) -> list[tuple[str, str]]:
-    return sorted((f.kind, f.severity) for f in result(robot).findings if f.severity != "info")
+    return sorted((f.kind, f.severity) for f in result(robot).findings if f.severity != "info" and not drake_reading(f))
 
 
 @pytest.mark.parametrize("robot", list(FILES))
@@ -52,7 +57,7 @@ def test_every_library_reads_each_file_and_every_failing_check_has_its_finding(r
     assert r.verdict == "fail" and r.exit_code == 1 and not r.internal_errors
     assert {"pinocchio-urdf", "yourdfpy", "mujoco-urdf", "mujoco", "pinocchio-mjcf"} <= set(r.backends)
     assert not r.failed, [(c.property, c.frame, c.backends, c.max_error) for c in r.failed]
-    assert not findings(robot, "parser_refused") and not findings(robot, "disagreement_starts")
+    assert not [f for f in findings(robot, "parser_refused") if not drake_reading(f)] and not findings(robot, "disagreement_starts")
     assert np.allclose(r.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"], np.eye(4), atol=1e-12)
 
 
@@ -133,3 +138,27 @@ def test_go2_free_base_is_fixed_at_the_same_pose_in_both_files():
     assert one("go2", "floating_base").severity == "info"
     assert one("go2", "frame_twin").subject == "radar"  # only in the URDF
     assert "imu" in result("go2").frames
+
+
+@pytest.mark.parametrize("robot", list(FILES))
+def test_drake_reads_both_files_and_says_what_its_mjcf_parser_ignores(robot):
+    if "drake-mjcf" not in result(robot).backends and not findings(robot, "parser_disagreement"):
+        pytest.skip("Drake (the drake extra) is not installed")
+    ignored = [f for f in findings(robot, "parser_refused") if f.values.get("backend") == "drake-mjcf"]
+    assert len(ignored) == 1 and ignored[0].severity == "warning" and ignored[0].values["elements"]
+    assert all(e in ignored[0].message for e in ignored[0].values["elements"])  # named element by element
+    assert "drake-urdf" in result(robot).backends
+
+
+def test_go2_thigh_axes_drake_stands_apart_from_mujoco_and_pinocchio():
+    """Drake 1.51.1's MJCF parser does not take the joint axis from a grandparent default class
+    (front_hip in hip in go2): the thigh joints turn about z, not y. Three readings of one MJCF:
+    the finding names the two that agree and the one that stands apart."""
+    apart = [f for f in findings("go2", "parser_disagreement") if f.values.get("apart") == "drake-mjcf"]
+    if not apart:
+        pytest.skip("Drake (the drake extra) is not installed")
+    (f,) = apart
+    assert f.values["agree"] == ["mujoco", "pinocchio-mjcf"] and f.values["file"] == "MJCF"
+    assert "read alike by mujoco and pinocchio-mjcf, and differently by drake-mjcf" in f.message
+    assert f.values["rotation_rad"] > 3.0 and f.values["position_m"] > 0.1  # the thigh turned about another axis
+    assert "drake-mjcf" not in result("go2").backends  # left out of the comparison between the files

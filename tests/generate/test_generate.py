@@ -112,3 +112,32 @@ def test_mjcf_keeps_full_float_precision():
         bid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, joint.link.name)
         quat[:] = matrix_to_quat(rpy_to_matrix(joint.origin.rpy))
         assert np.allclose(mj.body_quat[bid], quat, atol=1e-15) or np.allclose(mj.body_quat[bid], -quat, atol=1e-15)
+
+
+@pytest.mark.parametrize("path", MODELS + ["models/space_arm.toml"])
+def test_sdf_is_deterministic_and_names_what_the_urdf_names(path):
+    from kinverify.generate import generate_sdf
+
+    spec = load_spec(path)
+    assert generate_sdf(spec) == generate_sdf(load_spec(path))
+    sdf = ET.fromstring(generate_sdf(spec))
+    assert sdf.tag == "sdf" and float(sdf.get("version")) >= 1.9
+    model = sdf.find("model")
+    assert [j.get("name") for j in model.iter("joint") if j.get("type") != "fixed"] == list(spec.joint_names)
+    assert {l.get("name") for l in model.iter("link")} == set(spec.link_names)
+    assert {f.get("name") for f in model.iter("frame")} == set(spec.tool_names)
+    welded = [j for j in model.iter("joint") if j.findtext("parent") == "world"]
+    assert len(welded) == (0 if spec.floating else 1)  # a floating base is a free body
+
+
+def test_sdf_writes_subnormal_numbers_as_zero_and_every_other_number_exactly():
+    from kinverify import spec_from_dict
+    from kinverify.generate import generate_sdf
+
+    spec = spec_from_dict({"name": "tiny", "joints": [{"type": "revolute", "axis": [0, 0, 1], "xyz": [0.1, 0.25, 2.2250738585072014e-308],
+                                                       "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]})
+    text = generate_sdf(spec)
+    assert "0.1 0.25 2.2250738585072014e-308" in text  # the smallest normal number is written as it is
+    subnormal = spec_from_dict({"name": "tiny", "joints": [{"type": "revolute", "axis": [0, 0, 1], "xyz": [0.1, 0.25, 1e-310],
+                                                            "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]})
+    assert "0.1 0.25 0.0 " in generate_sdf(subnormal) and "e-310" not in generate_sdf(subnormal)

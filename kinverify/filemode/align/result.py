@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from kinverify.backends import ModelSources, build_backend
 from kinverify.backends.mujoco_ import MujocoBackend
 from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.filemode.align.match import Matching
@@ -93,7 +94,7 @@ class Alignment:
 
 class PairPoses:
     """FK of both files' frames at configurations of the matched joints (each file's own names):
-    Pinocchio on the URDF, MuJoCo on the MJCF (joints in one file only held at zero, MJCF ones at
+    Pinocchio on the URDF, MuJoCo on the MJCF, Drake on an SDFormat side (joints in one file only held at zero, MJCF ones at
     ``qpos0``, where MuJoCo places a joint with a ``ref``)."""
     def __init__(self, u: ModelDesc, m: ModelDesc, matching: Matching, urdf_text: str, mjcf_text: str,
                  urdf_library: str = "pinocchio") -> None:
@@ -102,9 +103,16 @@ class PairPoses:
         self.ujoints = [a for a, _, _ in matching.joints]
         self.mjoints = [b for _, b, _ in matching.joints]
         self.uframes, self.mframes = list(u.frames), list(m.frames)
-        reader = PinocchioBackend if urdf_library == "pinocchio" else MujocoBackend
-        self.ub = reader.from_urdf(urdf_text, self.ujoints, self.uframes)
-        self.mb = MujocoBackend.from_mjcf(mjcf_text, self.mjoints, self.mframes)
+        if u.kind == "sdf" or urdf_library == "drake":  # an SDFormat side, or a URDF only Drake reads
+            self.ub = build_backend(f"drake-{u.kind}", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (),
+                                                                    **{u.kind: urdf_text}))
+        else:
+            reader = PinocchioBackend if urdf_library == "pinocchio" else MujocoBackend
+            self.ub = reader.from_urdf(urdf_text, self.ujoints, self.uframes)
+        if m.kind == "sdf":
+            self.mb = build_backend("drake-sdf", ModelSources("", tuple(self.mjoints), tuple(self.mframes), (), (), (), sdf=mjcf_text))
+        else:
+            self.mb = MujocoBackend.from_mjcf(mjcf_text, self.mjoints, self.mframes)
         self.ui = {f: i for i, f in enumerate(self.uframes)}
         self.mi = {f: i for i, f in enumerate(self.mframes)}
 

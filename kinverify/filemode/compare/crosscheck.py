@@ -1,10 +1,13 @@
-"""Each file read by a second (and third) library: a library that reads the same file differently
-is named once and left out of the comparison between the files, so a verdict of "disagree" is
-about the files, never about a parser.
+"""Each file read by a second (and third, fourth) library: a library that reads the same file
+differently is named once and left out of the comparison between the files, so a verdict of
+"disagree" is about the files, never about a parser. With three readings or more, the finding
+says which libraries agree with each other (the majority) and which one stands apart, by how much.
 
-URDF: Pinocchio (the reference), yourdfpy, MuJoCo's URDF import. MJCF: MuJoCo (the reference),
-Pinocchio's MJCF parser, which drops the pose of a top-level body under ``<worldbody>``
-(pinocchio#2782): that quirk is recognised, measured, reported as information and corrected.
+URDF: Pinocchio (the reference), yourdfpy, MuJoCo's URDF import, Drake. MJCF: MuJoCo (the
+reference), Pinocchio's MJCF parser, which drops the pose of a top-level body under
+``<worldbody>`` (pinocchio#2782): that quirk is recognised, measured, reported as information and
+corrected; Drake's MJCF parser, which reads a subset of MJCF (what it ignores is a warning,
+element by element). SDFormat: Drake alone.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from kinverify.model.transforms import geodesic_distance, invert_transform
 
 URDF_SIDE = names_reading("urdf")  # every library that reads each file, the primary reader first
 MJCF_SIDE = names_reading("mjcf")
+SIDES = (("URDF", URDF_SIDE), ("MJCF", MJCF_SIDE), ("SDF", names_reading("sdf")))
 QUIRK_ISSUE = "https://github.com/stack-of-tasks/pinocchio/issues/2782"
 
 
@@ -44,40 +48,75 @@ def top_level_pose(mjcf_text: str) -> np.ndarray | None:
     return None
 
 
+def refusal_findings(backends: dict, kinds) -> list:
+    """One ``parser_refused`` warning per library that loaded a file but said it ignores parts of it
+    (Drake's MJCF parser: ``<site>``, ``frictionloss``...), naming the elements."""
+    out = []
+    for name, backend in backends.items():
+        inner = getattr(backend, "inner", backend)
+        ignored = inner.refused_elements(inner.parser_warnings) if hasattr(inner, "refused_elements") else []
+        if ignored:
+            side = next((label for label, names in SIDES if name in names and label.lower() in kinds), "file")
+            out.append(finding("parser_refused", f"{name} ignores part of the {side}: {', '.join(ignored)} (unsupported by "
+                               "its parser; the rest is read and compared)", {"file": side, "backend": name, "elements": ignored}))
+    return out
+
+
+def majority(poses: dict, tol) -> tuple[list[str], dict[str, tuple[float, float]]]:
+    """``(agree, apart)``: the largest group of readings that agree with each other within ``tol``
+    (the first listed reading's group on a tie), and each other reading with its largest position
+    [m] and rotation [rad] difference from that group's first member. ``poses``: name -> (N, F, 4, 4)
+    on the same frames, in reading order."""
+    names = list(poses)
+    ptol, rtol = tol
+
+    def close(a, b) -> bool:
+        pos, rot = pose_errors(poses[a], poses[b])
+        return bool(pos.max() <= ptol and rot.max() <= rtol)
+
+    groups = [[b for b in names if b == a or close(a, b)] for a in names]
+    agree = max(groups, key=len)  # max keeps the first of equal sizes: the reference's group on a tie
+    apart = {}
+    for name in names:
+        if name not in agree:
+            pos, rot = pose_errors(poses[agree[0]], poses[name])
+            apart[name] = (float(pos.max()), float(rot.max()))
+    return agree, apart
+
+
 def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose: np.ndarray | None, rebuild):
-    """Compare each secondary library with the reference reading of the same file.
+    """Compare the libraries reading each file: each with the reference reading (the table's rows),
+    then all together, for the majority.
 
     ``backends``: name -> aligned backend; ``tol``: (position, rotation) tolerance; ``rebuild(backend,
-    left)``: that aligned backend with another left transform. Returns (the backends to
-    compare between the files, findings, table rows)."""
+    left)``: that aligned backend with another left transform. Returns (the backends to compare
+    between the files: a reading standing apart from the majority is left out, findings, table rows)."""
     findings, rows, keep = [], [], dict(backends)
     ptol, rtol = tol
-    for side, names in (("URDF", URDF_SIDE), ("MJCF", MJCF_SIDE)):
+    for side, names in SIDES:
         loaded = [n for n in names if n in backends]
         if len(loaded) < 2:
             continue
         ref = backends[loaded[0]]
-        p_ref = ref.poses(q)
+        common = [f for f in ref.frames if all(f in backends[n].frames for n in loaded)]
+        readings = {loaded[0]: ref.poses(q)[:, [ref.frames.index(f) for f in common]]}
         for name in loaded[1:]:
-            common = [(i, ref.frames.index(f)) for i, f in enumerate(backends[name].frames) if f in ref.frames]
-            p0 = p_ref[:, [j for _, j in common]]
+            cols = [backends[name].frames.index(f) for f in common]
             try:
-                p1 = backends[name].poses(q)[:, [i for i, _ in common]]
+                p1 = backends[name].poses(q)[:, cols]
             except Exception as err:  # the library fails on this file: a finding, not a crash
                 keep.pop(name)
                 findings.append(finding("parser_refused", f"{name} cannot evaluate the {side}: {library_reason(err)}",
                                         {"file": side, "backend": name}))
                 continue
-            pos, rot = pose_errors(p0, p1)
+            pos, rot = pose_errors(readings[loaded[0]], p1)
             rows.append([side, f"{loaded[0]} vs {name}", float(pos.max()), float(rot.max())])
-            if pos.max() <= ptol and rot.max() <= rtol:
-                continue
-            values = {"file": side, "backends": [loaded[0], name], "position_m": float(pos.max()), "rotation_rad": float(rot.max())}
-            if name == "pinocchio-mjcf" and top_pose is not None:
+            if name == "pinocchio-mjcf" and top_pose is not None and (pos.max() > ptol or rot.max() > rtol):
                 fixed = rebuild(backends[name], invert_transform(t_base) @ top_pose)
-                cpos, crot = pose_errors(p0, fixed.poses(q)[:, [i for i, _ in common]])
+                p_fixed = fixed.poses(q)[:, cols]
+                cpos, crot = pose_errors(readings[loaded[0]], p_fixed)
                 if cpos.max() <= ptol and crot.max() <= rtol:
-                    keep[name] = fixed
+                    keep[name], p1 = fixed, p_fixed
                     shift = float(np.linalg.norm(top_pose[:3, 3]))
                     angle = float(geodesic_distance(top_pose[:3, :3], np.eye(3)))
                     rows[-1] += [f"corrected: {float(cpos.max()):.2g} m, {float(crot.max()):.2g} rad"]
@@ -85,12 +124,26 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                         "parser_quirk", f"Pinocchio's MJCF parser drops the pose of the top-level body ({shift:.4g} m, "
                         f"{angle:.4g} rad = {math.degrees(angle):.4g}°): its reading of the MJCF is off by that much "
                         f"everywhere (pinocchio#2782, {QUIRK_ISSUE}); kinverify puts the pose back before comparing",
-                        {**values, "top_level_xyz": top_pose[:3, 3].tolist(), "issue": QUIRK_ISSUE},
+                        {"file": side, "backends": [loaded[0], name], "position_m": float(pos.max()),
+                         "rotation_rad": float(rot.max()), "top_level_xyz": top_pose[:3, 3].tolist(), "issue": QUIRK_ISSUE},
                         magnitude=max(shift, angle), unit="m|rad"))
-                    continue
-            keep.pop(name)
-            findings.append(finding("parser_disagreement", f"the {side} is read differently by {loaded[0]} and {name}: up to "
-                                    f"{float(pos.max()):.3g} m, {float(rot.max()):.3g} rad on the same file; {name} is left out "
-                                    "of the comparison between the files", values,
-                                    magnitude=float(max(pos.max(), rot.max())), unit="m|rad"))
+            readings[name] = p1
+        agree, apart = majority(readings, tol)
+        for name, (pos, rot) in apart.items():
+            keep.pop(name, None)
+            values = {"file": side, "backends": [agree[0], name], "agree": agree, "apart": name, "position_m": pos,
+                      "rotation_rad": rot}
+            if len(agree) > 1:
+                message = (f"the {side} is read alike by {_listed(agree)}, and differently by {name}: up to {pos:.3g} m, "
+                           f"{rot:.3g} rad on the same file; {name} stands apart and is left out of the comparison "
+                           "between the files")
+            else:
+                message = (f"the {side} is read differently by {agree[0]} and {name}: up to {pos:.3g} m, {rot:.3g} rad on the "
+                           f"same file (no third reading agrees with either); {name} is left out of the comparison "
+                           "between the files")
+            findings.append(finding("parser_disagreement", message, values, magnitude=max(pos, rot), unit="m|rad"))
     return keep, findings, rows
+
+
+def _listed(names) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]

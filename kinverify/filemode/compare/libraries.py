@@ -8,17 +8,20 @@ import importlib
 
 import numpy as np
 
-from kinverify.backends import available_backends
+from kinverify.backends import available_backends, names_reading
 from kinverify.errors import InputError, KinverifyError, UnknownNameError, library_reason
 from kinverify.filemode.align.view import AlignedBackend
-from kinverify.filemode.compare.crosscheck import MJCF_SIDE, URDF_SIDE
+from kinverify.filemode.compare.crosscheck import refusal_findings
 from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.files import LABELS
 from kinverify.model.floating import BASE_COORDINATES
 
 
-def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: list) -> dict:
-    """Every library that reads each file, through the alignment (URDF side: couplings only); with
-    the base coordinates first when both files float (``info.base_coordinates``)."""
+def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: list, kinds=("urdf", "mjcf")) -> dict:
+    """Every library that reads each file, through the alignment (first side, the URDF's: couplings
+    only); with the base coordinates first when both files float (``info.base_coordinates``).
+    ``kinds``: the format of each side (an SDFormat file may take either, read by Drake)."""
+    first, second = names_reading(kinds[0]), names_reading(kinds[1])
     al, matching = info.alignment, info.matching
     base = list(BASE_COORDINATES) if info.base_coordinates else []
     frames_u = [a for a, _, _ in matching.frames]
@@ -40,13 +43,15 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
             continue
         try:
             klass = getattr(importlib.import_module(info_b.module, "kinverify.backends"), info_b.cls)
-            if name in URDF_SIDE:
+            if name in first:
                 independent = name == "yourdfpy"  # yourdfpy drives <mimic> joints from their leaders itself
-                inner = klass.from_urdf(urdf_text, base + (al.independent if independent else all_u), frames_u, name=name)
+                load = getattr(klass, f"from_{kinds[0]}")
+                inner = load(urdf_text, base + (al.independent if independent else all_u), frames_u, name=name)
                 out[name] = AlignedBackend(inner, al, frames_u, "independent" if independent else "urdf")
-            else:
-                keep = _readable_frames(klass, mjcf_text, base + all_m, frames_m, name)
-                inner = klass.from_mjcf(mjcf_text, base + all_m, [frames_m[i] for i in keep], name=name)
+            elif name in second:
+                load = getattr(klass, f"from_{kinds[1]}")
+                keep = _readable_frames(load, mjcf_text, base + all_m, frames_m, name)
+                inner = load(mjcf_text, base + all_m, [frames_m[i] for i in keep], name=name)
                 out[name] = AlignedBackend(inner, al, [frames_u[i] for i in keep], "mjcf", tinv, [constants[i] for i in keep])
                 if len(keep) < len(frames_m):
                     missing = [frames_m[i] for i in range(len(frames_m)) if i not in keep]
@@ -54,17 +59,18 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
         except Exception as err:  # a library refusing a real file is a finding, whatever it raises
             if isinstance(err, KeyboardInterrupt):
                 raise
-            side = "URDF" if name in URDF_SIDE else "MJCF"
+            side = LABELS[kinds[0] if name in first else kinds[1]]
             text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {library_reason(err)}"
             findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}",
                                     {"file": side, "backend": name}))
+    findings += refusal_findings(out, kinds)
     return out
 
 
-def _readable_frames(klass, mjcf_text: str, joints, frames, name: str) -> list[int]:
+def _readable_frames(load, mjcf_text: str, joints, frames, name: str) -> list[int]:
     """Indices of the frames a library reads (Pinocchio's MJCF parser makes no frame for a site)."""
     try:
-        klass.from_mjcf(mjcf_text, joints, frames, name=name)
+        load(mjcf_text, joints, frames, name=name)
         return list(range(len(frames)))
     except UnknownNameError as err:
         known = set(err.available)
@@ -75,9 +81,12 @@ def rebuild_mjcf(backend: AlignedBackend, left: np.ndarray) -> AlignedBackend:
     return AlignedBackend(backend.inner, backend.alignment, backend.frames, "mjcf", left, backend.constants)
 
 
-def side_names(options) -> list[str]:
-    wanted = [n for n in (options.backends or URDF_SIDE + MJCF_SIDE) if n in URDF_SIDE + MJCF_SIDE]
-    if not any(n in URDF_SIDE for n in wanted) or not any(n in MJCF_SIDE for n in wanted):
-        raise InputError(f"--backends: file mode needs a URDF backend ({', '.join(URDF_SIDE)}) and an MJCF backend "
-                         f"({', '.join(MJCF_SIDE)}); got {', '.join(options.backends or [])}")
+def side_names(options, kinds=("urdf", "mjcf")) -> list[str]:
+    first, second = names_reading(kinds[0]), names_reading(kinds[1])
+    wanted = [n for n in (options.backends or first + second) if n in first + second]
+    if not any(n in first for n in wanted) or not any(n in second for n in wanted):
+        article = {"URDF": "a"}
+        a, b = (f"{article.get(LABELS[k], 'an')} {LABELS[k]}" for k in kinds)
+        raise InputError(f"--backends: file mode needs {a} backend ({', '.join(first)}) and {b} backend "
+                         f"({', '.join(second)}); got {', '.join(options.backends or [])}")
     return wanted

@@ -1,7 +1,12 @@
 """Each file read once: loaded safely (:mod:`~kinverify.filemode.read.loading`), cleaned for the
 libraries, its floating base decided, and described by the library that reads it best (URDF:
-Pinocchio, or MuJoCo's URDF import when Pinocchio refuses it; MJCF: MuJoCo). A library's refusal
-is a finding."""
+Pinocchio, or MuJoCo's URDF import when Pinocchio refuses it; MJCF: MuJoCo; SDFormat: Drake, its
+only reader). A library's refusal is a finding.
+
+File mode compares two *sides*: the first is read like a URDF (its floating root decided against
+the second's free bodies), the second like an MJCF (its free bodies held at the identity). An
+SDFormat file takes either side (:data:`SIDES`): after a URDF it is the second, before an MJCF the
+first; :func:`read_sdf` gives it the same shape as :func:`read_urdf` or :func:`read_mjcf`."""
 
 from __future__ import annotations
 
@@ -14,11 +19,23 @@ from kinverify.errors import InputError, library_reason
 from kinverify.filemode.align.floating import UrdfBase, decide, fixed_urdf, floating_urdf, urdf_base
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_sdf import describe_sdf
 from kinverify.filemode.read.describe_urdf import describe_urdf
-from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_urdf
+from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_sdf, load_urdf
 from kinverify.filemode.read.model import ModelDesc
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
 from kinverify.filemode.read.stated import mjcf_joint_values, urdf_joint_values, urdf_links_without_inertial
+
+LABELS = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF"}
+
+
+def sides(urdf: str | None, mjcf: str | None, sdf: str | None) -> tuple[tuple[str, str], tuple[str, str]]:
+    """The two sides ``((kind, path), (kind, path))`` of a pair of files: URDF before MJCF, an
+    SDFormat file after a URDF or before an MJCF."""
+    given = [(k, p) for k, p in (("urdf", urdf), ("sdf", sdf), ("mjcf", mjcf)) if p]
+    if len(given) != 2:
+        raise InputError("file mode compares two files: give two of --urdf, --mjcf and --sdf")
+    return given[0], given[1]
 
 
 def read_urdf(path: str, findings: list, free=()):
@@ -42,7 +59,13 @@ def read_urdf(path: str, findings: list, free=()):
         desc = dataclasses.replace(describe_mjcf(urdf_for_mujoco(text)), kind="urdf", library="mujoco (URDF import)")
         return loaded, text, with_statements(desc, loaded), "mujoco", decision
     except ValueError as err:
-        raise InputError(f"--urdf: no library can load {path}: {library_reason(err)}") from None
+        findings.append(finding("parser_refused", f"MuJoCo's URDF import refuses the URDF too: {library_reason(err)}; read with "
+                                "Drake's URDF parser instead", {"file": "URDF", "library": "mujoco"}))
+        refusal = library_reason(err)
+    try:
+        return loaded, text, with_statements(describe_sdf(text, "urdf"), loaded), "drake", decision
+    except (RuntimeError, ValueError) as err:
+        raise InputError(f"--urdf: no library can load {path}: {refusal}; Drake: {library_reason(err)}") from None
 
 
 @dataclasses.dataclass
@@ -92,6 +115,38 @@ def with_statements(desc: ModelDesc, loaded: LoadedFile) -> ModelDesc:
     for b in desc.bodies:
         b.mass_known = b.name not in loaded.unknown_mass
     return desc
+
+
+def read_sdf(path: str, findings: list, free=None):
+    """The loaded SDFormat file, read by Drake, shaped as the side it takes: ``free`` None, the
+    second side (after a URDF): like :func:`read_mjcf`, ``(loaded, text, desc, free bodies)``;
+    else the first (before an MJCF with ``free`` top-level bodies): like :func:`read_urdf`,
+    ``(loaded, text, desc, "drake", BaseDecision)``. A free body (a link with no joint to the
+    world) is held at the identity, as an MJCF's free joint is."""
+    loaded = load_sdf(path)
+    try:
+        desc = describe_sdf(loaded.text)
+    except (RuntimeError, ValueError) as err:
+        raise InputError(f"--sdf: Drake cannot load {path}: {library_reason(err)}") from None
+    roots = sdf_free_bodies(loaded.text)
+    if free is None:
+        return loaded, loaded.text, desc, roots
+    root = roots[0] if roots else next(iter(desc.frames), "")
+    base = UrdfBase("floating" if roots else "fixed", root, "(free body)" if roots else None, root)
+    floating, kind, message = decide(base, list(free))
+    message = message.replace("the URDF's root joint (free body) is floating", f"the SDF's link {root} is a free body")
+    return loaded, loaded.text, desc, "drake", BaseDecision(floating, kind, message, base, list(free),
+                                                             loaded.text if floating else "")
+
+
+def sdf_free_bodies(sdf_text: str) -> list[str]:
+    """Links of the SDFormat model that no joint holds (Drake's free bodies)."""
+    root = ET.fromstring(sdf_text)
+    model = root.find("model")
+    if model is None:
+        return []
+    children = {j.findtext("child", "").strip() for j in model.iter("joint")}
+    return [l.get("name") for l in model.findall("link") if l.get("name") not in children]
 
 
 def mjcf_angle_unit(mjcf_text: str) -> str:

@@ -34,7 +34,7 @@ from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_JOINTS, MAX_LINKS, MAX
 class LoadedFile:
     """A model file after safe parsing and cleaning: ``text`` is what the backends load."""
     path: str
-    kind: str  # "urdf" or "mjcf"
+    kind: str  # "urdf", "mjcf" or "sdf"
     original: str
     text: str
     name: str
@@ -64,10 +64,11 @@ def read_xml(path: str, kind: str, text: str | None = None) -> tuple[str, ET.Ele
         raise InputError(f"{label}: {path} is {len(text.encode()) / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB "
                          "kinverify reads (see docs/robustness.md)")
     root = xml_parse(text.encode(), path, label)
-    expected = {"urdf": "robot", "mjcf": "mujoco"}[kind]
+    expected = {"urdf": "robot", "mjcf": "mujoco", "sdf": "sdf"}[kind]
     if root.tag != expected:
-        hint = {"robot": "a URDF", "mujoco": "an MJCF"}.get(root.tag, f"a <{root.tag}> document")
-        raise InputError(f"--{kind}: {path} is {hint}, not {'a URDF' if kind == 'urdf' else 'an MJCF'} "
+        names = {"robot": "a URDF", "mujoco": "an MJCF", "sdf": "an SDFormat file"}
+        hint = names.get(root.tag, f"a <{root.tag}> document")
+        raise InputError(f"--{kind}: {path} is {hint}, not {names[expected]} "
                          f"(root element <{root.tag}>, expected <{expected}>)")
     if kind == "urdf" and (compiled or not is_xacro(path, text)):  # a xacro source is checked once compiled
         check_urdf_tree(root, path, label)
@@ -100,6 +101,9 @@ def check_supported(root: ET.Element, kind: str, path) -> None:
                 raise InputError(f"--urdf: {path}: joint {joint.get('name')!r} is {joint.get('type')}: unsupported: planar base "
                                  f"(kinverify compares fixed and floating bases; make the root joint fixed or floating)")
         bodies, movable = len(links), sum(j.get("type") in MOVABLE["urdf"] for j in joints)
+    elif kind == "sdf":
+        bodies = sum(1 for _ in root.iter("link"))
+        movable = sum(1 for j in root.iter("joint") if j.get("type") in ("revolute", "prismatic", "continuous"))
     else:
         # bodies MuJoCo will make: <body> elements, plus those <composite>/<flexcomp> generate
         # (count "nx ny nz"), all times each <replicate> count (an upper bound)
@@ -108,7 +112,7 @@ def check_supported(root: ET.Element, kind: str, path) -> None:
         movable = sum(1 for j in root.iter("joint") if j.get("type", "hinge") in MOVABLE["mjcf"])
         for rep in root.iter("replicate"):
             bodies *= _product(rep.get("count"))
-    what = "links" if kind == "urdf" else "bodies"
+    what = "bodies" if kind == "mjcf" else "links"
     if bodies > MAX_LINKS or movable > MAX_JOINTS:
         count, limit, noun = (bodies, MAX_LINKS, what) if bodies > MAX_LINKS else (movable, MAX_JOINTS, "movable joints")
         raise InputError(f"--{kind}: {path} has {count} {noun}, above the {limit} kinverify compares "
@@ -212,6 +216,15 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
         warnings += (f"URDF: {kept} mesh references resolved to existing files and kept",)
     cleaned = ET.tostring(root, encoding="unicode")
     return LoadedFile(str(path), "urdf", text, cleaned, root.get("name") or Path(path).stem, warnings)
+
+
+def load_sdf(path: str) -> LoadedFile:
+    """An SDFormat file, read safely. Drake's plant is built without a scene graph, so it never
+    opens the meshes (nor any other geometry): the text is kept as it is."""
+    text, root = read_xml(path, "sdf")
+    model = root.find("model")
+    name = (model.get("name") if model is not None else None) or Path(path).stem
+    return LoadedFile(str(path), "sdf", text, text, name)
 
 
 def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
