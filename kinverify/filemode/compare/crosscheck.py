@@ -48,17 +48,32 @@ def top_level_pose(mjcf_text: str) -> np.ndarray | None:
     return None
 
 
+COMPARED = ("<site>", "<frame>", "<inertial>", "<equality>", "<tendon>", "in <equality>", "body@", "inertial@",
+            "joint@range", "joint@ref", "joint@axis", "joint@pos", "joint@limited", "geom@mass", "geom@density")
+
+
 def refusal_findings(backends: dict, kinds) -> list:
-    """One ``parser_refused`` warning per library that loaded a file but said it ignores parts of it
-    (Drake's MJCF parser: ``<site>``, ``frictionloss``...), naming the elements."""
+    """What a library that loaded a file says it ignores (Drake's MJCF parser: ``<site>``,
+    ``frictionloss``, ``<light>``...), naming the elements, per library: a ``parser_refused`` warning
+    for what the comparison reads through that library (frames, sites, inertials, couplings, joint
+    placement and limits), a ``parser_ignores`` info for the rest (lights, keyframes, solver options,
+    joint friction, actuators: nothing kinverify compares through it)."""
     out = []
     for name, backend in backends.items():
         inner = getattr(backend, "inner", backend)
         ignored = inner.refused_elements(inner.parser_warnings) if hasattr(inner, "refused_elements") else []
-        if ignored:
-            side = next((label for label, names in SIDES if name in names and label.lower() in kinds), "file")
-            out.append(finding("parser_refused", f"{name} ignores part of the {side}: {', '.join(ignored)} (unsupported by "
-                               "its parser; the rest is read and compared)", {"file": side, "backend": name, "elements": ignored}))
+        if not ignored:
+            continue
+        side = next((label for label, names in SIDES if name in names and label.lower() in kinds), "file")
+        matters = [e for e in ignored if any(key in e for key in COMPARED)]
+        rest = [e for e in ignored if e not in matters]
+        if matters:
+            out.append(finding("parser_refused", f"{name} ignores part of the {side} that is compared: {', '.join(matters)} "
+                               "(unsupported by its parser; the rest is read and compared)",
+                               {"file": side, "backend": name, "elements": matters}))
+        if rest:
+            out.append(finding("parser_ignores", f"{name} ignores {', '.join(rest)} in the {side} (unsupported by its parser; "
+                               "nothing compared through it depends on them)", {"file": side, "backend": name, "elements": rest}))
     return out
 
 

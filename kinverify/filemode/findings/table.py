@@ -37,7 +37,7 @@ SEVERITY = {
     # choices and artefacts
     "frame_convention": "info", "rounding": "info", "parser_quirk": "info", "joint_names": "info",
     "lumped_links": "info", "frame_twin": "info", "total_mass": "info", "floating_base": "info",
-    "format_extension": "info", "world_parts": "info", "one_file_only": "info",
+    "format_extension": "info", "parser_ignores": "info", "world_parts": "info", "one_file_only": "info",
 }
 SUBJECTS = ("joint", "link", "frame")
 
