@@ -255,13 +255,13 @@ def match_frames(u: ModelDesc, m: ModelDesc, joints, explicit=()) -> list[tuple[
         used_m.add(b)
     joint_of = {a: b for a, b, _ in joints}
     nu, nm = _normalise(u.frames), _normalise(m.frames)
-    for keys in (({n: n for n in u.frames}, {n: n for n in m.frames}), (nu, nm)):
+    for how, keys in (("same name", ({n: n for n in u.frames}, {n: n for n in m.frames})), ("similar name", (nu, nm))):
         free_u = [f for f in u.frames if f not in used_u]
         free_m = [f for f in m.frames if f not in used_m]
         for a, b in _by_key(free_u, free_m, *keys):
             owner_u, owner_m = u.frame_owner[a], m.frame_owner[b]
             if (owner_u is None and owner_m is None) or (owner_u is not None and joint_of.get(owner_u) == owner_m):
-                frames.append((a, b, "same name"))
+                frames.append((a, b, how))
                 used_u.add(a)
                 used_m.add(b)
     return sorted(frames, key=lambda f: u.frame_depth.get(f[0], 0))  # chain order: the base first

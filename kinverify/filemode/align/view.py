@@ -17,12 +17,13 @@ from kinverify.model.floating import BASE_COORDINATES
 
 
 class AlignedBackend(BackendBase):
-    """``inner`` is built on every matched joint in ``inner_joints`` order ("urdf": URDF order and
-    values; "mjcf": the MJCF's names and values; "independent": the independent joints only, for
-    a library that drives couplings itself, like yourdfpy's ``<mimic>``)."""
+    """``inner`` is built on every matched joint in the alignment's order ("urdf": URDF names and
+    values; "mjcf": the MJCF's names and values), or on ``pick`` of them (URDF names): a library that
+    drives some couplings itself, like yourdfpy the URDF's ``<mimic>`` followers, is given the other
+    joints only, each at the value every other library gets."""
 
     def __init__(self, inner, alignment: Alignment, frames, mode: str, left: np.ndarray | None = None,
-                 constants: list[np.ndarray] | None = None) -> None:
+                 constants: list[np.ndarray] | None = None, pick: list[str] | None = None) -> None:
         self.inner, self.alignment, self.mode = inner, alignment, mode
         self.name, self.frames = inner.name, tuple(frames)
         self.floating = bool(getattr(inner, "floating", False))
@@ -31,11 +32,12 @@ class AlignedBackend(BackendBase):
         self.slow = getattr(inner, "slow", False)
         self.left = np.eye(4) if left is None else np.asarray(left, dtype=float)
         self.constants = None if constants is None else np.asarray(constants, dtype=float)  # (F, 4, 4)
-        if mode == "independent":
-            self.chain = np.eye(len(self.joint_names))
-        else:
-            e = alignment.expansion()
-            self.chain = e * alignment.signs[:, None] if mode == "mjcf" else e  # d q_inner / d q
+        names = [j.urdf for j in alignment.joints]
+        self.cols = None if pick is None else [names.index(n) for n in pick]
+        e = alignment.expansion()
+        self.chain = e * alignment.signs[:, None] if mode == "mjcf" else e  # d q_inner / d q
+        if self.cols is not None:
+            self.chain = self.chain[self.cols]
 
     def _conjugates(self) -> bool:
         return self.floating and self.mode == "mjcf" and not np.array_equal(self.left, np.eye(4))
@@ -47,10 +49,9 @@ class AlignedBackend(BackendBase):
         return self._joints_q(q)
 
     def _joints_q(self, q: np.ndarray) -> np.ndarray:
-        if self.mode == "independent":
-            return q
         full = self.alignment.expand(q)
-        return self.alignment.to_mjcf(full) if self.mode == "mjcf" else full
+        full = self.alignment.to_mjcf(full) if self.mode == "mjcf" else full
+        return full if self.cols is None else full[:, self.cols]
 
     def _chain(self, jac: np.ndarray, q: np.ndarray) -> np.ndarray:
         """Jacobian columns of the inner coordinates (N, F, 6, n_inner) as ours."""

@@ -44,10 +44,13 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
         try:
             klass = getattr(importlib.import_module(info_b.module, "kinverify.backends"), info_b.cls)
             if name in first:
-                independent = name == "yourdfpy"  # yourdfpy drives <mimic> joints from their leaders itself
                 load = getattr(klass, f"from_{kinds[0]}")
-                inner = load(urdf_text, base + (al.independent if independent else all_u), frames_u, name=name)
-                out[name] = AlignedBackend(inner, al, frames_u, "independent" if independent else "urdf")
+                # yourdfpy drives the URDF's own <mimic> followers from their leaders itself; a
+                # coupling only the other file states is given to it like to every other library
+                pick = [j for j in all_u if j not in al.couplings or al.couplings[j].source != "<mimic>"] \
+                    if name == "yourdfpy" else None
+                inner = load(urdf_text, base + (all_u if pick is None else pick), frames_u, name=name)
+                out[name] = AlignedBackend(inner, al, frames_u, "urdf", pick=pick)
             elif name in second:
                 load = getattr(klass, f"from_{kinds[1]}")
                 keep = _readable_frames(load, mjcf_text, base + all_m, frames_m, name)

@@ -136,10 +136,14 @@ def convention_findings(al: Alignment, kinds: dict[str, str], tol) -> list[Findi
         values = {"translation_m": shift, "rotation_rad": angle, "xyz": f.constant[:3, 3].tolist(),
                   "rpy": matrix_to_rpy(f.constant[:3, :3]).tolist(), "frames": [f.urdf]}
         names = {"frame": f.urdf, "mjcf_frame": f.mjcf}
-        if kinds.get(f.urdf) == "site" and shift > ptol:
+        if kinds.get(f.urdf) == "site" and shift > ptol and f.why in ("same name", "given"):
             out.append(finding("frame_offset", f"frame {f.urdf}/{f.mjcf}: placed {shift:.4g} m and {angle:.4g} rad away from "
                                f"the other file's, on the same link (xyz {fmt(f.constant[:3, 3])} in its own axes)", values,
                                magnitude=shift, unit="m", **names))
+        elif kinds.get(f.urdf) == "site" and shift > ptol:  # a name alike is no proof of one frame: said, not blamed
+            out.append(finding("frame_twin", f"URDF frame {f.urdf} and the MJCF's site {f.mjcf} have similar names but sit "
+                               f"{shift:.4g} m and {angle:.4g} rad apart on the same link: not taken for one frame (compared "
+                               "after removing that offset)", values, magnitude=shift, unit="m", **names))
         else:
             out.append(finding("frame_convention", f"frame {f.urdf}/{f.mjcf}: the files define this frame differently, by a "
                                f"constant {angle:.4g} rad ({math.degrees(angle):.4g}°) and {shift:.4g} m (rpy {fmt(values['rpy'])}, "
