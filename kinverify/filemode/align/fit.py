@@ -176,7 +176,7 @@ class Aligner:
             cu_a, cu_p = self.line("u", c, pu0)
             cm_a, cm_p = self.line("m", cm, pm0)
             cu_a, cu_p = cu_a[0] @ t[:3, :3].T, _apply(t, cu_p[0])
-            if np.linalg.norm(np.cross(am, cm_a[0])) < NEAR_PARALLEL:
+            if max(np.linalg.norm(np.cross(am, cm_a[0])), np.linalg.norm(np.cross(am, cu_a))) < NEAR_PARALLEL:
                 # nearly parallel: the foot of the common perpendicular is ill-conditioned; both
                 # lines are taken where they cross one plane across the axis (through the MJCF's anchor)
                 points.append((_crossing(pm, am, cm_p[0], cm_a[0]), _crossing(pm, am, cu_p, cu_a)))

@@ -136,7 +136,7 @@ def _pair_siblings(u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], par
     k = min(len(cu), len(cm))
     if max(len(cu), len(cm)) <= MAX_PERMUTED:
         options = ((iu, im) for iu in itertools.combinations(range(len(cu)), k) for im in itertools.permutations(range(len(cm)), k))
-        iu, im = min(options, key=lambda o: cost(*o))
+        iu, im = min(options, key=lambda o: round(cost(*o), 9))  # a tie (mirror-image fingers) keeps the files' order
     else:  # many siblings: each takes its best remaining partner, in order
         iu, im = [], []
         for a in range(len(cu)):

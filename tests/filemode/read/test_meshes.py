@@ -97,3 +97,20 @@ def test_collada_meshes_do_not_stop_mujocos_urdf_import(tmp_path):
     assert ".dae" in load_urdf(str(urdf_path)).text  # kept: the file exists
     result = verify_files(str(urdf_path), str(mjcf_path), FAST)
     assert "mujoco-urdf" in result.backends and result.verdict == "pass"
+
+
+def test_a_mesh_geom_given_its_mesh_by_a_default_class_is_dropped_with_it(tmp_path):
+    """A fingertip geom with no mesh attribute of its own takes ``mesh="tip"`` from its default
+    class (as MuJoCo Menagerie's LEAP hand writes it): the absent mesh is dropped with the geom, and
+    the default class no longer names it, so MuJoCo loads the file."""
+    from kinverify.filemode.read.loading import load_mjcf
+    from tests.filemode.pairs import generated_pair, sub_once, write_pair
+
+    urdf, mjcf = generated_pair("arm3")
+    mjcf = sub_once(r"<default>", '<default><default class="tip"><geom type="mesh" mesh="tip"/></default>', mjcf)
+    mjcf = sub_once(r"<worldbody>", '<asset><mesh name="tip" file="absent/tip.stl"/></asset><worldbody>', mjcf)
+    mjcf = sub_once(r'(<body name="link3"[^>]*>)', lambda m: m[1] + '<geom name="tip" class="tip"/>', mjcf)
+    _, path = write_pair(tmp_path, urdf, mjcf)
+    loaded = load_mjcf(path)
+    assert 'name="tip"' not in loaded.text.split("<worldbody>")[1] and 'mesh="tip"' not in loaded.text
+    assert not [w for w in loaded.warnings if "cannot compile" in w]

@@ -1,0 +1,80 @@
+"""Matching decisions, each pinned by a pair built for it: joints by the number in their name (the
+last one), the fingers of a hand by their place in the tree when the names say nothing, and names
+alike across kinds (a link and a site) taken for no twins."""
+
+from __future__ import annotations
+
+import re
+
+from kinverify.filemode.pipeline import verify_files
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.specfile import spec_from_dict
+from kinverify.run import VerifyOptions
+from tests.filemode.pairs import generated_pair, ignored_by_drake, sub_once, write_pair
+
+FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12},
+                     suites=["kinematics", "limits", "inertia"])
+
+
+def serious(result) -> list:
+    return [(f.kind, f.subject) for f in result.findings if f.severity != "info" and not ignored_by_drake(f)]
+
+
+def renamed(text: str, names: dict[str, str]) -> str:
+    """Every joint name attribute and reference renamed (``name="joint2"``, ``joint="joint2"``)."""
+    for old, new in names.items():
+        text = re.sub(rf'(name|joint)="{old}"', rf'\1="{new}"', text)
+    return text
+
+
+def test_joint_names_carrying_two_numbers_are_matched_by_the_last(tmp_path):
+    urdf, mjcf = generated_pair("arm3")
+    urdf = renamed(urdf, {f"joint{k}": f"arm1_joint{k}" for k in (1, 2, 3)})  # "1" of arm1 is not the joint's number
+    mjcf = renamed(mjcf, {f"joint{k}": f"j{k}" for k in (1, 2, 3)})
+    result = verify_files(*write_pair(tmp_path, urdf, mjcf), FAST)
+    pairs = [tuple(p[:2]) for p in result.model_info["joint_pairs"]]
+    assert pairs == [("arm1_joint1", "j1"), ("arm1_joint2", "j2"), ("arm1_joint3", "j3")]
+    assert result.passed, serious(result)
+
+
+def hand() -> dict:
+    """A wrist and a palm carrying two fingers and a thumb, two joints each (a tree)."""
+    def finger(name, xyz, axis):
+        return [{"name": f"{name}_base", "type": "revolute", "parent": "palm", "xyz": xyz, "axis": axis,
+                 "limits": {"lower": -1.0, "upper": 1.0, "unit": "rad"}, "link": {"name": f"{name}_1", "mass": 0.02}},
+                {"name": f"{name}_tip", "type": "revolute", "parent": f"{name}_1", "xyz": [0.0, 0.0, 0.04], "axis": axis,
+                 "limits": {"lower": 0.0, "upper": 1.5, "unit": "rad"}, "link": {"name": f"{name}_2", "mass": 0.01}}]
+    joints = [{"name": "wrist", "type": "revolute", "xyz": [0.0, 0.0, 0.1], "axis": [0.0, 0.0, 1.0],
+               "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"}, "link": {"name": "palm", "mass": 0.3}}]
+    joints += finger("index", [0.03, 0.02, 0.05], [1.0, 0.0, 0.0]) + finger("ring", [0.03, -0.02, 0.05], [1.0, 0.0, 0.0])
+    joints += finger("thumb", [-0.02, 0.01, 0.03], [0.0, 1.0, 1.0])
+    return {"name": "hand", "base": {"link": {"name": "base"}}, "joints": joints}
+
+
+def test_a_hands_fingers_are_matched_by_their_place_in_the_tree(tmp_path):
+    """The URDF numbers its joints "0"..."6" in an order that is not the MJCF's, and no name says
+    which finger is which: their place in the tree (the joint they hang from, how their axis
+    lines lie to each other and to their parent's) does, as for the LEAP hand."""
+    spec = spec_from_dict(hand())
+    urdf, mjcf = generate_urdf(spec), generate_mjcf(spec)
+    order = ["ring_tip", "thumb_base", "index_tip", "wrist", "ring_base", "thumb_tip", "index_base"]
+    urdf = renamed(urdf, {name: str(k) for k, name in enumerate(order)})
+    result = verify_files(*write_pair(tmp_path, urdf, mjcf), FAST)
+    pairs = {a: b for a, b, *_ in result.model_info["joint_pairs"]}
+    assert pairs == {str(k): name for k, name in enumerate(order)}
+    assert result.passed, serious(result)
+
+
+def test_a_site_named_like_a_link_elsewhere_is_no_twin_to_blame(tmp_path):
+    """A URDF link ``panda_head`` fixed 0.1 m above panda_link7 and an MJCF site ``head`` 0.6 m above
+    it on the same body: the names are alike once the prefix the URDF puts on every name is dropped,
+    the places are not. No error: a name alike across kinds is no proof of one frame."""
+    urdf, mjcf = generated_pair("panda")
+    urdf = sub_once(r"</robot>", '<link name="panda_head"/><joint name="panda_head_fixed" type="fixed">'
+                    '<parent link="panda_link7"/><child link="panda_head"/><origin xyz="0 0 0.1"/></joint></robot>', urdf)
+    mjcf = sub_once(r'(<body name="panda_link7"[^>]*>)', lambda m: m[1] + '<site name="head" pos="0 0 0.6" size="0.01"/>', mjcf)
+    result = verify_files(*write_pair(tmp_path, urdf, mjcf), FAST)
+    assert result.passed, serious(result)
+    twin = [f for f in result.findings if f.subject == "panda_head"]
+    assert [(f.kind, f.severity, f.other) for f in twin] == [("frame_twin", "info", "head")]
+    assert abs(twin[0].magnitude - 0.5) < 1e-9

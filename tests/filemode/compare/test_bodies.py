@@ -1,0 +1,81 @@
+"""Rigid bodies compared where they are: each decision pinned by a pair built for it. Link frames
+turned (as UR-style files turn them by rpy in the URDF, by quaternions in the MJCF) never move an
+inertial; a body whose joint an upstream difference displaces is compared seated on its joint;
+what a joint in one file only moves is said once, with that joint; a mass from an absent mesh is
+not compared; an inertial one file leaves unset is a warning."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import tests.filemode.pairs as P
+from kinverify.filemode.pipeline import verify_files
+from kinverify.run import VerifyOptions
+
+FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
+
+
+def serious(result) -> list:
+    return sorted((f.kind, f.subject) for f in result.findings if f.severity != "info" and not P.ignored_by_drake(f))
+
+
+def run(tmp_path, urdf, mjcf, options=FAST):
+    return verify_files(*P.write_pair(tmp_path, urdf, mjcf), options)
+
+
+def moved_com(mjcf: str, body: str, dx: float) -> str:
+    return P.sub_once(rf'(<body name="{body}".*?<inertial pos=")([^"]*)(")', lambda m: m[1] + P.nums(
+        lambda v: [v[0] + dx, v[1], v[2]])(m[2]) + m[3], mjcf)
+
+
+def test_link_frames_turned_and_an_axis_upstream_moved_leave_each_centre_of_mass_its_own(tmp_path):
+    """The MJCF turns panda_link5's and panda_link6's frames about their joints (a choice), moves
+    joint 3's axis 1 mm (a difference upstream of every wrist body) and moves panda_link6's centre
+    of mass 2 cm along its own x (a difference of that body): one axis finding, one centre-of-mass
+    finding of 2 cm, nothing on the other bodies the axis carries."""
+    urdf, mjcf = P.moved_axis(*P.generated_pair("panda"))
+    mjcf = moved_com(mjcf, "panda_link6", 0.02)  # before turning the frame: 2 cm along the link's own x
+    mjcf = P.reframed_body(P.reframed_body(mjcf, "panda_link5", math.pi / 2), "panda_link6", -math.pi / 3)
+    result = run(tmp_path, urdf, mjcf)
+    assert serious(result) == [("axis_position", "panda_joint3"), ("com_difference", "panda_link6")]
+    (com,) = [f for f in result.findings if f.kind == "com_difference"]
+    assert com.magnitude == pytest.approx(0.02, abs=1e-9)
+
+
+def test_a_part_a_joint_in_one_file_only_moves_is_said_once(tmp_path):
+    """The URDF carries a small propeller on a joint the MJCF does not have, on panda_link7: one
+    extra_parts finding with its mass, and panda_link7 itself agrees."""
+    urdf, mjcf = P.generated_pair("panda")
+    prop = ('<link name="prop"><inertial><origin xyz="0 0 0.01"/><mass value="0.004"/>'
+            '<inertia ixx="1e-7" iyy="1e-7" izz="1e-7" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+            '<joint name="prop_joint" type="continuous"><parent link="panda_link7"/><child link="prop"/>'
+            '<origin xyz="0 0 0.05"/><axis xyz="0 0 1"/></joint></robot>')
+    result = run(tmp_path, P.sub_once(r"</robot>", prop, urdf), mjcf)
+    assert serious(result) == [("extra_parts", "prop_joint")]
+    (extra,) = [f for f in result.findings if f.kind == "extra_parts"]
+    assert extra.values["links"] == [{"name": "prop", "mass": 0.004, "body": "panda_link7", "how": "moved by prop_joint"}]
+
+
+def test_a_mass_that_came_from_an_absent_mesh_is_not_compared(tmp_path):
+    """The MJCF's panda_link4 has no <inertial>: MuJoCo would take its mass from its mesh, which is
+    absent. Its mass is not known, so it is not compared: a warning, and the verdict passes."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<inertial [^>]*/>', lambda m: m[1], mjcf)
+    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
+                      lambda m: m[1] + '<geom name="panda_link4_mesh" type="mesh" mesh="link4"/>', mjcf)
+    mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link4" file="absent/link4.stl"/></asset><worldbody>', mjcf)
+    result = run(tmp_path, urdf, mjcf)
+    assert serious(result) == [("mass_unknown", "panda_link4")] and result.passed
+
+
+def test_an_inertial_one_file_leaves_unset_is_a_warning(tmp_path):
+    """The URDF's panda_link6 states no <inertial> (massless by default); the MJCF states one."""
+    urdf, mjcf = P.generated_pair("panda")
+    urdf = P.sub_once(r'(<link name="panda_link6">.*?)<inertial>.*?</inertial>', lambda m: m[1], urdf)
+    result = run(tmp_path, urdf, mjcf, VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
+                                                     suites=["kinematics", "inertia"]))
+    (unset,) = [f for f in result.findings if f.kind == "inertial_unset"]
+    assert unset.severity == "warning" and unset.values["unset_in"] == "URDF" and unset.subject == "panda_link6"
+    assert serious(result) == [("inertial_unset", "panda_link6")] and result.passed

@@ -1,0 +1,96 @@
+"""Findings of the alignment, each decision pinned by a pair built for it: a joint below a joint
+that differs is judged on its parent, a zero offset of a whole turn's difference is no limit
+difference, a constant turn of a link frame about its own joint is a convention, a floating
+robot's base frames fix the frame."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import tests.filemode.pairs as P
+from kinverify.filemode.pipeline import verify_files
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.specfile import spec_from_dict
+from kinverify.run import VerifyOptions
+
+FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12},
+                     suites=["kinematics", "limits", "inertia"])
+
+
+def run(tmp_path, urdf, mjcf):
+    return verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+
+
+def serious(result) -> list:
+    return sorted((f.kind, f.subject) for f in result.findings if f.severity != "info" and not P.ignored_by_drake(f))
+
+
+def shifted(mjcf: str, body: str, dx: float) -> str:
+    return P.body_attr(mjcf, body, "pos", P.nums(lambda v: [v[0] + dx, v[1], v[2]]))
+
+
+def test_a_joint_below_one_that_differs_is_judged_on_its_parent(tmp_path):
+    """The MJCF's panda_link3 sits 1 mm further along x, and panda_link5 2 mm further again (two
+    link lengths): two axis findings with their own sizes, the second measured on its parent
+    joint's axis, not 1 + 2 mm from where the first one left it."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = shifted(shifted(mjcf, "panda_link3", 1e-3), "panda_link5", 2e-3)
+    result = run(tmp_path, urdf, mjcf)
+    found = {f.subject: f for f in result.findings if f.kind == "axis_position"}
+    assert sorted(found) == ["panda_joint3", "panda_joint5"], serious(result)
+    assert found["panda_joint3"].magnitude == pytest.approx(1e-3, abs=1e-9)
+    assert found["panda_joint5"].magnitude == pytest.approx(2e-3, abs=1e-9)
+    assert "on its parent joint panda_joint4" in found["panda_joint5"].message
+
+
+def test_limits_through_a_zero_offset_are_compared_up_to_whole_turns(tmp_path):
+    """panda_joint4's zero is 3 rad further in the MJCF (ref) and its range is the URDF's shifted
+    by 3 − 2π: the same range, a whole turn apart. One zero_offset finding, no limit difference."""
+    urdf, mjcf = P.generated_pair("panda")
+    offset = 3.0
+    mjcf = P.joint_attr(mjcf, "panda_joint4", "range", P.nums(lambda v: [x + offset - 2 * math.pi for x in v]))
+    mjcf = P.re.sub(r'(<joint name="panda_joint4" )', lambda m: m[1] + f'ref="{offset!r}" ', mjcf, count=1)
+    result = run(tmp_path, urdf, mjcf)
+    assert [f.kind for f in result.findings if f.kind.startswith("limit")] == []
+    (zero,) = [f for f in result.findings if f.kind == "zero_offset"]
+    assert math.remainder(zero.values["offset"] - offset, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_a_link_frame_turned_about_its_own_joint_is_a_convention(tmp_path):
+    urdf, mjcf = P.generated_pair("panda")
+    result = run(tmp_path, urdf, P.reframed_body(mjcf, "panda_link5", math.pi / 2))
+    assert result.passed and serious(result) == []
+    (f,) = [f for f in result.findings if f.kind == "frame_convention"]
+    assert f.subject == "panda_link5" and f.magnitude == pytest.approx(math.pi / 2, abs=1e-9)
+
+
+def quadruped(dx: float = 0.0) -> dict:
+    """A floating trunk with four legs (hip about x, thigh and knee about y); ``dx``: the hips
+    that much further out along x, front and rear alike."""
+    joints = []
+    for leg, (x, y) in {"FL": (0.2, 0.05), "FR": (0.2, -0.05), "RL": (-0.2, 0.05), "RR": (-0.2, -0.05)}.items():
+        x += math.copysign(dx, x)
+        joints += [{"name": f"{leg}_hip", "parent": "trunk", "xyz": [x, y, 0.0], "axis": [1.0, 0.0, 0.0],
+                    "limits": {"lower": -0.8, "upper": 0.8, "unit": "rad"}, "link": {"name": f"{leg}_hip_link", "mass": 0.5}},
+                   {"name": f"{leg}_thigh", "parent": f"{leg}_hip_link", "xyz": [0.0, math.copysign(0.08, y), 0.0],
+                    "axis": [0.0, 1.0, 0.0], "limits": {"lower": -1.5, "upper": 3.4, "unit": "rad"},
+                    "link": {"name": f"{leg}_thigh_link", "inertial": {"mass": 1.0, "com": [0.0, 0.0, -0.1], "inertia": [0.004, 0.004, 0.001, 0.0, 0.0, 0.0]}}},
+                   {"name": f"{leg}_knee", "parent": f"{leg}_thigh_link", "xyz": [0.0, 0.0, -0.2], "axis": [0.0, 1.0, 0.0],
+                    "limits": {"lower": -2.7, "upper": -0.9, "unit": "rad"},
+                    "link": {"name": f"{leg}_calf_link", "inertial": {"mass": 0.2, "com": [0.0, 0.0, -0.1], "inertia": [0.001, 0.001, 0.0002, 0.0, 0.0, 0.0]}}}]
+    return {"name": "dog", "base": {"floating": True, "link": {"name": "trunk", "mass": 6.0}}, "joints": joints}
+
+
+def test_two_floating_bases_fix_the_frame_and_a_difference_is_reported_where_it_is(tmp_path):
+    """The MJCF's four hips sit 2.5 mm further out along x, front and rear alike: each leg is
+    2.5 mm off, and the base frames are not said to differ (a fitted world would have moved the
+    difference onto the rear legs, 5 mm, and called the base frames apart)."""
+    urdf = generate_urdf(spec_from_dict(quadruped()))
+    mjcf = generate_mjcf(spec_from_dict(quadruped(2.5e-3)))
+    result = run(tmp_path, urdf, mjcf)
+    assert not [f for f in result.findings if f.kind in ("base_frame_offset", "base_transform")]
+    axes = [f for f in result.findings if f.kind == "axis_position"]
+    assert sorted(f.subject for f in axes) == ["FL_thigh", "FR_thigh", "RL_thigh", "RR_thigh"]
+    assert all(f.magnitude == pytest.approx(2.5e-3, abs=1e-9) for f in axes)
