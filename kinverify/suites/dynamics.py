@@ -55,6 +55,7 @@ def _units(revolute) -> dict[str, str]:
 
 
 class DynamicsSuite(Suite):
+    forward_scales_with_acceleration = False  # see state_errors
     name = "dynamics"
     title = "Dynamics: URDF (Pinocchio) vs MJCF (MuJoCo)"
     # The same double-precision recursions agree to ~1e-13 on the shipped arms.
@@ -106,7 +107,8 @@ class DynamicsSuite(Suite):
         units = _units(sources.revolute)
         # with a floating base: the mass matrix and gravity in the base coordinates (tracking/models.py)
         compared = STATE_PROPERTIES[:2] if floating else STATE_PROPERTIES
-        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed, compared, opts.on_progress)
+        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed, compared, opts.on_progress,
+                                                     self.forward_scales_with_acceleration)
         snapped = mj.snapped_inertia_frames()
         quirk = ("MuJoCo treats the principal inertia axes of " + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
                  + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo") if snapped else ""
@@ -161,11 +163,13 @@ class DynamicsSuite(Suite):
 
     @staticmethod
     def state_errors(pin: PinocchioDynamics, mj: MujocoDynamics, q: np.ndarray, vmax, effort, seed: int = 0,
-                     compared=STATE_PROPERTIES, on_progress=None):
+                     compared=STATE_PROPERTIES, on_progress=None, forward_scales_with_acceleration: bool = False):
         """Max |difference| per state property over configurations ``q`` (N, n) with random
         speeds in ±vmax, accelerations in ±ACCELERATION and joint forces in ±effort. Returns the
         stats, the largest |value| per property (the scale of its tolerance) and the first
-        configuration where a library gave a non-finite value (or None)."""
+        configuration where a library gave a non-finite value (or None).
+        ``forward_scales_with_acceleration``: the forward residual's scale is also |M|·|q̈| (two
+        files written with rounded values: see :class:`~kinverify.filemode.compare.dynamics.FileDynamicsSuite`)."""
         rng = np.random.default_rng([seed, 0xD1])
         stats = {p: ErrorStats() for p in compared}
         scales = dict.fromkeys(compared, 0.0)
@@ -185,8 +189,9 @@ class DynamicsSuite(Suite):
                 "dynamics.bias": lambda: (pin.bias(qk, v), mj.bias(qk, v)),
                 "dynamics.inverse": lambda: (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),
                 # force residual of MuJoCo's acceleration in Pinocchio's equations: M·(a_mj − a_pin)
-                "dynamics.forward": lambda: (tau, tau + mass @ (mj.forward(qk, v, tau) - pin.forward(qk, v, tau))),
+                "dynamics.forward": lambda: (tau, tau + mass @ (accel[0] - pin.forward(qk, v, tau))),
             }
+            accel = [mj.forward(qk, v, tau)] if "dynamics.forward" in compared else [None]
             pairs = {p: terms[p]() for p in compared}
             if not all(np.isfinite(x).all() and np.isfinite(y).all() for x, y in pairs.values()):
                 breakdown = qk if breakdown is None else breakdown
@@ -194,6 +199,9 @@ class DynamicsSuite(Suite):
             for prop, (x, y) in pairs.items():
                 stats[prop].update(np.array([np.abs(x - y).max()]), qk[None])
                 scales[prop] = max(scales[prop], float(np.abs(x).max()))
+            if forward_scales_with_acceleration and accel[0] is not None:  # the residual is (M_pin − M_mj)·a_mj + (b_pin − b_mj): its scale is |M|·|a| too,
+                # far above |τ| where light links take large accelerations (a relative error in M grows with it)
+                scales["dynamics.forward"] = max(scales["dynamics.forward"], float(np.abs(mass).max() * np.abs(accel[0]).max()))
         report(len(q), len(q))
         return stats, scales, breakdown
 

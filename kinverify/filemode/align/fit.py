@@ -201,6 +201,8 @@ class Aligner:
         if self.types[a] == "prismatic":  # a next axis parallel to it says nothing about a shift along it
             pairs = [pt for pt, (dm, _) in zip(points, dirs) if np.linalg.norm(np.cross(dm, am)) > 1e-6] + extra
             shift = consensus([float((xu - xm) @ am) for xm, xu in pairs], [1.0] * len(pairs), linear=True)
+            if all(np.linalg.norm(xm - xu) <= ptol for xm, xu in pairs):  # agree as they are: no shift needed
+                return 0.0
             ok = all(np.linalg.norm(xm + shift * am - xu) <= ptol for xm, xu in pairs)
             return shift if ok else 0.0
         for group in (points, extra):
@@ -213,6 +215,8 @@ class Aligner:
                     weights.append(rm * ru)
                     used.append((xm, xu))
             if angles:
+                if self._turns_onto(used, 0.0, am, pm, ptol):  # agree within the written precision as they are
+                    return 0.0  # (a point near the axis turns a rounding error into a large angle)
                 theta = consensus(angles, weights)
                 return theta if self._turns_onto(used, theta, am, pm, ptol) else 0.0
         # everything it moves is on its axis: the next axes' directions, whose sign is the next
@@ -223,6 +227,8 @@ class Aligner:
             if np.linalg.norm(vm) > 1e-6 and np.linalg.norm(vu) > 1e-6:
                 th = math.atan2(float(am @ np.cross(vm, vu)), float(vm @ vu))
                 found.append(min((th, wrap(th + math.pi)), key=abs))
+        if found and all(min(np.linalg.norm(dm - du), np.linalg.norm(dm + du)) <= rtol for dm, du in dirs):
+            return 0.0
         if found:
             theta = consensus(found, [1.0] * len(found))
             turned = [axis_angle_to_matrix(am, np.array([theta]))[0] @ dm for dm, _ in dirs]

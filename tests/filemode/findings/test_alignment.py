@@ -94,3 +94,19 @@ def test_two_floating_bases_fix_the_frame_and_a_difference_is_reported_where_it_
     axes = [f for f in result.findings if f.kind == "axis_position"]
     assert sorted(f.subject for f in axes) == ["FL_thigh", "FR_thigh", "RL_thigh", "RR_thigh"]
     assert all(f.magnitude == pytest.approx(2.5e-3, abs=1e-9) for f in axes)
+
+
+def test_an_orientation_rounded_upstream_is_a_rounding_note_not_a_zero_offset(tmp_path):
+    """The MJCF writes panda_link2's quaternion to 5 decimals (0.707107 −0.70711: 4e-6 rad off) and
+    panda_link5's position rounded: everything downstream agrees only to that precision, and a
+    point near joint 7's axis (its link's centre of mass, 1 cm off it) turns those micrometres into
+    2e-4 rad. That is rounding, not a zero offset of joint 7, a limit difference or dynamics."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = P.body_attr(mjcf, "panda_link2", "quat", lambda s: "0.707107 -0.70711 0 0")
+    mjcf = P.body_attr(mjcf, "panda_link5", "pos", lambda s: "-0.0825 0.384 0")
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf),
+                          VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
+                                        extra={"dynamics_samples": 12}))
+    assert serious(result) == [] and result.passed
+    rounding = [f for f in result.findings if f.kind == "rounding" and f.subject == "panda_link2"]
+    assert len(rounding) == 1 and "0.70711" in rounding[0].message
