@@ -114,6 +114,12 @@ def _moved_by(desc: ModelDesc, owner: str | None, to_key: dict) -> str | None:
     return None
 
 
+def _base_body(desc: ModelDesc) -> str | None:
+    """The body nearest the root that moves with no joint and has mass (the base link or body)."""
+    massive = [b.name for b in desc.bodies if b.owner is None and b.mass > 0 and b.name in desc.frame_depth]
+    return min(massive, key=lambda n: desc.frame_depth[n], default=None)
+
+
 def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, poses_m: dict,
            floating: bool) -> list[Group]:
     """The rigid bodies of both files, paired. ``poses_u``/``poses_m``: body frame name -> pose at
@@ -125,6 +131,11 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
     out: dict[str, Group] = {}
     root = next(((fu, fm) for fu, fm in frame_pairs if u.frame_owner.get(fu) is None and m.frame_owner.get(fm) is None),
                 (ROOT, ROOT))
+    both = sorted((u.frame_depth.get(f, 0), f) for f in u.frames if u.frame_owner.get(f) is None and f in m.frames
+                  and m.frame_owner.get(f) is None and (u.body(f) is not None or m.body(f) is not None))
+    # the base is named after its body (the same name in both files, else the massive body nearest
+    # the root), not after a frame on it that a first joint happens to hang from
+    root = (both[0][1], both[0][1]) if both else (_base_body(u) or root[0], _base_body(m) or root[1])
     for a, b in [(ROOT, ROOT)] + list(joint_pairs):
         link_u = root[0] if a == ROOT else u.joint(a).child
         link_m = root[1] if b == ROOT else m.joint(b).child

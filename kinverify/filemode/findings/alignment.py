@@ -45,6 +45,27 @@ def _to_parent(desc: ModelDesc, joint: str) -> tuple[float, float]:
     return line_distance(p.anchor, p.axis, j.anchor, j.axis), angle
 
 
+def _alike_axes(findings: list[Finding]) -> list[Finding]:
+    """Joints whose axes differ the same way (the four legs of a robot, to 4 significant digits)
+    as one finding naming them all."""
+    groups: dict[tuple, list[Finding]] = {}
+    for f in findings:
+        if f.kind in ("axis_position", "axis_direction") and "on its parent" not in f.message:
+            groups.setdefault((f.kind, float(f"{f.magnitude:.4g}")), []).append(f)
+    out = []
+    for f in findings:
+        same = groups.get((f.kind, float(f"{f.magnitude:.4g}")), [f]) if f.kind in ("axis_position", "axis_direction") else [f]
+        if len(same) < 2 or f not in same:
+            out.append(f)
+        elif f is same[0]:
+            joints, others = [x.subject for x in same], [x.other for x in same]
+            what = f.message.split(": ", 1)[1]
+            out.append(finding(f.kind, f"{len(same)} joints alike: {', '.join(joints)}: {what}",
+                               {**f.values, "frames": [fr for x in same for fr in x.values["frames"]]},
+                               magnitude=f.magnitude, unit=f.unit, joint=joints, mjcf_joint=others))
+    return out
+
+
 def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Alignment, compared: list[str], tol) -> list[Finding]:
     """One finding per thing alignment solved: the world transform, each zero offset and sign
     flip (the checks compare after them), each axis that still differs (``values["frames"]``: the
@@ -111,6 +132,7 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
             differs.add(j.urdf)
             out.append(finding("axis_position", f"joint {j.urdf}/{j.mjcf}: the axis lines are {distance:.4g} m apart{how}",
                                {"distance_m": distance, "frames": frames}, magnitude=distance, unit="m", **names))
+    out = _alike_axes(out)
     renamed = [(a, b, how) for a, b, how in matching.joints if a != b]
     if renamed:
         hows = sorted({how for _, _, how in renamed})
