@@ -20,7 +20,10 @@ from tests.paths import REAL_ROBOTS
 
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
 FILES = {"panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
-         "z1": ("z1_erd.urdf", "z1_menagerie.xml"), "go2": ("go2_erd.urdf", "go2_menagerie.xml")}
+         "z1": ("z1_erd.urdf", "z1_menagerie.xml"), "go2": ("go2_erd.urdf", "go2_menagerie.xml"),
+         "a1": ("a1_unitree_ros.urdf", "a1_menagerie.xml"), "anymal_c": ("anymal_c_anybotics.urdf", "anymal_c_menagerie.xml"),
+         "leap_hand": ("leap_hand_dexurdf.urdf", "leap_hand_menagerie.xml"), "ur5e": ("ur5e_ur_description.urdf", "ur5e_menagerie.xml")}
+SAME_WORLD = ("panda", "iiwa14", "z1", "go2", "a1")  # every library reads both files, whose worlds coincide
 OPTIONS = VerifyOptions(samples=12, fd_samples=4, extra={"dynamics_samples": 20})
 
 
@@ -51,7 +54,7 @@ def serious(robot: str) -> list[tuple[str, str]]:
     return sorted((f.kind, f.severity) for f in result(robot).findings if f.severity != "info" and not drake_reading(f))
 
 
-@pytest.mark.parametrize("robot", list(FILES))
+@pytest.mark.parametrize("robot", SAME_WORLD)
 def test_every_library_reads_each_file_and_every_failing_check_has_its_finding(robot):
     r = result(robot)
     assert r.verdict == "fail" and r.exit_code == 1 and not r.internal_errors
@@ -166,3 +169,91 @@ def test_go2_thigh_axes_drake_stands_apart_from_mujoco_and_pinocchio():
     assert "read alike by mujoco and pinocchio-mjcf, and differently by drake-mjcf" in f.message
     assert f.values["rotation_rad"] > 3.0 and f.values["position_m"] > 0.1  # the thigh turned about another axis
     assert "drake-mjcf" not in result("go2").backends  # left out of the comparison between the files
+
+
+@pytest.mark.parametrize("robot", list(FILES))
+def test_every_pair_reaches_its_verdict_with_every_failing_check_explained(robot):
+    r = result(robot)
+    assert r.verdict == "fail" and r.exit_code == 1 and not r.internal_errors
+    assert not r.failed, [(c.property, c.frame, c.backends, c.max_error) for c in r.failed]
+    assert not findings(robot, "disagreement_starts") and not findings(robot, "dynamics_difference")
+
+
+def test_a1_hips_sit_2_5_mm_further_out_on_all_four_legs():
+    """The base bodies fix the frame (both float): the hips 2.5 mm further out along x, front and
+    rear alike, are said of all four legs, with the trunk 1.288 kg lighter in the MJCF."""
+    assert serious("a1") == [("axis_position", "error"), ("com_difference", "error"), ("com_difference", "error"),
+                             ("com_difference", "error"), ("damping_difference", "error"), ("damping_difference", "error"),
+                             ("inexpressible", "warning"), ("mass_difference", "error")]
+    assert not findings("a1", "base_frame_offset")
+    axes = one("a1", "axis_position")
+    assert axes.subject == "FL_thigh_joint, FR_thigh_joint, RL_thigh_joint, RR_thigh_joint"
+    assert axes.magnitude == pytest.approx(2.5e-3, abs=1e-9)
+    coms = {f.subject.split(",")[0]: f.magnitude for f in findings("a1", "com_difference")}
+    assert coms == pytest.approx({"FL_hip": 2.5e-3, "FL_thigh": 1.25e-3, "FL_calf": 1.25e-3}, abs=1e-9)
+    trunk = one("a1", "mass_difference")
+    assert (trunk.subject, trunk.values["urdf"]["mass"], trunk.values["mjcf"]["mass"]) == ("trunk", 6.001, 4.713)
+    assert trunk.values["com_distance_m"] < 1e-6  # the trunk's centre of mass is where it is in both
+    dampings = sorted((f.values["urdf"], f.values["mjcf"]) for f in findings("a1", "damping_difference"))
+    assert dampings == [(0.01, 1.0), (0.01, 2.0)]
+
+
+def test_anymal_c_base_lacks_7_kg_and_states_joint_damping_and_friction():
+    assert serious("anymal_c") == [("damping_difference", "error"), ("friction_difference", "error"),
+                                   ("mass_difference", "error")] + [("nonphysical_inertia", "error")] * 5 + \
+        [("parser_refused", "warning")]
+    base = one("anymal_c", "mass_difference")
+    assert base.subject == "base" and base.values["urdf"]["mass"] == pytest.approx(26.37317, abs=1e-9)
+    assert base.values["mjcf"]["mass"] == pytest.approx(19.2035, abs=1e-9)
+    assert {f.subject for f in findings("anymal_c", "nonphysical_inertia")} == {
+        "depth_camera_front_camera", "depth_camera_rear_camera", "depth_camera_left_camera", "depth_camera_right_camera", "hatch"}
+    assert one("anymal_c", "parser_refused").values["backend"] == "mujoco-urdf"  # MuJoCo refuses those inertias
+    damping, friction = one("anymal_c", "damping_difference"), one("anymal_c", "friction_difference")
+    assert (damping.values["urdf"], damping.values["mjcf"], friction.values["urdf"], friction.values["mjcf"]) == (0.0, 1.0, 0.0, 0.1)
+    assert damping.values["unset_in"] is None  # the URDF writes damping="0.0": stated, so an error
+
+
+def test_leap_hand_fingers_matched_by_place_differ_in_centres_of_mass_and_two_thumb_limits():
+    r = result("leap_hand")
+    pairs = {a: b for a, b, *_ in r.model_info["joint_pairs"]}
+    assert (pairs["1"], pairs["0"], pairs["12"], pairs["13"], pairs["5"], pairs["9"]) == (
+        "if_mcp", "if_rot", "th_cmc", "th_axl", "mf_mcp", "rf_mcp")
+    assert serious("leap_hand") == [("base_inertial_difference", "warning"), ("base_transform", "error")] + \
+        [("com_difference", "error")] * 7 + [("damping_unset", "warning"), ("effort_unset", "warning"),
+                                            ("friction_unset", "warning"), ("limit_difference", "error"),
+                                            ("limit_difference", "error")]
+    limits = {f.subject: (f.values["urdf"], f.values["mjcf"]) for f in findings("leap_hand", "limit_difference")}
+    assert limits == {"13": ([-0.47, 2.443], [-0.349, 2.094]), "14": ([-1.2, 1.9], [-0.47, 2.443])}
+    coms = {f.subject: f.magnitude for f in findings("leap_hand", "com_difference")}
+    assert coms["mcp_joint, mcp_joint_2, mcp_joint_3"] == pytest.approx(0.04385, abs=1e-5)  # three fingers alike
+    assert one("leap_hand", "damping_unset").values["unset_in"] == "URDF"
+
+
+def test_ur5e_world_turned_forearm_longer_and_every_link_a_different_mass():
+    """ur_description against Menagerie: the world turned by π, wrist 1's axis 0.2 mm further
+    (forearm 0.3922 against 0.392 m), and every link's mass; the wrist bodies' centres of mass
+    16-21 mm apart in the world, and wrist 1's inertia turned about its centre of mass."""
+    assert serious("ur5e") == [("axis_position", "error"), ("base_inertial_difference", "warning"),
+                               ("base_transform", "error"), ("inexpressible", "warning"),
+                               ("limit_difference", "error")] + [("mass_difference", "error")] * 6
+    turn = one("ur5e", "base_transform")
+    assert turn.values["rotation_rad"] == pytest.approx(math.pi, abs=1e-9)
+    assert one("ur5e", "axis_position").magnitude == pytest.approx(2e-4, abs=1e-9)
+    coms = {f.subject: f.values["com_distance_m"] for f in findings("ur5e", "mass_difference")}
+    assert coms == pytest.approx({"shoulder_link": 0.02568, "upper_arm_link": 0.02464, "forearm_link": 0.05015,
+                                  "wrist_1_link": 0.01653, "wrist_2_link": 0.01647, "wrist_3_link": 0.02057}, abs=1e-5)
+    wrist = next(f for f in findings("ur5e", "mass_difference") if f.subject == "wrist_1_link")
+    assert wrist.values["inertia_difference_kgm2"] == pytest.approx(3.657e-4, rel=1e-3) and "turned 90°" in wrist.message
+
+
+def test_ur5e_from_its_xacro_sources_gives_the_same_findings():
+    """The same URDF compiled from ur_description's xacro (name:=ur5e ur_type:=ur5e)."""
+    folder = REAL / "ur5e"
+    if not folder.is_dir():
+        pytest.skip(f"{folder} absent")
+    from kinverify.filemode.read.loading import given_packages
+
+    with given_packages({"ur_description": str(folder / "ur_description")}, {"name": "ur5e", "ur_type": "ur5e"}):
+        r = verify_files(str(folder / "ur_description" / "urdf" / "ur.urdf.xacro"), str(folder / "ur5e_menagerie.xml"), OPTIONS)
+    assert sorted((f.kind, f.subject) for f in r.findings if f.severity == "error") == \
+        sorted((f.kind, f.subject) for f in result("ur5e").findings if f.severity == "error")
