@@ -18,6 +18,9 @@ from __future__ import annotations
 
 import dataclasses
 
+from kinverify.filemode.compare.context import file_view
+from kinverify.filemode.compare.inertials import analyse, rounded_side, uniform_mass_ratio
+from kinverify.filemode.findings.table import finding, unit_factor
 from kinverify.suites.base import Finding, Property, Section, Suite, SuiteResult, VerifyContext, tolerance, within
 
 PROPS = ("inertia.mass", "inertia.com", "inertia.tensor")
@@ -34,8 +37,6 @@ class InertiaSuite(Suite):
     )
 
     def run(self, ctx: VerifyContext) -> SuiteResult:
-        from kinverify.filemode.compare.context import file_view
-        from kinverify.filemode.compare.inertials import analyse
 
         info = file_view(ctx)
         if info is None:
@@ -105,9 +106,6 @@ def _vec(v) -> str:
 def body_findings(results, info) -> list[Finding]:
     """One finding per rigid body that differs (the same difference on several bodies is one
     finding); one ``rounding`` finding when bodies agree only to the written precision."""
-    from kinverify.filemode.compare.inertials import rounded_side
-    from kinverify.filemode.findings.table import finding
-
     out: list[Finding] = []
     if info.inertials_explained_by:
         return out
@@ -155,9 +153,6 @@ def body_findings(results, info) -> list[Finding]:
 
 def _mass_units(results, info) -> Finding | None:
     """Every body's mass a constant multiple of the other file's (grams as kilograms): one finding."""
-    from kinverify.filemode.compare.inertials import uniform_mass_ratio
-    from kinverify.filemode.findings.table import finding, unit_factor
-
     ratio = uniform_mass_ratio(info.inertial_results or results)
     name = unit_factor(ratio, "mass") if ratio is not None else None
     if name is None:

@@ -19,6 +19,9 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from kinverify.filemode.compare.context import file_view
+from kinverify.filemode.compare.inertials import rounded_side
+from kinverify.filemode.findings.table import finding
 from kinverify.suites.base import Finding, Property, Section, Suite, SuiteResult, VerifyContext, tolerance, within
 
 DEGREE = 180 / math.pi
@@ -61,7 +64,6 @@ class LimitsSuite(Suite):
     )
 
     def run(self, ctx: VerifyContext) -> SuiteResult:
-        from kinverify.filemode.compare.context import file_view
 
         info = file_view(ctx)
         if info is None:
@@ -126,9 +128,6 @@ class LimitsSuite(Suite):
 
 def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
     """Differences above tolerance as findings, one per cause; rounding as one info per file."""
-    from kinverify.filemode.compare.inertials import rounded_side
-    from kinverify.filemode.findings.table import finding
-
     out, rounded, degrees, unlimited, other = [], [], [], {}, []
     tol = tolerances.get("limits.position", 1e-9)
     for r in rows:
@@ -209,7 +208,6 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
 
 
 def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
-    from kinverify.filemode.findings.table import finding
 
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
