@@ -39,6 +39,7 @@ from kinverify.filemode.read.precision import Floors
 from kinverify.model.transforms import axis_angle_to_matrix, geodesic_distance, invert_transform, skew
 
 TOL = 1e-9  # m and rad: agreement of exact double-precision readings
+LEVER = 1e-4  # a point this near a joint's axis (per metre of robot) gives its zero offset poorly
 NEAR_PARALLEL = 0.1  # sin of the angle between two axes below which their common perpendicular is ill-conditioned
 
 
@@ -205,6 +206,7 @@ class Aligner:
                 return 0.0
             ok = all(np.linalg.norm(xm + shift * am - xu) <= ptol for xm, xu in pairs)
             return shift if ok else 0.0
+        candidates = []
         for group in (points, extra):
             angles, weights, used = [], [], []
             for xm, xu in group:
@@ -215,10 +217,16 @@ class Aligner:
                     weights.append(rm * ru)
                     used.append((xm, xu))
             if angles:
-                if self._turns_onto(used, 0.0, am, pm, ptol):  # agree within the written precision as they are
-                    return 0.0  # (a point near the axis turns a rounding error into a large angle)
-                theta = consensus(angles, weights)
-                return theta if self._turns_onto(used, theta, am, pm, ptol) else 0.0
+                candidates.append((angles, weights, used))
+        # the next axes first; but points that near the axis give the angle poorly (an error ε at
+        # radius r is ε/r rad): then what it carries further out decides
+        usable = [c for c in candidates if max(c[1]) > (LEVER * self.scale) ** 2] or candidates[:1]
+        if usable:
+            angles, weights, used = usable[0]
+            if self._turns_onto(used, 0.0, am, pm, ptol):  # agree within the written precision as they are
+                return 0.0  # (a point near the axis turns a rounding error into a large angle)
+            theta = consensus(angles, weights)
+            return theta if self._turns_onto(used, theta, am, pm, ptol) else 0.0
         # everything it moves is on its axis: the next axes' directions, whose sign is the next
         # joints' own convention, so the smaller of the two turns
         found = []

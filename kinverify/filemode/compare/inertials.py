@@ -57,6 +57,7 @@ class Part:
     snapped: float = 0.0  # MuJoCo dropped this rotation of its principal axes [rad] (see describe)
     known: bool = True  # False: part of its mass came from a mesh file that is absent
     moved_by: str | None = None  # the joint in this file only that moves it (held at zero here)
+    snapped_com: float = 0.0  # MuJoCo put its centre of mass this far [m] from where the file states it (see describe)
     unset_twin: str | None = None  # the other file's link in the same role, which states no inertial
 
 
@@ -162,7 +163,8 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
         twin = twin if twin is not None and u.body(twin) is not None else None
         out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped,
                                                                known=body.mass_known, unset_twin=silent,
-                                                               moved_by=_moved_by(m, body.owner, key_m)))
+                                                               moved_by=_moved_by(m, body.owner, key_m),
+                                                               snapped_com=body.snapped_com))
     return [g for g in out.values() if g.urdf or g.mjcf]
 
 
@@ -292,7 +294,7 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
         big = max(a.mass, b.mass)
         com_floor = info.floor("inertia.com", fl.com + pos_floor + rot_floor * lever)
         mass_tol = max(defaults[0], info.floor("inertia.mass", fl.relative * big))
-        com_tol = max(defaults[1], com_floor)
+        com_tol = max(defaults[1], com_floor) + sum(p.snapped_com * p.mass for p in g.mjcf) / max(b.mass, 1e-300)
         norm = max(float(np.abs(np.linalg.eigvalsh(a.inertia)).max()), float(np.abs(np.linalg.eigvalsh(b.inertia)).max()))
         snapped = sum(2 * p.snapped * float(np.ptp(np.linalg.eigvalsh(p.inertia))) for p in g.mjcf)
         tensor_tol = max(defaults[2], info.floor("inertia.tensor", (fl.relative + 2 * (fl.inertial_angle + rot_floor)) * norm

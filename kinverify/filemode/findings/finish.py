@@ -30,7 +30,7 @@ def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
         result.sections["dynamics"] = Section(FileDynamicsSuite.title, "not compared: the masses of " + ", ".join(unknown)
                                               + " come from mesh files that are absent (see mass_unknown)")
         return
-    snapped = {r.group.key for r in results if any(p.snapped for p in r.group.mjcf)}
+    snapped = {r.group.key for r in results if any(p.snapped or p.snapped_com for p in r.group.mjcf)}
     # the MJCF's whole rigid body, with what a joint in one file only moves (held at zero, as the
     # locked models hold it)
     groups = {r.group.key: r.group.total("mjcf") for r in results

@@ -71,7 +71,7 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
         ine_w = rot_i @ np.diag(m.body_inertia[b]) @ rot_i.T
         com_l = rot_b.T @ (np.array(d.xipos[b]) - d.xpos[b])
         bodies.append(BodyInertial(body_owner(b), float(m.body_mass[b]), np.array(d.xipos[b]), ine_w, m.body(b).name,
-                                   com_l, rot_b.T @ ine_w @ rot_b, _snapped(m, b)))
+                                   com_l, rot_b.T @ ine_w @ rot_b, _snapped(m, b), snapped_com=_snapped_com(m, b)))
     return ModelDesc("mjcf", "mujoco", joints, frames, owner, depth, bodies, skipped, kind, _mjcf_couplings(m, movable),
                      np.array(m.opt.gravity, dtype=float), held=held)
 
@@ -82,6 +82,13 @@ def _snapped(m, b: int) -> float:
     aligned = (int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY), int(mujoco.mjtSameFrame.mjSAMEFRAME_BODYROT))
     vec = float(np.linalg.norm(m.body_iquat[b][1:]))
     return 2.0 * float(np.arcsin(min(1.0, vec))) if int(m.body_sameframe[b]) in aligned and vec > 0 else 0.0
+
+
+def _snapped_com(m, b: int) -> float:
+    """How far [m] a body's stated centre of mass (``body_ipos``) lies from where MuJoCo's run time
+    puts it: at the body origin, when the compiler found it within about 1e-6 m of it (``body_sameframe``)."""
+    same = int(m.body_sameframe[b]) == int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY)
+    return float(np.linalg.norm(m.body_ipos[b])) if same else 0.0
 
 
 def _pose(pos, mat) -> np.ndarray:

@@ -45,6 +45,7 @@ class BodyInertial:
     inertia_local: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about the CoM, body axes
     snapped: float = 0.0  # MuJoCo: angle [rad] of principal axes it aligned with the body frame (body_sameframe)
     mass_known: bool = True  # False: part of its mass came from a mesh file that is absent
+    snapped_com: float = 0.0  # MuJoCo: distance [m] of the stated centre of mass its run time puts at the body origin
 
 
 @dataclass(frozen=True)
