@@ -17,6 +17,7 @@ mirrored legs, are one finding), and inertials rounded at the written precision 
 from __future__ import annotations
 
 import dataclasses
+import math
 
 from kinverify.filemode.compare.context import file_view
 from kinverify.filemode.compare.inertials import analyse, rounded_side, uniform_mass_ratio
@@ -90,6 +91,8 @@ def _describe(r) -> str:
              + f": ΔI {r.diff.tensor:.3g} kg·m²" if r.diff.tensor > r.tol[2] else ""]
     lumped = [p.name for p in r.group.urdf + r.group.mjcf if p.twin is None and not any(p is x for x in r.moved)]
     text = "; ".join(p for p in parts if p)
+    if not math.isfinite(r.tol[1]):
+        text += " (its centre of mass and inertia are not compared: they depend on a mesh file that is absent)"
     return text + (f" (including {', '.join(lumped)}, fixed to it in one file only)" if lumped else "")
 
 

@@ -218,6 +218,18 @@ def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
         key = ("unbounded", math.isinf(m)) if math.isinf(err) else ("values", round(u, 9), round(m, 9))
         groups.setdefault(key, []).append(r)
     out = []
+    for side, other in (("URDF", "MJCF"), ("MJCF", "URDF")):  # no bound stated at all in one file
+        k = 0 if side == "URDF" else 1
+        silent = [r for r in rows if r["effort"][k] is None and r["effort"][1 - k] is not None]
+        if silent:
+            unit = "N·m" if all(r["revolute"] for r in silent) else "N" if not any(r["revolute"] for r in silent) else "N·m|N"
+            how = "no <limit effort>" if side == "URDF" else "no actuator on them"
+            out.append(finding("effort_unset", f"the {side} states no force bound on {len(silent)} joints ({how}); the "
+                               f"{other} bounds them: " + ", ".join(f"{r['label']} {r['effort'][1 - k]:g}" for r in silent)
+                               + f" {unit}", {"unset_in": side, "urdf": [r["effort"][0] for r in silent],
+                                              "mjcf": [r["effort"][1] for r in silent]},
+                               magnitude=max(r["effort"][1 - k] for r in silent), unit=unit, prop="limits.effort",
+                               joint=[r["joint"] for r in silent], mjcf_joint=[r["mjcf"] for r in silent]))
     for key, group in groups.items():
         unit = "N·m" if all(r["revolute"] for r in group) else "N" if not any(r["revolute"] for r in group) else "N·m|N"
         names = {"joint": [r["joint"] for r in group], "mjcf_joint": [r["mjcf"] for r in group]}

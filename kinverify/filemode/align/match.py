@@ -217,17 +217,57 @@ def match_joints(u: ModelDesc, m: ModelDesc, explicit=()) -> tuple[list[tuple[st
     return pairs, free(0), free(1)
 
 
-def match_couplings(u: ModelDesc, m: ModelDesc, joints) -> dict[str, Coupling]:
-    """URDF follower -> the coupling the comparison uses (URDF names): the URDF's own, else the
-    MJCF's mapped to URDF names, with the follower side the URDF's when both files couple."""
-    to_u = {b: a for a, b, _ in joints}
-    out = {c.follower: c for c in u.couplings if c.follower in to_u.values() and c.leader in to_u.values()}
-    for c in m.couplings:
-        f, lead = to_u.get(c.follower), to_u.get(c.leader)
-        if f is None or lead is None or f in out or lead in out:
+def resolve_couplings(couplings, order: list[str]) -> dict[str, Coupling]:
+    """Each coupled joint as ``joint = k·root + c`` of the first joint of its group in ``order``
+    (couplings are linear relations between two joints, so a group of them, a chain
+    ``a = k·b``, ``b = l·c`` or two followers of one leader, ties every member to one joint)."""
+    rank = {n: i for i, n in enumerate(order)}
+    edges: dict[str, list[tuple[str, float, float, Coupling]]] = {}
+    for c in couplings:
+        if c.follower not in rank or c.leader not in rank:
             continue
-        out[f] = Coupling(f, lead, c.multiplier, c.offset, c.source, c.nonlinear)
+        edges.setdefault(c.follower, []).append((c.leader, c.multiplier, c.offset, c))  # f = k·l + o
+        if c.multiplier:
+            edges.setdefault(c.leader, []).append((c.follower, 1 / c.multiplier, -c.offset / c.multiplier, c))
+    out, seen = {}, set()
+    for start in sorted(edges, key=rank.__getitem__):
+        if start in seen:
+            continue
+        group, todo = {start}, [start]
+        while todo:
+            for other, *_ in edges.get(todo.pop(), []):
+                if other not in group:
+                    group.add(other)
+                    todo.append(other)
+        root = min(group, key=rank.__getitem__)
+        seen |= group
+        value, todo = {root: (1.0, 0.0, None)}, [root]  # joint -> (k, c, a coupling on the way) with joint = k·root + c
+        while todo:
+            j = todo.pop()
+            kj, cj, _ = value[j]
+            for other, k, o, c in edges.get(j, []):  # j = k·other + o  =>  other = (j − o) / k
+                if other not in value and k:
+                    value[other] = (kj / k, (cj - o) / k, c)
+                    todo.append(other)
+        for j, (k, c, via) in value.items():
+            if j != root:
+                source = next((x.source for x in couplings if x.follower == j), via.source)
+                nonlinear = any(x.nonlinear for x in couplings if j in (x.follower, x.leader))
+                out[j] = Coupling(j, root, k, c, source, nonlinear)
     return out
+
+
+def match_couplings(u: ModelDesc, m: ModelDesc, joints) -> dict[str, Coupling]:
+    """URDF follower -> the coupling the comparison uses (URDF names, each follower in terms of the
+    first joint of its group, :func:`resolve_couplings`): the URDF's own, then the MJCF's mapped to
+    URDF names for the joints the URDF leaves free."""
+    to_u = {b: a for a, b, _ in joints}
+    order = [a for a, _, _ in joints]
+    mine = [c for c in u.couplings if c.follower in to_u.values() and c.leader in to_u.values()]
+    theirs = [Coupling(to_u[c.follower], to_u[c.leader], c.multiplier, c.offset, c.source, c.nonlinear)
+              for c in m.couplings if c.follower in to_u and c.leader in to_u]
+    coupled = {x for c in mine for x in (c.follower, c.leader)}
+    return resolve_couplings(mine + [c for c in theirs if c.follower not in coupled and c.leader not in coupled], order)
 
 
 def match_frames(u: ModelDesc, m: ModelDesc, joints, explicit=()) -> list[tuple[str, str, str]]:

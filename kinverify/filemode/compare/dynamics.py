@@ -203,6 +203,14 @@ def parameter_findings(info, tolerances: dict) -> list:
                            "(the comparison gives Pinocchio the MJCF's)", {"mjcf": {j.urdf: a for j, a in armature}},
                            magnitude=max(a for _, a in armature), unit="kg·m²", prop="dynamics.armature",
                            joint=[j.urdf for j, _ in armature], mjcf_joint=[j.mjcf for j, _ in armature]))
+    springs = [(j, info.m.joint(j.mjcf).stiffness) for j in info.alignment.joints if info.m.joint(j.mjcf).stiffness]
+    if springs:
+        values = sorted({round(k, 12) for _, k in springs})
+        out.append(finding("stiffness_inexpressible", f"the MJCF gives {len(springs)} joints a spring (stiffness "
+                           f"{', '.join(f'{v:g}' for v in values)}), which a URDF cannot express: the URDF's dynamics lack it "
+                           "(springs are left out of the dynamics comparison)", {"mjcf": {j.urdf: k for j, k in springs}},
+                           magnitude=max(k for _, k in springs), unit="N·m/rad", prop="dynamics.stiffness",
+                           joint=[j.urdf for j, _ in springs], mjcf_joint=[j.mjcf for j, _ in springs]))
     rotor = {j: e for j, e in info.u.extensions.items() if "rotor_inertia" in e}
     if rotor:
         reflected = {j: e["rotor_inertia"] * e.get("gear_ratio", 1.0) ** 2 for j, e in rotor.items()}

@@ -56,6 +56,7 @@ class Part:
     twin: str | None  # the other file's body in the same role, None when it has none
     snapped: float = 0.0  # MuJoCo dropped this rotation of its principal axes [rad] (see describe)
     known: bool = True  # False: part of its mass came from a mesh file that is absent
+    com_known: bool = True  # False: its mass is known, not its centre of mass and inertia (an absent mesh)
     moved_by: str | None = None  # the joint in this file only that moves it (held at zero here)
     snapped_com: float = 0.0  # MuJoCo put its centre of mass this far [m] from where the file states it (see describe)
     unset_twin: str | None = None  # the other file's link in the same role, which states no inertial
@@ -164,7 +165,7 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
         out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped,
                                                                known=body.mass_known, unset_twin=silent,
                                                                moved_by=_moved_by(m, body.owner, key_m),
-                                                               snapped_com=body.snapped_com))
+                                                               snapped_com=body.snapped_com, com_known=body.com_known))
     return [g for g in out.values() if g.urdf or g.mjcf]
 
 
@@ -300,6 +301,8 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
         tensor_tol = max(defaults[2], info.floor("inertia.tensor", (fl.relative + 2 * (fl.inertial_angle + rot_floor)) * norm
                                                 + 2 * big * (lever + fl.com) * com_floor), defaults[2] + snapped)
         diff = difference(a, b)
+        if not all(p.com_known for p in g.urdf + g.mjcf):  # the mass is compared, not where it sits
+            com_tol = tensor_tol = math.inf
         tol = (mass_tol, com_tol, tensor_tol)
         # what a joint in one file only moves, with no twin in the other file, is that joint's part
         # (an extra part, said with it), not this body's, unless the bodies agree with it held at zero
@@ -309,15 +312,18 @@ def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
             diff = difference(a, b)
         else:
             moved = []
-        if diff.within(*tol):
-            exact = (defaults[0], defaults[1], defaults[2] + snapped)
+        if not all(p.known for p in g.urdf + g.mjcf):  # a placeholder mass: nothing to say, either way
+            result = GroupResult(g, a, b, diff, tol, "unknown", moved=moved)
+        elif diff.within(*tol):
+            exact = (defaults[0], defaults[1], defaults[2] + snapped) if math.isfinite(com_tol) else (defaults[0], com_tol, tensor_tol)
             status = "rounding" if not diff.within(*exact) and info.file_mode else "agree"
             result = GroupResult(g, a, b, diff, tol, status, moved=moved)
-        elif not all(p.known for p in g.urdf + g.mjcf):
-            result = GroupResult(g, a, b, diff, tol, "unknown", moved=moved)
         else:
             result = GroupResult(g, a, b, diff, tol, "differs", moved=moved)
-            extra = [p for p in g.twinless("urdf") + g.twinless("mjcf") if not any(p is x for x in moved)]
+            lone_u, lone_m = (g.twinless(s) for s in ("urdf", "mjcf"))
+            # bodies with no twin explain a difference only when one file has them: with some in both,
+            # the files describe one body by other links (a massless root link and its inertia link)
+            extra = [p for p in (lone_u if not lone_m else lone_m if not lone_u else []) if not any(p is x for x in moved)]
             without = difference(g.total("urdf", moved + extra), g.total("mjcf", moved + extra)) if extra else None
             if without is not None and without.within(*tol):
                 status = "unset" if all(p.unset_twin for p in extra) else "explained"

@@ -168,6 +168,9 @@ def total_mass_finding(info, findings: list, tol: float):
                    magnitude=abs(mm - mu), unit="kg")
 
 
+FAR = 0.01  # m: a frame farther than this from every frame of the other file on its body has no twin there
+
+
 def frame_twins(info, tol) -> tuple[list, list[tuple[str, str, str]]]:
     """Frames one file has with no same-named twin: matched by position on the same rigid body
     (at the aligned zero). Returns the findings and the new frame pairs that coincide."""
@@ -200,6 +203,8 @@ def frame_twins(info, tol) -> tuple[list, list[tuple[str, str, str]]]:
         what = ("is" if same else "is not") + f" the MJCF's {info.m.frame_kind.get(g, 'frame')} {g}"
         offset = "" if same else (f": nearest, {dist:.4g} m away (xyz {np.round(rel[:3, 3], 6).tolist()} in {g}'s axes)"
                                   + (f" and turned {math.degrees(angle):.4g}°" if angle > rtol else ""))
+        if dist > FAR:  # nothing of the MJCF is near it: no twin to name
+            what, offset = "has no twin in the MJCF", f" (the nearest MJCF frame on its body, {g}, is {dist:.4g} m away)"
         out.append(finding("frame_twin", f"URDF frame {f} (no same-named MJCF frame) {what}{offset}",
                            {"mjcf_frame": g, "distance_m": dist, "rotation_rad": angle, "xyz": rel[:3, 3].tolist()},
                            magnitude=dist, unit="m", frame=f, mjcf_frame=g))

@@ -142,12 +142,15 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
     return out
 
 
-def convention_findings(al: Alignment, kinds: dict[str, str], tol) -> list[Finding]:
+def convention_findings(al: Alignment, kinds: dict[str, str], tol, moved=frozenset()) -> list[Finding]:
     """A matched frame whose pose differs by a constant while its joint and motion agree: a link
     frame is the files' choice (info); a named frame (a site, a tool frame) placed elsewhere is a
-    difference (error). ``kinds``: URDF frame -> "link" or "site" (from the MJCF side)."""
+    difference (error). ``kinds``: URDF frame -> "link" or "site" (from the MJCF side); ``moved``:
+    frames a joint that differs already moves (a finding says so: no convention to claim there)."""
     out = []
     for f in al.frames:
+        if f.urdf in moved:
+            continue
         ptol, rtol = tol(f.urdf)
         if f.position <= ptol and f.rotation <= rtol:
             continue

@@ -1,36 +1,37 @@
-"""Couplings (URDF ``<mimic>``, MJCF ``<equality joint>``) that differ between the files, or
-that one file lacks; an MJCF stating the coupling the other way round (leader from follower) is
-turned round before comparing."""
+"""Couplings (URDF ``<mimic>``, MJCF ``<equality joint>``) that differ between the files, or that
+one file lacks. Each file's couplings are resolved first (a coupling stated the other way round,
+or through a chain of them, ties the same joints), then compared joint by joint."""
 
 from __future__ import annotations
 
+from kinverify.filemode.align.match import resolve_couplings
 from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.model import Coupling
 
 
 def coupling_findings(u, m, matching) -> list:
-    """Couplings (URDF <mimic>, MJCF <equality joint>) that differ, or that one file lacks."""
+    """Couplings (URDF <mimic>, MJCF <equality joint>) that differ, or that one file lacks, each
+    joint compared as ``joint = k·root + c`` of the first joint of its group (chains followed)."""
     out = []
     to_u = {b: a for a, b, _ in matching.joints}
-    matched = set(to_u.values())  # a joint in one file only is said once, as an extra part
-    mine = {c.follower: c for c in u.couplings if c.follower in matched and c.leader in matched}
-    theirs = {}
-    for c in m.couplings:
-        f, lead = to_u.get(c.follower), to_u.get(c.leader)
-        if f is None or lead is None:
-            continue
-        if f in mine and mine[f].leader == lead or lead not in mine:
-            theirs[f] = (lead, c.multiplier, c.offset, c)
-        else:  # the MJCF states it the other way round: leader = (follower − offset) / multiplier
-            theirs[lead] = (f, 1 / c.multiplier, -c.offset / c.multiplier, c) if c.multiplier else (f, 0.0, 0.0, c)
-    for f in sorted(set(mine) | set(theirs)):
+    order = [a for a, _, _ in matching.joints]
+    mine = resolve_couplings([c for c in u.couplings if c.follower in to_u.values() and c.leader in to_u.values()], order)
+    theirs = resolve_couplings([Coupling(to_u[c.follower], to_u[c.leader], c.multiplier, c.offset, c.source, c.nonlinear)
+                                for c in m.couplings if c.follower in to_u and c.leader in to_u], order)
+    for f in sorted(set(mine) | set(theirs), key=order.index):
         a, b = mine.get(f), theirs.get(f)
-        if a is None or b is None:
-            side = "URDF" if a is not None else "MJCF"
-            lead = a.leader if a is not None else b[0]
-            out.append(finding("coupling_one_file", f"joint {f} follows {lead} in the {side} only ({(a or b[3]).source}); the "
-                               "other file leaves it free: compared as coupled", {"file": side, "leader": lead}, joint=f))
-        elif a.leader != b[0] or abs(a.multiplier - b[1]) > 1e-9 or abs(a.offset - b[2]) > 1e-9:
+        if a is None or b is None or a.leader != b.leader:
+            if a is not None and b is not None:  # both couple it, to different joints
+                out.append(finding("coupling_difference", f"joint {f}: {f} = {a.multiplier:g}·{a.leader} + {a.offset:g} in the "
+                                   f"URDF, {b.multiplier:g}·{b.leader} + {b.offset:g} in the MJCF",
+                                   {"urdf": [a.multiplier, a.offset], "mjcf": [b.multiplier, b.offset]}, joint=f))
+                continue
+            c, side = (a, "URDF") if a is not None else (b, "MJCF")
+            out.append(finding("coupling_one_file", f"joint {f} follows {c.leader} in the {side} only ({c.source}); the "
+                               "other file leaves it free: compared as coupled", {"file": side, "leader": c.leader}, joint=f))
+        elif abs(a.multiplier - b.multiplier) > 1e-9 or abs(a.offset - b.offset) > 1e-9:
             out.append(finding("coupling_difference", f"joint {f}: {f} = {a.multiplier:g}·{a.leader} + {a.offset:g} in the URDF, "
-                               f"{b[1]:g}·{b[0]} + {b[2]:g} in the MJCF", {"urdf": [a.multiplier, a.offset],
-                                                                          "mjcf": [b[1], b[2]]}, joint=f))
+                               f"{b.multiplier:g}·{b.leader} + {b.offset:g} in the MJCF", {"urdf": [a.multiplier, a.offset],
+                                                                                          "mjcf": [b.multiplier, b.offset]},
+                               joint=f))
     return out

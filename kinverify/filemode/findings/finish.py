@@ -81,6 +81,8 @@ def finish(result, diag, sources, opts, dynamics: bool, entries, write_accepted,
     rounding = rounding_finding(raised, info, culprits)
     findings += [rounding] if rounding else []
     checks, findings = explain(checks, findings, info)
+    starts = {fr for f in findings if f.kind == "disagreement_starts" for fr in f.values.get("frames", [])}
+    findings = [f for f in findings if not (f.kind == "frame_convention" and f.subject in starts)]  # no "motion agrees" there
     if entries:
         findings = acc.apply(findings, entries, lambda f: _tol(opts, f.property) if f.property else 1e-9)
     if write_accepted:

@@ -30,6 +30,7 @@ SEVERITY = {
     "damping_difference": "error", "friction_difference": "error", "dynamics_difference": "error",
     # worth knowing
     "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
+    "stiffness_inexpressible": "warning",
     "coupling_one_file": "warning", "base_inertial_difference": "warning", "base_frame_offset": "warning",
     # one file leaves a value unset (the format's default), the other states one
     "damping_unset": "warning", "friction_unset": "warning", "limit_unset": "warning", "effort_unset": "warning",

@@ -61,6 +61,7 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
             m.body(m.body_parentid[b]).name if m.body_parentid[b] > 0 else "world",
             np.array(d.xaxis[j]), np.array(d.xanchor[j]), lo, up,
             damping=float(m.dof_damping[v]), friction=float(m.dof_frictionloss[v]), armature=float(m.dof_armature[v]),
+            stiffness=float(m.jnt_stiffness[j]),
             effort=effort, velocity=None, effort_how=how))
     bodies = []
     for b in range(1, m.nbody):

@@ -114,6 +114,7 @@ def with_statements(desc: ModelDesc, loaded: LoadedFile) -> ModelDesc:
         j.stated = stated
     for b in desc.bodies:
         b.mass_known = b.name not in loaded.unknown_mass
+        b.com_known = b.name not in loaded.unknown_com
     return desc
 
 

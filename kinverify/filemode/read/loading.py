@@ -40,6 +40,7 @@ class LoadedFile:
     name: str
     warnings: tuple[str, ...] = field(default_factory=tuple)
     unknown_mass: tuple[str, ...] = ()  # MJCF bodies whose mass came in part from a dropped mesh
+    unknown_com: tuple[str, ...] = ()  # MJCF bodies whose dropped meshes stated their mass: mass known, not where
 
     @cached_property
     def tree(self) -> ET.Element:
@@ -238,7 +239,7 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     text, root = read_xml(path, "mjcf")
     name = root.get("model") or Path(path).stem
     kept = _resolve_mesh_assets(root, Path(path).resolve().parent) if keep_meshes else set()
-    dropped, massless = _drop_meshes(root, kept)
+    dropped, massless, approximate = _drop_meshes(root, kept)
     warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped, their files are absent"] if dropped else []
     if kept:
         warnings.append(f"MJCF: {len(kept)} mesh assets resolved to existing files and kept")
@@ -251,7 +252,10 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
         spec.compile()
     except ValueError as err:
         warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {library_reason(err)}")
-    return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings), tuple(massless))
+    if approximate:
+        warnings.append("MJCF bodies whose (absent) mesh geoms state their mass: the mass is compared, not the centre of "
+                        f"mass and inertia: {', '.join(approximate)}")
+    return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings), tuple(massless), tuple(approximate))
 
 
 def _route_mujoco_warnings(mujoco) -> None:
@@ -303,16 +307,19 @@ def _weighs(geom: ET.Element, parents: dict, defaults: dict) -> bool:
         return True
 
 
-def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, list[str]]:
+def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, list[str], list[str]]:
     """Remove geoms using a mesh not in ``kept`` (named on the geom or given by its default class),
     those mesh assets and the default classes' references to them, skin/hfield assets and file
     textures (and references to them). Also returns the bodies whose mass came in part from a
-    dropped mesh (no ``<inertial>``, or ``inertiafromgeom="true"``): their mass is not known."""
+    dropped mesh (no ``<inertial>``, or ``inertiafromgeom="true"``): their mass is not known; and
+    those whose dropped meshes all state their ``mass``: kept as points, so the body's mass is known,
+    not its centre of mass and inertia."""
     parents = {child: parent for parent in root.iter() for child in parent}
     defaults = class_defaults(root, "geom")
     compiler = root.find("compiler")
     from_geoms = compiler is not None and compiler.get("inertiafromgeom") == "true"
-    dropped, massless, gone_geoms, gone_tex = 0, [], set(), set()
+    never = compiler is not None and compiler.get("inertiafromgeom") == "false"  # geoms give no body its mass
+    dropped, massless, approximate, gone_geoms, gone_tex = 0, [], [], set(), set()
     for geom in list(root.iter("geom")):
         if parents[geom].tag == "default":
             continue
@@ -320,11 +327,19 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
         if mesh is not None and mesh not in kept:
             body = parents[geom]
             weighs = _weighs(geom, parents, defaults)
+            mass = attribute(geom, "mass", parents, defaults)
             body.remove(geom)
             dropped += 1
             gone_geoms.add(geom.get("name"))
-            if body.tag == "body" and weighs and (from_geoms or body.find("inertial") is None) \
-                    and (body.get("name") or "?") not in massless:
+            if body.tag != "body" or not weighs or never or not (from_geoms or body.find("inertial") is None):
+                continue
+            if mass is not None:  # its mass is stated: kept, as a point at the geom's frame (where in the mesh is not known)
+                point = ET.SubElement(body, "geom", {k: v for k, v in geom.attrib.items() if k in ("pos", "quat", "name")}
+                                      | {"mass": mass, "type": "sphere", "size": "1e-4", "contype": "0", "conaffinity": "0",
+                                         "group": "5"})
+                parents[point] = body
+                approximate.append(body.get("name") or "?")
+            elif (body.get("name") or "?") not in massless:
                 massless.append(body.get("name") or "?")
     for body in root.iter("body"):  # massless now: MuJoCo refuses a moving body without mass
         if (body.get("name") or "?") in massless and body.find("inertial") is None \
@@ -351,6 +366,6 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
         for pair in list(contact):
             if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
                 contact.remove(pair)
-    return dropped, massless
+    return dropped, massless, [b for b in dict.fromkeys(approximate) if b not in massless]
 
 

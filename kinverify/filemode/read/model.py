@@ -28,6 +28,7 @@ class JointDesc:
     damping: float | None = None
     friction: float | None = None
     armature: float | None = None  # None: the format cannot express it
+    stiffness: float | None = None  # a joint spring [N·m/rad or N/m] (MJCF stiffness); None: the format cannot express it
     effort: float | None = None  # None: not stated; inf: actuators without a force bound
     velocity: float | None = None  # None: the format cannot express it
     effort_how: str = ""  # where the effort comes from (URDF <limit>, MJCF actuators)
@@ -45,6 +46,7 @@ class BodyInertial:
     inertia_local: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))  # about the CoM, body axes
     snapped: float = 0.0  # MuJoCo: angle [rad] of principal axes it aligned with the body frame (body_sameframe)
     mass_known: bool = True  # False: part of its mass came from a mesh file that is absent
+    com_known: bool = True  # False: a mesh that is absent stated its mass; where it sits is not known
     snapped_com: float = 0.0  # MuJoCo: distance [m] of the stated centre of mass its run time puts at the body origin
 
 

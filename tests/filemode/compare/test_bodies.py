@@ -66,6 +66,7 @@ def test_a_mass_that_came_from_an_absent_mesh_is_not_compared(tmp_path):
     mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
                       lambda m: m[1] + '<geom name="panda_link4_mesh" type="mesh" mesh="link4"/>', mjcf)
     mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link4" file="absent/link4.stl"/></asset><worldbody>', mjcf)
+    mjcf = mjcf.replace(' inertiafromgeom="false"', "")  # MuJoCo's default: a body without <inertial> weighs its geoms
     result = run(tmp_path, urdf, mjcf)
     assert serious(result) == [("mass_unknown", "panda_link4")] and result.passed
 
@@ -79,3 +80,42 @@ def test_an_inertial_one_file_leaves_unset_is_a_warning(tmp_path):
     (unset,) = [f for f in result.findings if f.kind == "inertial_unset"]
     assert unset.severity == "warning" and unset.values["unset_in"] == "URDF" and unset.subject == "panda_link6"
     assert serious(result) == [("inertial_unset", "panda_link6")] and result.passed
+
+
+def test_a_base_whose_mass_sits_on_a_fixed_child_link_is_one_body(tmp_path):
+    """The URDF's floating trunk states no inertial; its mass sits on a fixed child link
+    (trunk_inertia), as Spot's URDF does. The MJCF's trunk is 20 % heavier: one mass_difference on
+    the trunk, not two extra parts (one in each file) that hide it."""
+    from kinverify.generate import generate_mjcf, generate_urdf
+    from kinverify.model.specfile import spec_from_dict
+    from tests.filemode.findings.test_alignment import quadruped
+
+    spec = quadruped()
+    urdf = generate_urdf(spec_from_dict(spec))
+    inertial = P.re.search(r'<link name="trunk">\s*(<inertial>.*?</inertial>)', urdf, P.re.S)[1]
+    urdf = urdf.replace(inertial, "", 1)
+    urdf = P.sub_once(r"</robot>", f'<link name="trunk_inertia">{inertial}</link><joint name="trunk_inertia_fixed" '
+                      'type="fixed"><parent link="trunk"/><child link="trunk_inertia"/></joint></robot>', urdf)
+    spec["base"]["link"]["mass"] = 7.2
+    mjcf = generate_mjcf(spec_from_dict(spec))
+    result = run(tmp_path, urdf, mjcf, VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
+                                                     suites=["kinematics", "inertia"]))
+    assert serious(result) == [("mass_difference", "trunk")]
+    (f,) = [f for f in result.findings if f.kind == "mass_difference"]
+    assert (f.values["urdf"]["mass"], f.values["mjcf"]["mass"]) == pytest.approx((6.0, 7.2))
+
+
+def test_a_mesh_that_states_its_mass_keeps_the_mass_compared(tmp_path):
+    """The MJCF's panda_link4 has no <inertial>; its absent mesh geom states mass="4": the body's
+    mass is known (and differs from the URDF's 3.59 kg), its centre of mass and inertia are not."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<inertial [^>]*/>', lambda m: m[1], mjcf)
+    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
+                      lambda m: m[1] + '<geom name="panda_link4_mesh" type="mesh" mesh="link4" mass="4"/>', mjcf)
+    mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link4" file="absent/link4.stl"/></asset><worldbody>', mjcf)
+    mjcf = mjcf.replace(' inertiafromgeom="false"', "")  # MuJoCo's default: a body without <inertial> weighs its geoms
+    result = run(tmp_path, urdf, mjcf, VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
+                                                     suites=["kinematics", "inertia"]))
+    assert serious(result) == [("mass_difference", "panda_link4")]
+    (f,) = [f for f in result.findings if f.kind == "mass_difference"]
+    assert f.values["mjcf"]["mass"] == pytest.approx(4.0) and "not compared" in f.message

@@ -87,3 +87,21 @@ def test_unset_findings_take_part_in_the_accepted_differences(tmp_path):
                                     lambda _: 1e-9)]
     assert accepted.accepted and accepted.severity == "warning"
     assert accepted.magnitude == pytest.approx(1.0)
+
+
+def test_a_joint_with_no_actuator_in_the_mjcf_has_an_unset_force_bound(tmp_path):
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = P.re.sub(r'<motor name="joint3_motor"[^>]*/>', "", mjcf)
+    result = run(tmp_path, urdf, mjcf)
+    (f,) = [f for f in result.findings if f.kind == "effort_unset"]
+    assert f.severity == "warning" and f.values["unset_in"] == "MJCF" and f.subject == "joint3"
+    assert "no actuator" in f.message and kinds(result) == [("effort_unset", "warning")]
+
+
+def test_a_joint_spring_the_urdf_cannot_express_is_a_warning(tmp_path):
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = P.re.sub(r'(<joint name="joint2" )', r'\1stiffness="5" ', mjcf)
+    result = run(tmp_path, urdf, mjcf)
+    (f,) = [f for f in result.findings if f.kind == "stiffness_inexpressible"]
+    assert f.severity == "warning" and f.subject == "joint2" and f.magnitude == 5.0
+    assert kinds(result) == [("stiffness_inexpressible", "warning")] and result.passed  # springs are off in the dynamics

@@ -1,0 +1,44 @@
+"""Couplings compared joint by joint after each file's are resolved: a chain of couplings, or one
+stated the other way round, ties the same joints."""
+
+from __future__ import annotations
+
+import tests.filemode.pairs as P
+from kinverify.filemode.pipeline import verify_files
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.specfile import spec_from_dict
+from kinverify.run import VerifyOptions
+from tests.filemode.align.test_match import hand
+
+FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics"])
+
+
+def coupled(urdf: str, mjcf: str, mimics: dict, equalities: list) -> tuple[str, str]:
+    """``mimics``: URDF follower -> (leader, multiplier, offset); ``equalities``: MJCF (joint1,
+    joint2, multiplier, offset) meaning joint1 = offset + multiplier·joint2."""
+    for follower, (leader, k, c) in mimics.items():
+        urdf = P.sub_once(rf'(<joint name="{follower}" type="revolute">)',
+                          lambda m: m[1] + f'<mimic joint="{leader}" multiplier="{k}" offset="{c}"/>', urdf)
+    eq = "".join(f'<joint joint1="{a}" joint2="{b}" polycoef="{c} {k} 0 0 0"/>' for a, b, k, c in equalities)
+    return urdf, P.sub_once(r"</mujoco>", f"<equality>{eq}</equality></mujoco>", mjcf)
+
+
+def test_a_chain_of_couplings_is_the_coupling_it_makes(tmp_path):
+    """URDF: ring_base = −1·index_tip, index_tip = 1·index_base (a chain); MJCF: ring_base =
+    −1·index_base and index_base = 1·index_tip (stated the other way round). One coupling, no finding."""
+    spec = spec_from_dict(hand())
+    urdf, mjcf = coupled(generate_urdf(spec), generate_mjcf(spec),
+                         {"index_tip": ("index_base", 1.0, 0.0), "ring_base": ("index_tip", -1.0, 0.0)},
+                         [("ring_base", "index_base", -1.0, 0.0), ("index_base", "index_tip", 1.0, 0.0)])
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    assert not [f for f in result.findings if f.kind.startswith("coupling")], [f.message for f in result.findings]
+    assert result.passed
+
+
+def test_a_coupling_with_another_offset_is_a_difference(tmp_path):
+    spec = spec_from_dict(hand())
+    urdf, mjcf = coupled(generate_urdf(spec), generate_mjcf(spec), {"index_tip": ("index_base", 1.0, 0.1)},
+                         [("index_tip", "index_base", 1.0, 0.2)])
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    (f,) = [f for f in result.findings if f.kind.startswith("coupling")]
+    assert f.kind == "coupling_difference" and f.values == {"urdf": [1.0, 0.1], "mjcf": [1.0, 0.2]}
