@@ -195,22 +195,18 @@ def parameter_findings(info, tolerances: dict) -> list:
         out.append(finding(kind, message, {"urdf": x, "mjcf": y, "unset_in": silent or None, "checks": [[prop, "parameters"]]},
                            magnitude=abs(x - y), unit=units[prop], prop=prop, joint=[j.urdf for j in joints],
                            mjcf_joint=[j.mjcf for j in joints]))
-    armature = [(j, info.m.joint(j.mjcf).armature) for j in info.alignment.joints if info.m.joint(j.mjcf).armature]
-    if armature:
-        values = sorted({round(a, 12) for _, a in armature})
-        out.append(finding("inexpressible", f"the MJCF gives {len(armature)} joints armature (rotor inertia) "
-                           f"{', '.join(f'{v:g}' for v in values)}, which a URDF cannot express: the URDF's dynamics lack it "
-                           "(the comparison gives Pinocchio the MJCF's)", {"mjcf": {j.urdf: a for j, a in armature}},
-                           magnitude=max(a for _, a in armature), unit="kg·m²", prop="dynamics.armature",
-                           joint=[j.urdf for j, _ in armature], mjcf_joint=[j.mjcf for j, _ in armature]))
-    springs = [(j, info.m.joint(j.mjcf).stiffness) for j in info.alignment.joints if info.m.joint(j.mjcf).stiffness]
-    if springs:
-        values = sorted({round(k, 12) for _, k in springs})
-        out.append(finding("stiffness_inexpressible", f"the MJCF gives {len(springs)} joints a spring (stiffness "
-                           f"{', '.join(f'{v:g}' for v in values)}), which a URDF cannot express: the URDF's dynamics lack it "
-                           "(springs are left out of the dynamics comparison)", {"mjcf": {j.urdf: k for j, k in springs}},
-                           magnitude=max(k for _, k in springs), unit="N·m/rad", prop="dynamics.stiffness",
-                           joint=[j.urdf for j, _ in springs], mjcf_joint=[j.mjcf for j, _ in springs]))
+    for kind, field, what, unit, prop, handled in (
+            ("inexpressible", "armature", "armature (rotor inertia) {}", "kg·m²", "dynamics.armature",
+             "the comparison gives Pinocchio the MJCF's"),
+            ("stiffness_inexpressible", "stiffness", "a spring (stiffness {})", "N·m/rad", "dynamics.stiffness",
+             "springs are left out of the dynamics comparison")):
+        given = [(j, getattr(info.m.joint(j.mjcf), field)) for j in info.alignment.joints if getattr(info.m.joint(j.mjcf), field)]
+        if given:
+            values = ", ".join(f"{v:g}" for v in sorted({round(x, 12) for _, x in given}))
+            out.append(finding(kind, f"the MJCF gives {len(given)} joints {what.format(values)}, which a URDF cannot express: "
+                               f"the URDF's dynamics lack it ({handled})", {"mjcf": {j.urdf: x for j, x in given}},
+                               magnitude=max(x for _, x in given), unit=unit, prop=prop,
+                               joint=[j.urdf for j, _ in given], mjcf_joint=[j.mjcf for j, _ in given]))
     rotor = {j: e for j, e in info.u.extensions.items() if "rotor_inertia" in e}
     if rotor:
         reflected = {j: e["rotor_inertia"] * e.get("gear_ratio", 1.0) ** 2 for j, e in rotor.items()}
