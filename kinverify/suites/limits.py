@@ -203,11 +203,13 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
                            f"(within the written precision, {tol:.2g}): " + ", ".join(r["label"] for r in group),
                            {"file": side, "joints": [r["joint"] for r in group], "largest": largest},
                            magnitude=largest, unit="rad", prop="limits.position"))
-    out += effort_findings(rows, tolerances.get("limits.effort", 1e-9))
+    out += effort_findings(rows, tolerances.get("limits.effort", 1e-9), set(info.alignment.couplings))
     return out
 
 
-def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
+def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list[Finding]:
+    """Force bounds that differ, or that one file leaves unset; ``followers``: coupled joints, driven
+    through their leader (a follower with no actuator of its own is not unbounded)."""
 
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
@@ -220,7 +222,7 @@ def effort_findings(rows: list[dict], tol: float) -> list[Finding]:
     out = []
     for side, other in (("URDF", "MJCF"), ("MJCF", "URDF")):  # no bound stated at all in one file
         k = 0 if side == "URDF" else 1
-        silent = [r for r in rows if r["effort"][k] is None and r["effort"][1 - k] is not None]
+        silent = [r for r in rows if r["effort"][k] is None and r["effort"][1 - k] is not None and r["joint"] not in followers]
         if silent:
             unit = "N·m" if all(r["revolute"] for r in silent) else "N" if not any(r["revolute"] for r in silent) else "N·m|N"
             how = "no <limit effort>" if side == "URDF" else "no actuator on them"
