@@ -218,11 +218,24 @@ def groups(result: VerifyResult) -> list[Group]:
     return out
 
 
-def layout(groups: list[Group]) -> list[list[Group]]:
-    """Groups in two stacks that sit side by side on a wide screen: suites with a column per
-    backend first, suites collapsed to one column (narrow) second."""
-    stacks = [[g for g in groups if not g.single and len(g.columns) > 1], [g for g in groups if g.single or len(g.columns) <= 1]]
-    return [s for s in stacks if s]
+def layout(groups: list[Group]) -> list[list[list[Group]]]:
+    """Stacks of columns of groups. The first stack holds the suites with a column per backend,
+    one above the other; the second the suites collapsed to one column (narrow), packed into
+    columns no taller than the tallest of them, so that they sit beside the wide stack on a wide
+    screen and in one row under it on a narrower one."""
+    wide = [g for g in groups if not g.single and len(g.columns) > 1]
+    narrow = [g for g in groups if g.single or len(g.columns) <= 1]
+    stacks = [[wide]] if wide else []
+    if narrow:
+        height = max(len(g.rows) for g in narrow)
+        columns: list[list[Group]] = []
+        for g in narrow:
+            if columns and sum(len(h.rows) + 1 for h in columns[-1]) + len(g.rows) <= height:
+                columns[-1].append(g)
+            else:
+                columns.append([g])
+        stacks.append(columns)
+    return stacks
 
 
 def legend(explained: bool = False) -> list[dict[str, str]]:
