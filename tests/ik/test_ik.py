@@ -10,7 +10,7 @@ import pytest
 from hypothesis import example, assume, given, settings
 from hypothesis import strategies as st
 
-from kinverify import load_spec
+from kinverify import load_spec, spec_from_dict
 from kinverify.testing import strategies as kst
 from kinverify.backends import FunctionBackend, ModelSources, build_backend
 from kinverify.cli import main
@@ -64,10 +64,31 @@ def test_fk_ik_fk_returns_the_target_inside_the_limits(spec, data):
     assert (pos < TOL).all() and (rot < TOL).all()
 
 
+def _revolute(name, rpy, axis, lower, upper):
+    return {"name": name, "type": "revolute", "xyz": [0.0, 0.0, 0.0], "rpy": rpy, "axis": axis,
+            "limits": {"lower": lower, "upper": upper, "unit": "rad"}, "link": {"name": "l" + name[1:], "mass": 1.0}}
+
+
+# found by hypothesis: seven axes through one point (only the orientation moves), narrow limits,
+# the target at a corner of the limits (every joint on one); the solver clipped its steps far from
+# the target and stopped against the limits short of a stationary point, 300 restarts long
+AXES_AT_ONE_POINT = spec_from_dict({"name": "random_arm", "joints": [
+    _revolute("j1", [0.0, 0.0, 0.0], [0, 0, 1], 0.0, 2.0),
+    _revolute("j2", [0.0, 0.0, 0.0], [-1.0, -0.5, 0.0], 0.0, 1.0),
+    _revolute("j3", [-2.25, math.pi / 2, math.pi], [0.0, 1.0, -0.5], 0.0, 1.0),
+    _revolute("j4", [0.0, -math.pi / 2, 0.0], [0, 0, -1], -2.0, 1.0),
+    _revolute("j5", [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0.0, 2.0),
+    _revolute("j6", [0.0, -math.pi / 2, 0.0], [0.0, 0.25, 1.0], 0.0, 0.0625),
+    _revolute("j7", [0.0, 0.0, math.pi / 2], [0, 1, 0], 0.0, 2.0)],
+    "tools": [{"name": "tool", "parent": "l7", "xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}]})
+
+
 @settings(max_examples=10, deadline=None)
-@given(kst.arm_specs(min_joints=6, max_joints=7, prismatic=False), kst.data())
-def test_pinocchio_solver_full_pose_on_random_specs(spec, data):
-    q_true = data.draw(kst.configurations(spec))[None]
+@given(kst.arm_specs(min_joints=6, max_joints=7, prismatic=False).flatmap(lambda s: st.tuples(st.just(s), kst.configurations(s))))
+@example((AXES_AT_ONE_POINT, np.array([0.0, 1.0, 0.0, -2.0, 0.0, 0.0, 0.0])))
+def test_pinocchio_solver_full_pose_on_random_specs(spec_q):
+    spec, q = spec_q
+    q_true = q[None]
     model, sources = _model(spec, "pinocchio-urdf")
     target = model.poses(q_true)
     sol = solve_lm(model, target, spec.lower, spec.upper, False, IKOptions(seed=2, max_restarts=300, time_budget=math.inf))
