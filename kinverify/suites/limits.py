@@ -5,8 +5,10 @@
   differs by ``inf``;
 - ``limits.effort``: URDF ``<limit effort>`` against the largest force MuJoCo's actuators can put
   on the joint (``forcerange``; ``ctrlrange × gain`` for a motor; times ``gear`` and a fixed
-  tendon's coefficient); an actuator without a force bound differs by ``inf``. Not compared for
-  a joint one file gives no limit;
+  tendon's coefficient); an actuator without a force bound differs by ``inf``. Several actuators
+  on one joint are alternatives (a motor, a position servo, a velocity servo): the one stating
+  the URDF's bound is compared when there is one (the others, if they differ, are a warning),
+  else the largest. Not compared for a joint one file gives no limit;
 - ``limits.velocity``: the spec's velocity limit against the URDF's (MJCF has no such field).
 
 In file mode each difference above tolerance is also one finding, grouped by cause (limits read
@@ -45,6 +47,20 @@ def _error(x: float | None, y: float | None) -> float | None:
     if x == y:
         return 0.0
     return math.inf if not (math.isfinite(x) and math.isfinite(y)) else abs(x - y)
+
+
+def _actuated(effort: float | None, joint) -> tuple[float | None, list[tuple[float, str]]]:
+    """The MJCF's force bound on ``joint`` as compared with the URDF's ``effort``: where several
+    actuators drive the joint (alternatives: a motor, a position servo, a velocity servo), the
+    bound of one that states the URDF's, the others that differ returned beside it; else the
+    largest."""
+    if effort is None or not joint.effort_each:
+        return joint.effort, []
+    same = [b for b, _ in joint.effort_each if b == effort or (math.isfinite(b) and math.isfinite(effort)
+                                                               and math.isclose(b, effort, rel_tol=1e-9, abs_tol=1e-12))]
+    if not same:
+        return joint.effort, []
+    return same[0], [(b, how) for b, how in joint.effort_each if b not in same]
 
 
 def _silent(joint, value: str) -> bool:
@@ -110,14 +126,15 @@ class LimitsSuite(Suite):
         for jm in info.alignment.joints:
             ju, jmj = info.u.joint(jm.urdf), info.m.joint(jm.mjcf)
             lo, up = mapped_bounds(ju.lower, ju.upper, jm.sign, jm.offset)
-            if ju.type == "revolute":  # a zero offset is a turn, known up to whole turns: the one that fits
+            if ju.type == "revolute" and jm.offset:  # a zero offset is a turn, known up to whole turns: the one that fits
                 lo, up = min(((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)),
                              key=lambda b: max(_error(b[0], jmj.lower) or 0.0, _error(b[1], jmj.upper) or 0.0))
             pos = [_error(lo, jmj.lower), _error(up, jmj.upper)]
+            effort, others = _actuated(ju.effort, jmj)
             row = {"joint": jm.urdf, "mjcf": jm.mjcf, "label": jm.urdf if jm.urdf == jm.mjcf else f"{jm.urdf} / {jm.mjcf}",
                    "revolute": ju.type == "revolute", "pair": ("urdf", "mjcf"), "lower": (lo, jmj.lower),
-                   "upper": (up, jmj.upper), "effort": (ju.effort, jmj.effort), "effort_how": jmj.effort_how,
-                   "limits.position": max(pos), "limits.effort": _error(ju.effort, jmj.effort),
+                   "upper": (up, jmj.upper), "effort": (ju.effort, effort), "effort_how": jmj.effort_how,
+                   "effort_others": others, "effort_alike": len(jmj.effort_each) - len(others), "limits.position": max(pos), "limits.effort": _error(ju.effort, effort),
                    "limits.velocity": None, "velocity_urdf": ju.velocity,
                    "unset": {v: "URDF" if _silent(ju, v) else "MJCF" if _silent(jmj, v) else "" for v in ("range", "effort")}}
             if jm.urdf in spec_joints and ju.velocity is not None:
@@ -232,6 +249,25 @@ def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list
                                               "mjcf": [r["effort"][1] for r in silent]},
                                magnitude=max(r["effort"][1 - k] for r in silent), unit=unit, prop="limits.effort",
                                joint=[r["joint"] for r in silent], mjcf_joint=[r["mjcf"] for r in silent]))
+    alike = [r for r in rows if r.get("effort_alike", 0) > 1 and not r.get("effort_others")]
+    if alike:  # every actuator of the joint states the URDF's bound
+        out.append(finding(
+            "several_actuators", f"the MJCF drives {len(alike)} joints by several actuators, each bounded as the URDF "
+            "bounds the joint (compared as alternatives; acting together in MuJoCo their forces add up): " + ", ".join(
+                f"{r['label']} {r['effort_alike']} × {r['effort'][0]:g}" for r in alike),
+            {"urdf": [r["effort"][0] for r in alike], "actuators": [r["effort_alike"] for r in alike]},
+            prop="limits.effort", joint=[r["joint"] for r in alike], mjcf_joint=[r["mjcf"] for r in alike]))
+    several = [r for r in rows if r.get("effort_others")]
+    if several:  # one actuator of a joint states the URDF's bound, another on it a different one
+        unit = "N·m" if all(r["revolute"] for r in several) else "N" if not any(r["revolute"] for r in several) else "N·m|N"
+        out.append(finding(
+            "actuator_alternatives", f"the MJCF drives {len(several)} joints by several actuators, one of which bounds the "
+            "force as the URDF does while another allows a different force: " + "; ".join(
+                f"{r['label']} {r['effort'][0]:g} {unit} in the URDF, " + ", ".join(how for _, how in r["effort_others"])
+                for r in several), {"urdf": [r["effort"][0] for r in several],
+                                    "mjcf_others": [[b for b, _ in r["effort_others"]] for r in several]},
+            magnitude=max(abs(b - r["effort"][0]) for r in several for b, _ in r["effort_others"]), unit=unit,
+            prop="limits.effort", joint=[r["joint"] for r in several], mjcf_joint=[r["mjcf"] for r in several]))
     for key, group in groups.items():
         unit = "N·m" if all(r["revolute"] for r in group) else "N" if not any(r["revolute"] for r in group) else "N·m|N"
         names = {"joint": [r["joint"] for r in group], "mjcf_joint": [r["mjcf"] for r in group]}

@@ -140,9 +140,10 @@ class MujocoDynamics:
         except ValueError as err:
             raise BackendError("mujoco", f"cannot load MJCF: {library_reason(err)}") from None
         m = self.model
-        if rigid:
+        if rigid:  # no constraints, springs, actuators or gravity compensation (a passive force)
             for flag in RIGID_BODY_DISABLED:
                 m.opt.disableflags |= int(getattr(mujoco.mjtDisableBit, flag))
+            m.body_gravcomp[:] = 0.0
         self.floating, self._free = has_base(joint_names), None
         if self.floating:
             free = [j for j in range(m.njnt) if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)

@@ -207,6 +207,13 @@ def parameter_findings(info, tolerances: dict) -> list:
                                f"the URDF's dynamics lack it ({handled})", {"mjcf": {j.urdf: x for j, x in given}},
                                magnitude=max(x for _, x in given), unit=unit, prop=prop,
                                joint=[j.urdf for j, _ in given], mjcf_joint=[j.mjcf for j, _ in given]))
+    if info.m.gravcomp:
+        shares = ", ".join(f"{v:g}" for v in sorted(set(info.m.gravcomp.values())))
+        out.append(finding("inexpressible", f"the MJCF compensates gravity on {len(info.m.gravcomp)} bodies (gravcomp "
+                           f"{shares}: MuJoCo cancels that share of their weight), which a URDF cannot express: the "
+                           "rigid-body dynamics are compared without it: " + ", ".join(info.m.gravcomp),
+                           {"file": "MJCF", "mjcf_gravcomp": dict(info.m.gravcomp)},
+                           magnitude=max(info.m.gravcomp.values()), unit="", prop="dynamics.gravity"))
     rotor = {j: e for j, e in info.u.extensions.items() if "rotor_inertia" in e}
     if rotor:
         reflected = {j: e["rotor_inertia"] * e.get("gear_ratio", 1.0) ** 2 for j, e in rotor.items()}

@@ -32,13 +32,14 @@ SEVERITY = {
     "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
     "stiffness_inexpressible": "warning",
     "coupling_one_file": "warning", "base_inertial_difference": "warning", "base_frame_offset": "warning",
+    "actuator_alternatives": "warning",
     # one file leaves a value unset (the format's default), the other states one
     "damping_unset": "warning", "friction_unset": "warning", "limit_unset": "warning", "effort_unset": "warning",
     "inertial_unset": "warning", "mass_unknown": "warning",
     # choices and artefacts
     "frame_convention": "info", "rounding": "info", "parser_quirk": "info", "joint_names": "info",
     "lumped_links": "info", "frame_twin": "info", "total_mass": "info", "floating_base": "info",
-    "format_extension": "info", "parser_ignores": "info", "world_parts": "info", "one_file_only": "info",
+    "format_extension": "info", "several_actuators": "info", "parser_ignores": "info", "world_parts": "info", "one_file_only": "info",
 }
 SUBJECTS = ("joint", "link", "frame")
 

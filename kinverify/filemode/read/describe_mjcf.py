@@ -52,17 +52,19 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
         parent = movable[same_body[-1]] if same_body else body_owner(m.body_parentid[b])
         limited = bool(m.jnt_limited[j])
         lo, up = (float(m.jnt_range[j][0]), float(m.jnt_range[j][1])) if limited else (-INF, INF)
-        effort, how = actuation.get(j, (None, "no actuator in the MJCF"))
-        if m.jnt_actfrclimited[j]:
+        effort, how, each = actuation.get(j, (None, "no actuator in the MJCF", ()))
+        if m.jnt_actfrclimited[j]:  # the joint's cap on the total actuator force
             cap = float(max(abs(m.jnt_actfrcrange[j][0]), abs(m.jnt_actfrcrange[j][1])))
-            effort, how = (cap, f"joint actuatorfrcrange ±{cap:g}") if effort is None or cap < effort else (effort, how)
+            if effort is None or cap < effort:
+                effort, how, each = cap, f"joint actuatorfrcrange ±{cap:g}", ()
         joints.append(JointDesc(
             name, "revolute" if int(m.jnt_type[j]) == hinge else "prismatic", parent, m.body(b).name,
             m.body(m.body_parentid[b]).name if m.body_parentid[b] > 0 else "world",
             np.array(d.xaxis[j]), np.array(d.xanchor[j]), lo, up,
             damping=float(m.dof_damping[v]), friction=float(m.dof_frictionloss[v]), armature=float(m.dof_armature[v]),
             stiffness=float(m.jnt_stiffness[j]),
-            effort=effort, velocity=None, effort_how=how))
+            effort=effort, velocity=None, effort_how=how,
+            effort_each=each if len(each) > 1 else ()))
     bodies = []
     for b in range(1, m.nbody):
         if m.body_mass[b] <= 0:
@@ -74,7 +76,9 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
         bodies.append(BodyInertial(body_owner(b), float(m.body_mass[b]), np.array(d.xipos[b]), ine_w, m.body(b).name,
                                    com_l, rot_b.T @ ine_w @ rot_b, _snapped(m, b), snapped_com=_snapped_com(m, b)))
     return ModelDesc("mjcf", "mujoco", joints, frames, owner, depth, bodies, skipped, kind, _mjcf_couplings(m, movable),
-                     np.array(m.opt.gravity, dtype=float), held=held)
+                     np.array(m.opt.gravity, dtype=float), held=held,
+                     gravcomp={m.body(b).name: float(m.body_gravcomp[b]) for b in range(1, m.nbody)
+                               if m.body_gravcomp[b] and m.body_mass[b] > 0})
 
 
 def _snapped(m, b: int) -> float:
@@ -122,13 +126,17 @@ def _mjcf_couplings(m, movable: dict) -> list[Coupling]:
     return out
 
 
-def actuator_efforts(m) -> dict[int, tuple[float, str]]:
-    """Joint id -> (the largest force or torque MuJoCo's actuators can put on that joint, how).
+def actuator_efforts(m) -> dict[int, tuple[float, str, tuple[tuple[float, str], ...]]]:
+    """Joint id -> (the largest force or torque one of MuJoCo's actuators can put on that joint,
+    how, each actuator's (bound, how) in MJCF order).
 
     An actuator on a joint or on a fixed tendon through it (coefficient c) transmits
     ``gear · c`` times its force. Its force is bounded by ``forcerange`` when force-limited, by
     ``ctrlrange × gain`` for a motor (fixed gain, no bias) with a control range, and unbounded
-    otherwise (a position or velocity servo without ``forcerange``): ``inf``."""
+    otherwise (a position or velocity servo without ``forcerange``): ``inf``. Several actuators on
+    one joint are read as alternative ways of driving it (a motor, a position servo, a velocity
+    servo, each with its own controls), not as forces meant to add up: the joint's bound is the
+    largest of theirs, and each is kept for the comparison with the URDF."""
     found: dict[int, list[tuple[float, str]]] = {}
     joint_trn = (int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT))
     for a in range(m.nu):
@@ -160,4 +168,5 @@ def actuator_efforts(m) -> dict[int, tuple[float, str]]:
             effort = bound * scale if math.isfinite(bound) else INF
             gear_txt = f" × gear {gear:g}" if gear != 1 else ""
             found.setdefault(joint, []).append((effort, f"{name}{via}: {why}{gear_txt}"))
-    return {j: (float(sum(e for e, _ in items)), "; ".join(h for _, h in items)) for j, items in found.items()}
+    return {j: (float(max(e for e, _ in items)), "; ".join(h for _, h in items), tuple(items))
+            for j, items in found.items()}

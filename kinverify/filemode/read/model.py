@@ -32,6 +32,7 @@ class JointDesc:
     effort: float | None = None  # None: not stated; inf: actuators without a force bound
     velocity: float | None = None  # None: the format cannot express it
     effort_how: str = ""  # where the effort comes from (URDF <limit>, MJCF actuators)
+    effort_each: tuple[tuple[float, str], ...] = ()  # several actuators on the joint (MJCF): each one's (bound, how)
     stated: frozenset[str] | None = None  # which of read.stated.JOINT_VALUES the file states (None: all)
 
 
@@ -78,6 +79,7 @@ class ModelDesc:
     extensions: dict[str, dict] = field(default_factory=dict)  # joint -> non-standard tags (drake rotor inertia)
     held: list[str] = field(default_factory=list)  # joints with several coordinates, held at neutral (not compared)
     no_inertial: set[str] = field(default_factory=set)  # links/bodies that state no inertial (massless by default)
+    gravcomp: dict[str, float] = field(default_factory=dict)  # MJCF body -> share of its weight compensated (gravcomp)
 
     def joint(self, name: str) -> JointDesc:
         return next(j for j in self.joints if j.name == name)

@@ -1,0 +1,70 @@
+"""Limits in file mode: force bounds of joints several MJCF actuators drive, and joint ranges
+compared without a whole turn nobody took."""
+
+from __future__ import annotations
+
+import pytest
+
+import tests.filemode.pairs as P
+from kinverify.filemode.pipeline import verify_files
+from kinverify.run import VerifyOptions
+
+FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics", "limits"])
+
+
+def servos(mjcf: str, joint: str, position: float, velocity: float) -> str:
+    """A position and a velocity servo beside the joint's motor, as MJCFs offering three ways of
+    driving a joint do (each with its own force range)."""
+    return P.sub_once(r"<actuator>", f'<actuator><position name="{joint}_position" joint="{joint}" kp="100" '
+                      f'forcerange="-{position} {position}"/><velocity name="{joint}_velocity" joint="{joint}" kv="10" '
+                      f'forcerange="-{velocity} {velocity}"/>', mjcf)
+
+
+def above_info(result) -> list:
+    return [f for f in result.findings if f.severity != "info" and not P.ignored_by_drake(f)]
+
+
+def test_alternative_actuators_with_the_urdfs_bound_agree(tmp_path):
+    """panda_joint1: a motor, a position servo and a velocity servo, each bounded to the URDF's
+    87 N·m. Their forces are not meant to add up: no effort finding, the check passes."""
+    urdf, mjcf = P.generated_pair("panda")
+    result = verify_files(*P.write_pair(tmp_path, urdf, servos(mjcf, "panda_joint1", 87, 87)), FAST)
+    assert above_info(result) == [] and result.passed, [f.message for f in above_info(result)]
+    (f,) = [f for f in result.findings if f.kind == "several_actuators"]
+    assert f.subject == "panda_joint1" and f.values["actuators"] == [3]
+
+
+def test_an_alternative_actuator_with_another_bound_is_a_warning_naming_it(tmp_path):
+    """The velocity servo allows 200 N·m where the URDF and the other two actuators say 87: a
+    warning naming that actuator, not an effort difference."""
+    urdf, mjcf = P.generated_pair("panda")
+    result = verify_files(*P.write_pair(tmp_path, urdf, servos(mjcf, "panda_joint1", 87, 200)), FAST)
+    (f,) = above_info(result)
+    assert (f.kind, f.severity, f.subject) == ("actuator_alternatives", "warning", "panda_joint1")
+    assert f.magnitude == pytest.approx(113) and "panda_joint1_velocity" in f.message
+    assert result.passed
+
+
+def test_actuators_none_of_which_has_the_urdfs_bound_differ_by_the_largest(tmp_path):
+    """The motor bounded to 70 N·m, the servos to 50 and 60, the URDF 87: an effort difference of
+    87 − 70 (the largest one actuator can exert)."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = P.sub_once(r'(<motor name="panda_joint1_motor" joint="panda_joint1" ctrlrange=")[^"]*', r"\g<1>-70 70",
+                      servos(mjcf, "panda_joint1", 50, 60))
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    (f,) = above_info(result)
+    assert (f.kind, f.severity, f.subject) == ("effort_difference", "error", "panda_joint1")
+    assert f.magnitude == pytest.approx(17)
+
+
+def test_a_range_on_the_other_side_of_zero_is_compared_as_written(tmp_path):
+    """No zero offset between the files: panda_joint1 spans [−3.665, 0] in the URDF and [0, 3.665]
+    in the MJCF. They differ by 3.665 rad, not by the 2.618 a whole turn added to the URDF's
+    would leave."""
+    urdf, mjcf = P.generated_pair("panda")
+    urdf = P.sub_once(r'lower="-2.8973" upper="2.8973" effort="87.0"', 'lower="-3.665" upper="0.0" effort="87.0"', urdf)
+    mjcf = P.joint_attr(mjcf, "panda_joint1", "range", lambda s: "0.0 3.665")
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    (f,) = above_info(result)
+    assert (f.kind, f.subject) == ("limit_difference", "panda_joint1")
+    assert f.magnitude == pytest.approx(3.665)
