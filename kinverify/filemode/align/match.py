@@ -217,10 +217,12 @@ def match_joints(u: ModelDesc, m: ModelDesc, explicit=()) -> tuple[list[tuple[st
     return pairs, free(0), free(1)
 
 
-def resolve_couplings(couplings, order: list[str]) -> dict[str, Coupling]:
+def resolve_couplings(couplings, order: list[str], followers=frozenset()) -> dict[str, Coupling]:
     """Each coupled joint as ``joint = k·root + c`` of the first joint of its group in ``order``
-    (couplings are linear relations between two joints, so a group of them, a chain
-    ``a = k·b``, ``b = l·c`` or two followers of one leader, ties every member to one joint)."""
+    that is not in ``followers`` (the URDF's mimic joints, which its readers do not take as
+    inputs), else the first (couplings are linear relations between two joints, so a group of
+    them, a chain ``a = k·b``, ``b = l·c`` or two followers of one leader, ties every member to
+    one joint)."""
     rank = {n: i for i, n in enumerate(order)}
     edges: dict[str, list[tuple[str, float, float, Coupling]]] = {}
     for c in couplings:
@@ -239,7 +241,7 @@ def resolve_couplings(couplings, order: list[str]) -> dict[str, Coupling]:
                 if other not in group:
                     group.add(other)
                     todo.append(other)
-        root = min(group, key=rank.__getitem__)
+        root = min(group, key=lambda j: (j in followers, rank[j]))
         seen |= group
         value, todo = {root: (1.0, 0.0, None)}, [root]  # joint -> (k, c, a coupling on the way) with joint = k·root + c
         while todo:
@@ -267,18 +269,22 @@ def match_couplings(u: ModelDesc, m: ModelDesc, joints) -> dict[str, Coupling]:
     theirs = [Coupling(to_u[c.follower], to_u[c.leader], c.multiplier, c.offset, c.source, c.nonlinear)
               for c in m.couplings if c.follower in to_u and c.leader in to_u]
     coupled = {x for c in mine for x in (c.follower, c.leader)}
-    return resolve_couplings(mine + [c for c in theirs if c.follower not in coupled and c.leader not in coupled], order)
+    return resolve_couplings(mine + [c for c in theirs if c.follower not in coupled and c.leader not in coupled], order,
+                             {c.follower for c in mine})
 
 
 def match_frames(u: ModelDesc, m: ModelDesc, joints, explicit=()) -> list[tuple[str, str, str]]:
-    """Each matched joint's moving frame, the frames the first matched joints hang from, then
+    """Each matched joint's moving frame, the frames the first matched joints hang from (on the
+    base in both files; a frame whose name the other file gives to another frame waits for its
+    namesake), then
     frames with the same (normalised) name in both files that move with the same joint, plus frames
     given on the command line."""
     frames = [(u.joint(a).child, m.joint(b).child, f"moves with {a}") for a, b, _ in joints]
     used_u, used_m = {f[0] for f in frames}, {f[1] for f in frames}
-    for a, b, _ in joints:
+    for a, b, _ in joints:  # on the base in both files, and not a frame the other file names otherwise
         pu, pm = u.joint(a).parent_frame, m.joint(b).parent_frame
-        if u.joint(a).parent is None and pu in u.frames and pm in m.frames and pu not in used_u and pm not in used_m:
+        if (u.joint(a).parent is None and m.joint(b).parent is None and pu in u.frames and pm in m.frames
+                and pu not in used_u and pm not in used_m and (pu == pm or (pu not in m.frames and pm not in u.frames))):
             frames.append((pu, pm, f"{a} hangs from it"))
             used_u.add(pu)
             used_m.add(pm)

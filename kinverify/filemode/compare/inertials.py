@@ -149,11 +149,17 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
         rot = pose[:3, :3]
         return rot @ body.com_local + pose[:3, 3], rot @ body.inertia_local @ rot.T
 
+    def same_body(bu: BodyInertial, bm: BodyInertial | None) -> bool:
+        """Twin frames are one body when they move with the same matched joint and no joint in
+        one file only moves either."""
+        return (bm is not None and _owner_key(u, bu.owner, key_u) == _owner_key(m, bm.owner, key_m)
+                and _moved_by(u, bu.owner, key_u) is None and _moved_by(m, bm.owner, key_m) is None)
+
     for body in u.bodies:
         com, inertia = place(body, poses_u.get(body.name))
         twin = twin_u.get(body.name)
         silent = twin if twin is not None and m.body(twin) is None and twin in m.no_inertial else None
-        twin = twin if twin is not None and m.body(twin) is not None else None
+        twin = twin if twin is not None and same_body(body, m.body(twin)) else None
         out[_owner_key(u, body.owner, key_u)].urdf.append(Part(body.name, body.mass, com, inertia, twin,
                                                                known=body.mass_known, unset_twin=silent,
                                                                moved_by=_moved_by(u, body.owner, key_u)))
@@ -161,7 +167,7 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
         com, inertia = place(body, poses_m.get(body.name))
         twin = twin_m.get(body.name)
         silent = twin if twin is not None and u.body(twin) is None and twin in u.no_inertial else None
-        twin = twin if twin is not None and u.body(twin) is not None else None
+        twin = twin if twin is not None and u.body(twin) is not None and same_body(u.body(twin), body) else None
         out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped,
                                                                known=body.mass_known, unset_twin=silent,
                                                                moved_by=_moved_by(m, body.owner, key_m),
