@@ -107,7 +107,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
         lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text) if kinds[1] == "mjcf" else None, rebuild_mjcf),
         (backends, [], []))
     findings += parser
-    findings += _guarded(internal, "couplings", lambda: coupling_findings(u, m, matching), [])
+    findings += _guarded(internal, "couplings", lambda: coupling_findings(u, m, matching, al), [])
     ref = next((n for n in _readers(kinds[0]) if n in backends), None)
     other = next((n for n in _readers(kinds[1]) if n in backends), None)
     if ref is None or other is None:

@@ -42,3 +42,28 @@ def test_a_coupling_with_another_offset_is_a_difference(tmp_path):
     result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
     (f,) = [f for f in result.findings if f.kind.startswith("coupling")]
     assert f.kind == "coupling_difference" and f.values == {"urdf": [1.0, 0.1], "mjcf": [1.0, 0.2]}
+
+
+def test_a_coupling_on_a_reversed_leader_is_compared_in_the_urdfs_joint_coordinates(tmp_path):
+    """The MJCF reverses index_base's axis (q_mjcf = −q_urdf) and states index_tip's coupling in its
+    own coordinates, index_tip = −1·index_base: the URDF's index_tip = 1·index_base, the same motion.
+    The reversed axis is the one finding; no coupling differs."""
+    spec = spec_from_dict(hand())
+    urdf, mjcf = P.flipped_axis(generate_urdf(spec), generate_mjcf(spec), "index_base")
+    urdf, mjcf = coupled(urdf, mjcf, {"index_tip": ("index_base", 1.0, 0.0)}, [("index_tip", "index_base", -1.0, 0.0)])
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    assert not [f for f in result.findings if f.kind.startswith("coupling")], [f.message for f in result.findings]
+    assert [f.subject for f in result.findings if f.kind == "axis_sign_flip"] == ["index_base"]
+
+
+def test_the_same_written_coupling_on_a_reversed_leader_is_a_difference(tmp_path):
+    """Both files write index_tip = 1·index_base, but the MJCF's index_base turns the other way: for
+    the same pose of index_base the tips turn opposite ways. In the URDF's coordinates the MJCF's
+    coupling reads index_tip = −1·index_base."""
+    spec = spec_from_dict(hand())
+    urdf, mjcf = P.flipped_axis(generate_urdf(spec), generate_mjcf(spec), "index_base")
+    urdf, mjcf = coupled(urdf, mjcf, {"index_tip": ("index_base", 1.0, 0.0)}, [("index_tip", "index_base", 1.0, 0.0)])
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    (f,) = [f for f in result.findings if f.kind.startswith("coupling")]
+    assert f.kind == "coupling_difference" and f.subject == "index_tip"
+    assert f.values == {"urdf": [1.0, 0.0], "mjcf": [-1.0, 0.0]}
