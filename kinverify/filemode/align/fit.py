@@ -200,11 +200,22 @@ class Aligner:
         points, dirs, extra = self._features(a, b, t, pu0, pm0, au, pu, am, pm)
         ptol, rtol = self.carried_tol(a)
         if self.types[a] == "prismatic":  # a next axis parallel to it says nothing about a shift along it
-            pairs = [pt for pt, (dm, _) in zip(points, dirs) if np.linalg.norm(np.cross(dm, am)) > 1e-6] + extra
-            shift = consensus([float((xu - xm) @ am) for xm, xu in pairs], [1.0] * len(pairs), linear=True)
-            if all(np.linalg.norm(xm - xu) <= ptol for xm, xu in pairs):  # agree as they are: no shift needed
+            # how far each point moves per metre of shift: along the axis, but where a nearly parallel
+            # next axis is taken where it crosses a plane across this one, only the part of the shift
+            # across that axis shows (am − dm / (dm·am))
+            moved = []
+            for pt, (dm, du) in zip(points, dirs):
+                if np.linalg.norm(np.cross(dm, am)) <= 1e-6:
+                    continue
+                near = max(np.linalg.norm(np.cross(am, dm)), np.linalg.norm(np.cross(am, du))) < NEAR_PARALLEL
+                moved.append((pt, am - dm / float(dm @ am) if near else am))
+            pairs = moved + [(pt, am) for pt in extra]
+            if all(np.linalg.norm(xm - xu) <= ptol for (xm, xu), _ in pairs):  # agree as they are: no shift needed
                 return 0.0
-            ok = all(np.linalg.norm(xm + shift * am - xu) <= ptol for xm, xu in pairs)
+            telling = [(x, v) for x, v in pairs if float(v @ v) > 0.25] or pairs
+            shift = consensus([float((xu - xm) @ v) / float(v @ v) for (xm, xu), v in telling], [1.0] * len(telling),
+                              linear=True)
+            ok = all(np.linalg.norm(xm + shift * v - xu) <= ptol for (xm, xu), v in pairs)
             return shift if ok else 0.0
         candidates = []
         for group in (points, extra):
@@ -265,15 +276,31 @@ class Aligner:
         for a, b in self.pairs:
             (ua, up), (ma, mp) = self.line("u", a, self.pu), self.line("m", b, pm)
             feats.append((a, "line", (signs[a] * ua, up), (ma, mp), self.tol(self.p.u.joint(a).child)))
-        keep = list(range(len(feats)))
+        t_all, keep = self._eliminate(feats, list(range(len(feats))), t)
+        lines = [i for i, f in enumerate(feats) if f[1] == "line"]
+        if 2 * len(keep) < len(feats) and len(lines) >= 2:
+            # most features left out: the few kept may be frames that only seem twins (the same name
+            # at the root, placed differently). The joints' axis lines alone say where the other
+            # file's world is; the larger set of features that agree wins.
+            t_lines, _ = self._eliminate(feats, lines, t)
+            agree = [i for i in range(len(feats)) if self._residual(feats[i], t_lines) <= 1.0]
+            if len(agree) > len(keep):
+                t_agree, kept = self._eliminate(feats, agree, t_lines)
+                if len(kept) > len(keep):
+                    return t_agree, [feats[i][0] for i in kept if feats[i][1] == "point"]
+        return t_all, [feats[i][0] for i in keep if feats[i][1] == "point"]
+
+    def _eliminate(self, feats, keep: list[int], t: np.ndarray) -> tuple[np.ndarray, list[int]]:
+        """Fit over ``keep``, leaving out the worst feature (relative to its tolerance) one at a
+        time until the rest agree or two are left."""
+        keep = list(keep)
         while True:
             t = self._fit([feats[i] for i in keep], t)
             ratios = {i: self._residual(feats[i], t) for i in keep}
             worst = max(keep, key=lambda i: ratios[i], default=None)
             if worst is None or ratios[worst] <= 1.0 or len(keep) <= 2:
-                break
+                return t, keep
             keep.remove(worst)
-        return t, [feats[i][0] for i in keep if feats[i][1] == "point"]
 
     @staticmethod
     def _fit(feats, t: np.ndarray) -> np.ndarray:

@@ -10,6 +10,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
@@ -17,6 +18,7 @@ from kinverify.filemode.pipeline import verify_files
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
 from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.specfile import spec_from_dict
 from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
 from kinverify.run import VerifyOptions
 from kinverify.testing.strategies import angles_rpy, arm_specs, vectors
@@ -120,6 +122,25 @@ def test_a_random_world_transform_is_recovered_exactly_and_alone(spec, xyz, rpy)
     t = np.array(result.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"])
     assert np.allclose(t[:3, 3], xyz, atol=1e-9) and np.allclose(t[:3, :3], rpy_to_matrix(rpy), atol=1e-9)
     assert above_info(result) == [("base_transform", "")] and not result.failed
+
+
+def test_a_prismatic_zero_offset_is_seen_across_a_nearly_parallel_next_axis():
+    """Found by hypothesis: j3 slides along (1, 0.0625, 0) and j4's axis runs along x (3.6° apart),
+    all frames at the origin. The MJCF's j3 zero sits 0.125 m further. j4's axis line, taken where
+    it crosses a plane across j3's axis, moves only by the part of the shift across it (7.8 mm):
+    the shift is still a zero offset of j3, not a frame convention of l3 and a moved j4."""
+    def joint(name, kind, axis, rpy=(0.0, 0.0, 0.0)):
+        upper, unit = (1.0, "rad") if kind == "revolute" else (0.25, "m")
+        return {"name": name, "type": kind, "xyz": [0.0, 0.0, 0.0], "rpy": list(rpy), "axis": axis,
+                "limits": {"lower": 0.0, "upper": upper, "unit": unit}, "link": {"name": "l" + name[1:], "mass": 1.0}}
+    spec = spec_from_dict({"name": "slide", "joints": [
+        joint("j1", "revolute", [1, 0, 0]), joint("j2", "revolute", [1, 0, 0]), joint("j3", "prismatic", [1.0, 0.0625, 0.0]),
+        joint("j4", "revolute", [0, 0, 1], (math.pi / 2, 0.0, math.pi / 2))],
+        "tools": [{"name": "tool", "parent": "l4", "xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}]})
+    result = verify(generate_urdf(spec), remap_joint(generate_mjcf(spec), "j3", 1, 0.125))
+    joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
+    assert joints["j3"]["offset"] == pytest.approx(0.125, abs=1e-9)
+    assert above_info(result) == [("zero_offset", "j3")] and not result.failed
 
 
 @SETTINGS
