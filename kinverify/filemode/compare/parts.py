@@ -51,8 +51,10 @@ def part_findings(info, results, tol_mass: float) -> list:
         if unmatched:
             text.append(f"joint{'s' if len(unmatched) > 1 else ''} {', '.join(unmatched)}")
         if parts:
+            brief = len(parts) > 4  # many parts: the joints that move them are named above already
             text.append("link" + ("s " if len(parts) > 1 else " ") + ", ".join(
-                f"{p['name']} ({p['mass']:.6g} kg, {p['how']})" for p in parts))
+                f"{p['name']} ({p['mass']:.6g} kg)" if brief and p["how"].startswith("moved by")
+                else f"{p['name']} ({p['mass']:.6g} kg, {p['how']})" for p in parts))
         msg = (f"the {side} has parts the {other} lacks: {'; '.join(text)}"
                + (f": {mass:.6g} kg in all, left out when comparing the rigid bodies they join "
                   f"({', '.join(sorted(set(p['body'] for p in parts)))})" if parts else "") + (" (not compared; held at zero)" if unmatched else ""))
