@@ -49,18 +49,18 @@ def _error(x: float | None, y: float | None) -> float | None:
     return math.inf if not (math.isfinite(x) and math.isfinite(y)) else abs(x - y)
 
 
-def _actuated(effort: float | None, joint) -> tuple[float | None, list[tuple[float, str]]]:
+def _actuated(effort: float | None, joint) -> tuple[float | None, list[tuple[float, str]], int]:
     """The MJCF's force bound on ``joint`` as compared with the URDF's ``effort``: where several
     actuators drive the joint (alternatives: a motor, a position servo, a velocity servo), the
-    bound of one that states the URDF's, the others that differ returned beside it; else the
-    largest."""
+    bound of one that states the URDF's, the others that differ returned beside it, and how many
+    state it; else the largest (none stating it: 0)."""
     if effort is None or not joint.effort_each:
-        return joint.effort, []
+        return joint.effort, [], 0
     same = [b for b, _ in joint.effort_each if b == effort or (math.isfinite(b) and math.isfinite(effort)
                                                                and math.isclose(b, effort, rel_tol=1e-9, abs_tol=1e-12))]
     if not same:
-        return joint.effort, []
-    return same[0], [(b, how) for b, how in joint.effort_each if b not in same]
+        return joint.effort, [], 0
+    return same[0], [(b, how) for b, how in joint.effort_each if b not in same], len(same)
 
 
 def _silent(joint, value: str) -> bool:
@@ -130,11 +130,11 @@ class LimitsSuite(Suite):
                 lo, up = min(((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)),
                              key=lambda b: max(_error(b[0], jmj.lower) or 0.0, _error(b[1], jmj.upper) or 0.0))
             pos = [_error(lo, jmj.lower), _error(up, jmj.upper)]
-            effort, others = _actuated(ju.effort, jmj)
+            effort, others, alike = _actuated(ju.effort, jmj)
             row = {"joint": jm.urdf, "mjcf": jm.mjcf, "label": jm.urdf if jm.urdf == jm.mjcf else f"{jm.urdf} / {jm.mjcf}",
                    "revolute": ju.type == "revolute", "pair": ("urdf", "mjcf"), "lower": (lo, jmj.lower),
                    "upper": (up, jmj.upper), "effort": (ju.effort, effort), "effort_how": jmj.effort_how,
-                   "effort_others": others, "effort_alike": len(jmj.effort_each) - len(others), "limits.position": max(pos), "limits.effort": _error(ju.effort, effort),
+                   "effort_others": others, "effort_alike": alike, "limits.position": max(pos), "limits.effort": _error(ju.effort, effort),
                    "limits.velocity": None, "velocity_urdf": ju.velocity,
                    "unset": {v: "URDF" if _silent(ju, v) else "MJCF" if _silent(jmj, v) else "" for v in ("range", "effort")}}
             if jm.urdf in spec_joints and ju.velocity is not None:

@@ -68,3 +68,17 @@ def test_a_range_on_the_other_side_of_zero_is_compared_as_written(tmp_path):
     (f,) = above_info(result)
     assert (f.kind, f.subject) == ("limit_difference", "panda_joint1")
     assert f.magnitude == pytest.approx(3.665)
+
+
+def test_several_actuators_on_a_joint_the_urdf_gives_no_force_bound(tmp_path):
+    """panda_joint1 is continuous in both files, with no <limit> in the URDF (as a wheel is); the
+    MJCF drives it by three actuators. The URDF's silence on the force is the one finding (a
+    warning), whatever the actuators state."""
+    urdf, mjcf = P.generated_pair("panda")
+    urdf = P.sub_once(r'<joint name="panda_joint1" type="revolute">', '<joint name="panda_joint1" type="continuous">', urdf)
+    urdf = P.sub_once(r'<limit lower="-2.8973" upper="2.8973" effort="87.0" velocity="2.175"/>', "", urdf)
+    mjcf = P.sub_once(r'(<joint name="panda_joint1"[^>]*?) range="[^"]*"', r"\1", mjcf)
+    result = verify_files(*P.write_pair(tmp_path, urdf, servos(mjcf, "panda_joint1", 87, 200)), FAST)
+    (f,) = above_info(result)
+    assert (f.kind, f.severity, f.subject) == ("effort_unset", "warning", "panda_joint1")
+    assert f.values["unset_in"] == "URDF" and not result.failed
