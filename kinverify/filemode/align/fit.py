@@ -131,8 +131,10 @@ class Aligner:
         return TOL * self.scale + 2 * pos, TOL + 2 * rot
 
     def carried_tol(self, joint: str) -> tuple[float, float]:
-        """The loosest tolerance of the frames a joint carries (its zero offset is measured on them)."""
+        """The loosest tolerance of the frames a joint carries and of the next joints' frames (its
+        zero offset is measured on them, the next axes first)."""
         carried = [f for f, owner in self.p.u.frame_owner.items() if owner == joint] or [self.p.u.joint(joint).child]
+        carried += [self.p.u.joint(c).child for c in self.children.get(joint, [])]
         tols = [self.tol(f) for f in carried]
         return max(t[0] for t in tols), max(t[1] for t in tols)
 
@@ -212,10 +214,14 @@ class Aligner:
             pairs = moved + [(pt, am) for pt in extra]
             if all(np.linalg.norm(xm - xu) <= ptol for (xm, xu), _ in pairs):  # agree as they are: no shift needed
                 return 0.0
-            telling = [(x, v) for x, v in pairs if float(v @ v) > 0.25] or pairs
+            # the next axes decide when one of them shows the shift in full (as for a turn); frames
+            # and centres of mass, which may differ for reasons of their own, only otherwise
+            telling = [(x, v) for x, v in moved if float(v @ v) > 0.25]
+            judged = moved if telling else pairs
+            telling = telling or [(x, v) for x, v in pairs if float(v @ v) > 0.25] or pairs
             shift = consensus([float((xu - xm) @ v) / float(v @ v) for (xm, xu), v in telling], [1.0] * len(telling),
                               linear=True)
-            ok = all(np.linalg.norm(xm + shift * v - xu) <= ptol for (xm, xu), v in pairs)
+            ok = all(np.linalg.norm(xm + shift * v - xu) <= ptol for (xm, xu), v in judged)
             return shift if ok else 0.0
         candidates = []
         for group in (points, extra):

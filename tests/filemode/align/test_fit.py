@@ -22,6 +22,7 @@ from kinverify.model.specfile import spec_from_dict
 from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
 from kinverify.run import VerifyOptions
 from kinverify.testing.strategies import angles_rpy, arm_specs, vectors
+import tests.filemode.pairs as P
 from tests.filemode.pairs import joint_attr, nums
 
 FAST = VerifyOptions(samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 8})
@@ -173,3 +174,39 @@ def test_random_zero_offsets_and_reversed_axes_are_recovered_exactly_and_alone(s
     wanted = sorted([("axis_sign_flip", n) for n, (s, _) in expected.items() if s < 0]
                     + [("zero_offset", n) for n, (_, o) in expected.items() if o])
     assert above_info(result) == wanted and not result.failed
+
+
+def test_a_turn_within_the_next_frames_written_precision_is_not_a_zero_offset():
+    """As in a public 7-axis arm pair: the URDF turns panda_link7's frame 2.1e-8 rad about joint 6's
+    axis (a quarter turn computed, then printed), the MJCF writes that body's quaternion to 6
+    decimals (a rounding of up to 2e-6 rad). Joint 6's zero offset is measured on joint 7's axis,
+    inside panda_link7: the turn is that frame's rounding, not an offset of joint 6."""
+    urdf, mjcf = P.generated_pair("panda")
+    urdf = urdf.replace('<origin xyz="0.088 0.0 0.0" rpy="1.5707963267948966 0.0 0.0"/>',
+                        '<origin xyz="0.088 0.0 0.0" rpy="1.5707963267948966 0.0 2.1073424e-08"/>', 1)
+    mjcf = P.body_attr(mjcf, "panda_link7", "quat", lambda s: "0.707107 0.707107 0 0")
+    result = verify(urdf, mjcf)
+    joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
+    assert all(j["offset"] == 0.0 and j["sign"] == 1 for j in joints.values()), joints
+    assert above_info(result) == [] and not result.failed
+
+
+def test_a_prismatic_zero_offset_is_read_off_the_next_axis_when_its_body_differs_too():
+    """As in a public mobile manipulator's pair: the MJCF's lift (j2) sits 0.3 m higher at the same
+    q, and its body's centre of mass differs on its own (2 cm). The next axis shows the shift in
+    full: a zero offset of j2 and a centre of mass, not frame conventions and a moved j3."""
+    def joint(name, kind, axis, xyz, upper):
+        unit = "rad" if kind == "revolute" else "m"
+        return {"name": name, "type": kind, "xyz": xyz, "rpy": [0.0, 0.0, 0.0], "axis": axis,
+                "limits": {"lower": 0.0, "upper": upper, "unit": unit}, "link": {"name": "l" + name[1:], "mass": 1.0}}
+    spec = spec_from_dict({"name": "lift", "joints": [
+        joint("j1", "revolute", [0, 0, 1], [0.0, 0.0, 0.1], 1.0), joint("j2", "prismatic", [0, 0, 1], [0.0, 0.0, 0.1], 1.0),
+        joint("j3", "revolute", [1, 0, 0], [0.2, 0.0, 0.0], 1.0)],
+        "tools": [{"name": "tool", "parent": "l3", "xyz": [0.1, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}]})
+    mjcf = remap_joint(generate_mjcf(spec), "j2", 1, 0.3)
+    mjcf = P.sub_once(r'(<body name="l2".*?<inertial pos=")([^"]*)(")',
+                      lambda m: m[1] + nums(lambda v: [v[0] + 0.02, v[1], v[2]])(m[2]) + m[3], mjcf)
+    result = verify(generate_urdf(spec), mjcf)
+    joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
+    assert joints["j2"]["offset"] == pytest.approx(0.3, abs=1e-9)
+    assert above_info(result) == [("com_difference", "l2"), ("zero_offset", "j2")]
