@@ -152,6 +152,9 @@ class MujocoDynamics:
                 raise BackendError("mujoco", f"the configuration has a floating base but the MJCF has {len(free)} free "
                                    "joints on top-level bodies (expected one)")
             self._free = (int(m.jnt_qposadr[free[0]]), int(m.jnt_dofadr[free[0]]))
+            if rigid:  # a free joint's armature and damping (a URDF's floating base has neither)
+                m.dof_armature[self._free[1]:self._free[1] + 6] = 0.0
+                m.dof_damping[self._free[1]:self._free[1] + 6] = 0.0
             joint_names = joint_names[6:]
         ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joint_names]
         if min(ids) < 0:

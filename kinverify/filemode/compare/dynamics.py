@@ -214,6 +214,11 @@ def parameter_findings(info, tolerances: dict) -> list:
                            "rigid-body dynamics are compared without it: " + ", ".join(info.m.gravcomp),
                            {"file": "MJCF", "mjcf_gravcomp": dict(info.m.gravcomp)},
                            magnitude=max(info.m.gravcomp.values()), unit="", prop="dynamics.gravity"))
+    if info.m.free_joint:
+        said = " and ".join(f"{k} {v:g}" for k, v in info.m.free_joint.items())
+        out.append(finding("inexpressible", f"the MJCF gives its free joint {said} (a floating base in a URDF has "
+                           "neither): left out of the rigid-body dynamics comparison", {"file": "MJCF", **info.m.free_joint},
+                           magnitude=max(info.m.free_joint.values()), unit="", prop="dynamics.mass_matrix"))
     rotor = {j: e for j, e in info.u.extensions.items() if "rotor_inertia" in e}
     if rotor:
         reflected = {j: e["rotor_inertia"] * e.get("gear_ratio", 1.0) ** 2 for j, e in rotor.items()}

@@ -18,7 +18,7 @@ from kinverify.backends.mujoco_ import urdf_for_mujoco
 from kinverify.errors import InputError, library_reason
 from kinverify.filemode.align.floating import UrdfBase, decide, fixed_urdf, floating_urdf, urdf_base
 from kinverify.filemode.findings.table import finding
-from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_mjcf import describe_mjcf, free_joint_values
 from kinverify.filemode.read.describe_sdf import describe_sdf
 from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_sdf, load_urdf
@@ -89,7 +89,10 @@ def read_mjcf(path: str, findings: list):
     for attempt in (0, 1):
         text, free = fix_free_bases(loaded.text)
         try:
-            return loaded, text, with_statements(describe_mjcf(text), loaded), free
+            desc = with_statements(describe_mjcf(text), loaded)
+            if free:  # the free joints' own values, from the file as written (the description fixes them)
+                desc = dataclasses.replace(desc, free_joint=free_joint_values(loaded.text))
+            return loaded, text, desc, free
         except ValueError as err:
             if attempt == 0 and "mesh assets resolved" in " ".join(loaded.warnings):
                 findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({library_reason(err)}): meshes "

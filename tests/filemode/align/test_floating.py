@@ -161,3 +161,15 @@ def test_a_free_mount_body_above_the_base_is_its_extra_mass_and_nothing_else(tmp
     result = run(tmp_path, urdf, mjcf, ALL)
     assert kinds(result, "error") == ["extra_parts"] and "base_frame_offset" in kinds(result, "warning")
     assert not result.failed and {c.property for c in result.explained} <= {"inertia.mass", "inertia.com", "inertia.tensor"}
+
+
+def test_armature_and_damping_a_free_joint_takes_from_its_class_are_named_and_left_out(tmp_path):
+    """The MJCF's free joint gets armature 0.1 and damping 1 (as a class meant for the legs gives
+    them to it too): a floating URDF has neither. One warning says so, and the mass matrices agree
+    once they are left out."""
+    urdf, mjcf = floating_arm3()
+    mjcf = P.sub_once(r"<freejoint/>", '<joint name="root" type="free" armature="0.1" damping="1"/>', mjcf)
+    result = run(tmp_path, urdf, mjcf, ALL)
+    (f,) = [f for f in result.findings if "free joint" in f.message and f.kind == "inexpressible"]
+    assert f.severity == "warning" and f.values["armature"] == 0.1 and f.values["damping"] == 1.0
+    assert not kinds(result, "error") and result.passed, ([c.property for c in result.failed], kinds(result))
