@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import re
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -195,8 +196,6 @@ def reframed_body(mjcf: str, body: str, angle: float) -> str:
     """The MJCF with ``body``'s frame turned by ``angle`` about its own z axis (the joint axis in a
     generated file) and everything written in that frame turned back: the same robot, another
     choice of link frame, as a maintainer writing the file by hand might make."""
-    import xml.etree.ElementTree as ET
-
     root = ET.fromstring(mjcf)
     el = next(b for b in root.iter("body") if b.get("name") == body)
     q = np.array([math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)])
@@ -219,4 +218,20 @@ def reframed_body(mjcf: str, body: str, angle: float) -> str:
             xx, yy, zz, xy, xz, yz = (float(x) for x in child.get("fullinertia").split())
             i = back @ np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]) @ back.T
             child.set("fullinertia", fmt([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]))
+    return ET.tostring(root, encoding="unicode")
+
+
+def suspended(mjcf: str, body: str, mass: float) -> str:
+    """``body`` hung in the MJCF from a new body ``suspension`` (``mass`` kg) on a slide joint the
+    URDF lacks, at the same place: as a mobile base's MJCF hangs its wheels from suspensions."""
+    root = ET.fromstring(mjcf)
+    parent = next(p for p in root.iter() for c in p if c.tag == "body" and c.get("name") == body)
+    child = next(c for c in parent if c.tag == "body" and c.get("name") == body)
+    holder = ET.Element("body", {"name": "suspension", "pos": child.get("pos", "0 0 0")})
+    ET.SubElement(holder, "inertial", {"pos": "0 0 -0.02", "mass": repr(mass), "diaginertia": "1 1 1"})
+    ET.SubElement(holder, "joint", {"name": "suspension_joint", "type": "slide", "axis": "0 0 1", "range": "-0.005 0.005"})
+    child.set("pos", "0 0 0")
+    parent.insert(list(parent).index(child), holder)
+    parent.remove(child)
+    holder.append(child)
     return ET.tostring(root, encoding="unicode")

@@ -166,7 +166,38 @@ def _by_tree(u: ModelDesc, m: ModelDesc, pairs: list, free_u: list[str], free_m:
             free_u.remove(a)
             free_m.remove(b)
             queue.append((a, b))
+    # joints one file hangs under a joint the other lacks (fingers under a gripper slide): paired
+    # under their nearest matched ancestors, when each lies on that ancestor's axis as its twin does
+    for pu, pm in [(None, None)] + list(matched.items()):
+        cu = [n for n in free_u if _matched_ancestor(u, n, matched) == pu]
+        cm = [n for n in free_m if _matched_ancestor(m, n, set(matched.values())) == pm]
+        if not cu or not cm or (all(u.joint(n).parent == pu for n in cu) and all(m.joint(n).parent == pm for n in cm)):
+            continue
+        for a in cu:  # the twin lies on the ancestor's axis alike; mirror images: the closer name
+            alike = [b for b in cm if b in free_m and u.joint(a).type == m.joint(b).type and _lies_alike(u, m, a, b, pu, pm)]
+            if alike:
+                b = max(alike, key=lambda x: len(os.path.commonprefix([a, x])))
+                found.append((a, b))
+                free_u.remove(a)
+                free_m.remove(b)
     return found
+
+
+def _matched_ancestor(desc: ModelDesc, name: str, matched) -> str | None:
+    """The nearest ancestor joint of ``name`` that is matched (None: the base)."""
+    parent = desc.joint(name).parent
+    while parent is not None and parent not in matched:
+        parent = desc.joint(parent).parent
+    return parent
+
+
+def _lies_alike(u: ModelDesc, m: ModelDesc, a: str, b: str, pu: str | None, pm: str | None) -> bool:
+    """Whether two joints lie on their matched ancestors' axes alike: the distance between the
+    axis lines within 1 mm, the angle's cosine within 1e-3 (always, on the base)."""
+    if pu is None or pm is None:
+        return pu is None and pm is None
+    (_, _, tu), (_, _, tm) = _layout(u, [a], pu), _layout(m, [b], pm)
+    return abs(tu[0, 0] - tm[0, 0]) <= 1e-3 and abs(tu[0, 1] - tm[0, 1]) <= 1e-3
 
 
 def _twist(desc: ModelDesc, name: str) -> float | None:

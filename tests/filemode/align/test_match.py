@@ -6,10 +6,13 @@ from __future__ import annotations
 
 import re
 
+import pytest
+
 from kinverify.filemode.pipeline import verify_files
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import spec_from_dict
 from kinverify.run import VerifyOptions
+import tests.filemode.pairs as P
 from tests.filemode.pairs import generated_pair, ignored_by_drake, sub_once, write_pair
 
 FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12},
@@ -78,3 +81,17 @@ def test_a_site_named_like_a_link_elsewhere_is_no_twin_to_blame(tmp_path):
     twin = [f for f in result.findings if f.subject == "panda_head"]
     assert [(f.kind, f.severity, f.other) for f in twin] == [("frame_twin", "info", "head")]
     assert abs(twin[0].magnitude - 0.5) < 1e-9
+
+
+def test_a_joint_renamed_under_a_joint_one_file_adds_is_matched_by_how_it_lies(tmp_path):
+    """The MJCF names joint 7 wrist_roll and hangs its body from a 50 g slide the URDF lacks (as a
+    mobile manipulator's MJCF hangs its fingers from a gripper slide). Under their nearest matched
+    joint (joint 6), panda_joint7 and wrist_roll lie on its axis alike: one joint; the slide and
+    its body are the extra part."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = P.suspended(mjcf.replace('"panda_joint7"', '"wrist_roll"'), "panda_link7", 0.05)
+    result = verify_files(*write_pair(tmp_path, urdf, mjcf), FAST)
+    pairs = {a: b for a, b, *_ in result.model_info["joint_pairs"]}
+    assert pairs["panda_joint7"] == "wrist_roll"
+    (extra,) = [f for f in result.findings if f.kind == "extra_parts"]
+    assert extra.values["joints"] == ["suspension_joint"] and extra.values["mass_kg"] == pytest.approx(0.05)

@@ -7,7 +7,6 @@ not compared; an inertial one file leaves unset is a warning."""
 from __future__ import annotations
 
 import math
-import xml.etree.ElementTree as ET
 
 import pytest
 
@@ -122,29 +121,13 @@ def test_a_mesh_that_states_its_mass_keeps_the_mass_compared(tmp_path):
     assert f.values["mjcf"]["mass"] == pytest.approx(4.0) and "not compared" in f.message
 
 
-def suspended(mjcf: str, body: str, mass: float) -> str:
-    """``body`` hung in the MJCF from a new body ``suspension`` (``mass`` kg) on a slide joint the
-    URDF lacks, at the same place: as a mobile base's MJCF hangs its wheels from suspensions."""
-    root = ET.fromstring(mjcf)
-    parent = next(p for p in root.iter() for c in p if c.tag == "body" and c.get("name") == body)
-    child = next(c for c in parent if c.tag == "body" and c.get("name") == body)
-    holder = ET.Element("body", {"name": "suspension", "pos": child.get("pos", "0 0 0")})
-    ET.SubElement(holder, "inertial", {"pos": "0 0 -0.02", "mass": repr(mass), "diaginertia": "1 1 1"})
-    ET.SubElement(holder, "joint", {"name": "suspension_joint", "type": "slide", "axis": "0 0 1", "range": "-0.005 0.005"})
-    child.set("pos", "0 0 0")
-    parent.insert(list(parent).index(child), holder)
-    parent.remove(child)
-    holder.append(child)
-    return ET.tostring(root, encoding="unicode")
-
-
 def test_a_body_on_a_joint_one_file_lacks_is_that_joints_even_where_a_first_joint_hangs_from_it(tmp_path):
     """The MJCF hangs panda_link1 (and joint 1) from a 10 kg suspension on a slide joint the URDF
     lacks. The URDF's joint 1 hangs from panda_link0, the MJCF's from the suspension: those two are
     not one frame, and the suspension is no twin of the base. The 10 kg are the extra part; the
     base agrees."""
     urdf, mjcf = P.generated_pair("panda")
-    result = run(tmp_path, urdf, suspended(mjcf, "panda_link1", 10.0))
+    result = run(tmp_path, urdf, P.suspended(mjcf, "panda_link1", 10.0))
     pairs = [tuple(p[:2]) for p in result.model_info["frame_pairs"]]
     assert ("panda_link0", "suspension") not in pairs
     (extra,) = [f for f in result.findings if f.kind == "extra_parts"]
