@@ -220,7 +220,13 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
                            f"(within the written precision, {tol:.2g}): " + ", ".join(r["label"] for r in group),
                            {"file": side, "joints": [r["joint"] for r in group], "largest": largest},
                            magnitude=largest, unit="rad", prop="limits.position"))
-    out += effort_findings(rows, tolerances.get("limits.effort", 1e-9), set(info.alignment.couplings))
+    # followers: coupled in the comparison, or in either file to any joint (a finger an MJCF couples
+    # to a gripper slide the URDF lacks is driven through the slide's actuator)
+    coupled_m = {c.follower for c in info.m.couplings}
+    coupled_u = {c.follower for c in info.u.couplings}
+    followers = set(info.alignment.couplings) | {j.urdf for j in info.alignment.joints
+                                                 if j.mjcf in coupled_m or j.urdf in coupled_u}
+    out += effort_findings(rows, tolerances.get("limits.effort", 1e-9), followers)
     return out
 
 

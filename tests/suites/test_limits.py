@@ -82,3 +82,17 @@ def test_several_actuators_on_a_joint_the_urdf_gives_no_force_bound(tmp_path):
     (f,) = above_info(result)
     assert (f.kind, f.severity, f.subject) == ("effort_unset", "warning", "panda_joint1")
     assert f.values["unset_in"] == "URDF" and not result.failed
+
+
+def test_a_joint_the_mjcf_couples_to_a_joint_the_urdf_lacks_is_driven_through_it(tmp_path):
+    """The MJCF hangs panda_link7 from a slide the URDF lacks and couples joint 7 to it (as a
+    gripper's fingers follow its slide), with no actuator of joint 7's own: its force comes
+    through the slide's, so the MJCF does not leave it unbounded."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = P.suspended(mjcf, "panda_link7", 0.05)
+    mjcf = P.re.sub(r'<motor name="panda_joint7_motor"[^>]*/>', "", mjcf)
+    mjcf = P.sub_once(r"</mujoco>", '<equality><joint joint1="panda_joint7" joint2="suspension_joint" polycoef="0 10 0 0 0"/>'
+                      "</equality></mujoco>", mjcf)
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    assert not [f for f in result.findings if f.kind in ("effort_unset", "effort_difference")], \
+        [f.message for f in result.findings if f.kind.startswith("effort")]
