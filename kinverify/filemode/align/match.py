@@ -167,8 +167,9 @@ def _by_tree(u: ModelDesc, m: ModelDesc, pairs: list, free_u: list[str], free_m:
             free_m.remove(b)
             queue.append((a, b))
     # joints one file hangs under a joint the other lacks (fingers under a gripper slide): paired
-    # under their nearest matched ancestors, when each lies on that ancestor's axis as its twin does
-    for pu, pm in [(None, None)] + list(matched.items()):
+    # under their nearest matched ancestors, when each lies on that ancestor's axis as its twin
+    # does (on the base nothing says how a joint lies before the alignment: left unpaired)
+    for pu, pm in list(matched.items()):
         cu = [n for n in free_u if _matched_ancestor(u, n, matched) == pu]
         cm = [n for n in free_m if _matched_ancestor(m, n, set(matched.values())) == pm]
         if not cu or not cm or (all(u.joint(n).parent == pu for n in cu) and all(m.joint(n).parent == pm for n in cm)):
@@ -191,11 +192,9 @@ def _matched_ancestor(desc: ModelDesc, name: str, matched) -> str | None:
     return parent
 
 
-def _lies_alike(u: ModelDesc, m: ModelDesc, a: str, b: str, pu: str | None, pm: str | None) -> bool:
+def _lies_alike(u: ModelDesc, m: ModelDesc, a: str, b: str, pu: str, pm: str) -> bool:
     """Whether two joints lie on their matched ancestors' axes alike: the distance between the
-    axis lines within 1 mm, the angle's cosine within 1e-3 (always, on the base)."""
-    if pu is None or pm is None:
-        return pu is None and pm is None
+    axis lines within 1 mm, the angle's cosine within 1e-3."""
     (_, _, tu), (_, _, tm) = _layout(u, [a], pu), _layout(m, [b], pm)
     return abs(tu[0, 0] - tm[0, 0]) <= 1e-3 and abs(tu[0, 1] - tm[0, 1]) <= 1e-3
 
