@@ -63,6 +63,12 @@ def _actuated(effort: float | None, joint) -> tuple[float | None, list[tuple[flo
     return same[0], [(b, how) for b, how in joint.effort_each if b not in same], len(same)
 
 
+def _force_unit(rows: list[dict]) -> str:
+    """N·m for revolute joints, N for prismatic ones, both for a mix."""
+    kinds = {r["revolute"] for r in rows}
+    return "N·m" if kinds == {True} else "N" if kinds == {False} else "N·m|N"
+
+
 def _silent(joint, value: str) -> bool:
     """Whether the file leaves ``value`` ("range", "effort") of this joint unset."""
     return joint.stated is not None and value not in joint.stated
@@ -247,7 +253,7 @@ def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list
         k = 0 if side == "URDF" else 1
         silent = [r for r in rows if r["effort"][k] is None and r["effort"][1 - k] is not None and r["joint"] not in followers]
         if silent:
-            unit = "N·m" if all(r["revolute"] for r in silent) else "N" if not any(r["revolute"] for r in silent) else "N·m|N"
+            unit = _force_unit(silent)
             how = "no <limit effort>" if side == "URDF" else "no actuator on them"
             out.append(finding("effort_unset", f"the {side} states no force bound on {len(silent)} joints ({how}); the "
                                f"{other} bounds them: " + ", ".join(f"{r['label']} {r['effort'][1 - k]:g}" for r in silent)
@@ -265,7 +271,7 @@ def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list
             prop="limits.effort", joint=[r["joint"] for r in alike], mjcf_joint=[r["mjcf"] for r in alike]))
     several = [r for r in rows if r.get("effort_others")]
     if several:  # one actuator of a joint states the URDF's bound, another on it a different one
-        unit = "N·m" if all(r["revolute"] for r in several) else "N" if not any(r["revolute"] for r in several) else "N·m|N"
+        unit = _force_unit(several)
         out.append(finding(
             "actuator_alternatives", f"the MJCF drives {len(several)} joints by several actuators, one of which bounds the "
             "force as the URDF does while another allows a different force: " + "; ".join(
@@ -275,7 +281,7 @@ def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list
             magnitude=max(abs(b - r["effort"][0]) for r in several for b, _ in r["effort_others"]), unit=unit,
             prop="limits.effort", joint=[r["joint"] for r in several], mjcf_joint=[r["mjcf"] for r in several]))
     for key, group in groups.items():
-        unit = "N·m" if all(r["revolute"] for r in group) else "N" if not any(r["revolute"] for r in group) else "N·m|N"
+        unit = _force_unit(group)
         names = {"joint": [r["joint"] for r in group], "mjcf_joint": [r["mjcf"] for r in group]}
         values = {"urdf": [r["effort"][0] for r in group], "mjcf": [r["effort"][1] for r in group],
                   "mjcf_from": [r["effort_how"] for r in group], "checks": [["limits.effort", "joints"]]}
