@@ -14,6 +14,7 @@ import numpy as np
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
 from tests.paths import MODELS
+import mujoco
 
 
 def ignored_by_drake(finding) -> bool:
@@ -129,8 +130,6 @@ def gripper_in_mjcf(urdf, mjcf):
 def rounded_mjcf(urdf, mjcf):
     """The MJCF written back by MuJoCo (MjSpec.to_xml: 6 significant digits, inertias as
     principal moments and a quaternion), as machine-converted files are."""
-    import mujoco
-
     return urdf, mujoco.MjSpec.from_string(mjcf).to_xml()
 
 

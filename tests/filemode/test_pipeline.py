@@ -18,6 +18,7 @@ from kinverify.filemode.pipeline import diagnose_files, verify_files
 from kinverify.results import VerifyResult
 from kinverify.run import VerifyOptions
 from tests.filemode.pairs import write_pair
+import kinverify.filemode.align.run as align_stage
 
 FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
 ALL = VerifyOptions(samples=8, fd_samples=4, extra={"dynamics_samples": 12})
@@ -250,8 +251,6 @@ def test_a_joint_type_one_library_lacks_is_a_finding_not_a_crash(tmp_path):
 
 
 def test_kinverifys_own_failure_exits_3_and_still_writes_the_report(tmp_path, monkeypatch, capsys):
-    import kinverify.filemode.align.run as align_stage
-
     def broken(*args, **kwargs):
         raise ZeroDivisionError("planted")
     monkeypatch.setattr(align_stage, "align", broken)

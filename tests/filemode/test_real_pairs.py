@@ -17,6 +17,7 @@ import pytest
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 from tests.paths import REAL_ROBOTS
+from kinverify.filemode.read.loading import given_packages
 
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
 FILES = {"panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
@@ -251,8 +252,6 @@ def test_ur5e_from_its_xacro_sources_gives_the_same_findings():
     folder = REAL / "ur5e"
     if not folder.is_dir():
         pytest.skip(f"{folder} absent")
-    from kinverify.filemode.read.loading import given_packages
-
     with given_packages({"ur_description": str(folder / "ur_description")}, {"name": "ur5e", "ur_type": "ur5e"}):
         r = verify_files(str(folder / "ur_description" / "urdf" / "ur.urdf.xacro"), str(folder / "ur5e_menagerie.xml"), OPTIONS)
     assert sorted((f.kind, f.subject) for f in r.findings if f.severity == "error") == \

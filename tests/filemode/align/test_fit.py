@@ -24,6 +24,7 @@ from kinverify.run import VerifyOptions
 from kinverify.testing.strategies import angles_rpy, arm_specs, vectors
 import tests.filemode.pairs as P
 from tests.filemode.pairs import joint_attr, nums
+from kinverify.filemode.align.geometry import line_distance
 
 FAST = VerifyOptions(samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 8})
 SETTINGS = settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
@@ -50,8 +51,6 @@ def observable(desc, joint: str) -> bool:
     """Whether a zero offset of ``joint`` moves a point: a next joint's axis line that does not
     meet its axis, or a frame it carries off its axis (prismatic: always). When everything it
     moves sits on its axis, a turn by it is only a change of frame conventions."""
-    from kinverify.filemode.align.geometry import line_distance
-
     j = desc.joint(joint)
     if j.type == "prismatic":
         return True

@@ -12,7 +12,10 @@ import pytest
 
 import tests.filemode.pairs as P
 from kinverify.filemode.pipeline import verify_files
+from kinverify.generate import generate_mjcf, generate_urdf
+from kinverify.model.specfile import spec_from_dict
 from kinverify.run import VerifyOptions
+from tests.filemode.findings.test_alignment import quadruped
 
 FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
 
@@ -58,15 +61,21 @@ def test_a_part_a_joint_in_one_file_only_moves_is_said_once(tmp_path):
     assert extra.values["links"] == [{"name": "prop", "mass": 0.004, "body": "panda_link7", "how": "moved by prop_joint"}]
 
 
+def link4_from_absent_mesh(mjcf: str, mass: str = "") -> str:
+    """panda_link4 with no <inertial>, its geom an absent mesh (stating ``mass`` when given), and
+    MuJoCo's default that a body without <inertial> weighs its geoms."""
+    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<inertial [^>]*/>', lambda m: m[1], mjcf)
+    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
+                      lambda m: m[1] + f'<geom name="panda_link4_mesh" type="mesh" mesh="link4"{mass}/>', mjcf)
+    mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link4" file="absent/link4.stl"/></asset><worldbody>', mjcf)
+    return mjcf.replace(' inertiafromgeom="false"', "")
+
+
 def test_a_mass_that_came_from_an_absent_mesh_is_not_compared(tmp_path):
     """The MJCF's panda_link4 has no <inertial>: MuJoCo would take its mass from its mesh, which is
     absent. Its mass is not known, so it is not compared: a warning, and the verdict passes."""
     urdf, mjcf = P.generated_pair("panda")
-    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<inertial [^>]*/>', lambda m: m[1], mjcf)
-    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
-                      lambda m: m[1] + '<geom name="panda_link4_mesh" type="mesh" mesh="link4"/>', mjcf)
-    mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link4" file="absent/link4.stl"/></asset><worldbody>', mjcf)
-    mjcf = mjcf.replace(' inertiafromgeom="false"', "")  # MuJoCo's default: a body without <inertial> weighs its geoms
+    mjcf = link4_from_absent_mesh(mjcf)
     result = run(tmp_path, urdf, mjcf)
     assert serious(result) == [("mass_unknown", "panda_link4")] and result.passed
 
@@ -86,10 +95,6 @@ def test_a_base_whose_mass_sits_on_a_fixed_child_link_is_one_body(tmp_path):
     """The URDF's floating trunk states no inertial; its mass sits on a fixed child link
     (trunk_inertia), as Spot's URDF does. The MJCF's trunk is 20 % heavier: one mass_difference on
     the trunk, not two extra parts (one in each file) that hide it."""
-    from kinverify.generate import generate_mjcf, generate_urdf
-    from kinverify.model.specfile import spec_from_dict
-    from tests.filemode.findings.test_alignment import quadruped
-
     spec = quadruped()
     urdf = generate_urdf(spec_from_dict(spec))
     inertial = P.re.search(r'<link name="trunk">\s*(<inertial>.*?</inertial>)', urdf, P.re.S)[1]
@@ -109,11 +114,7 @@ def test_a_mesh_that_states_its_mass_keeps_the_mass_compared(tmp_path):
     """The MJCF's panda_link4 has no <inertial>; its absent mesh geom states mass="4": the body's
     mass is known (and differs from the URDF's 3.59 kg), its centre of mass and inertia are not."""
     urdf, mjcf = P.generated_pair("panda")
-    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<inertial [^>]*/>', lambda m: m[1], mjcf)
-    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
-                      lambda m: m[1] + '<geom name="panda_link4_mesh" type="mesh" mesh="link4" mass="4"/>', mjcf)
-    mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link4" file="absent/link4.stl"/></asset><worldbody>', mjcf)
-    mjcf = mjcf.replace(' inertiafromgeom="false"', "")  # MuJoCo's default: a body without <inertial> weighs its geoms
+    mjcf = link4_from_absent_mesh(mjcf, ' mass="4"')
     result = run(tmp_path, urdf, mjcf, VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
                                                      suites=["kinematics", "inertia"]))
     assert serious(result) == [("mass_difference", "panda_link4")]

@@ -15,6 +15,8 @@ from kinverify.filemode.pipeline import verify_files
 from kinverify.filemode.read.loading import load_mjcf, load_urdf, resolve_asset
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.run import VerifyOptions
+from kinverify.filemode.read.loading import load_mjcf
+from tests.filemode.pairs import generated_pair, sub_once, write_pair
 
 FAST = VerifyOptions(samples=20, fd_samples=5)
 
@@ -103,9 +105,6 @@ def test_a_mesh_geom_given_its_mesh_by_a_default_class_is_dropped_with_it(tmp_pa
     """A fingertip geom with no mesh attribute of its own takes ``mesh="tip"`` from its default
     class (as MuJoCo Menagerie's LEAP hand writes it): the absent mesh is dropped with the geom, and
     the default class no longer names it, so MuJoCo loads the file."""
-    from kinverify.filemode.read.loading import load_mjcf
-    from tests.filemode.pairs import generated_pair, sub_once, write_pair
-
     urdf, mjcf = generated_pair("arm3")
     mjcf = sub_once(r"<default>", '<default><default class="tip"><geom type="mesh" mesh="tip"/></default>', mjcf)
     mjcf = sub_once(r"<worldbody>", '<asset><mesh name="tip" file="absent/tip.stl"/></asset><worldbody>', mjcf)

@@ -14,6 +14,7 @@ from kinverify.filemode.read.xacro import compile_xacro, is_xacro, parse_pairs
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
 from tests.paths import MODELS, ROOT
+from kinverify.cli import main
 
 PACKAGE = ROOT / "tests" / "data" / "xacro" / "my_arm_description"
 XACRO = PACKAGE / "urdf" / "arm3.urdf.xacro"
@@ -76,8 +77,6 @@ def test_options_and_detection():
 # --- wired in: verify (file mode and one-file audit) and ik read xacro -------------------------
 
 def _verify(tmp_path, capsys, *argv) -> tuple[int, dict, str]:
-    from kinverify.cli import main
-
     out = tmp_path / "out.json"
     code = main(["verify", *argv, "--samples", "20", "--quiet", "--json", str(out), "--report", str(tmp_path / "out.html")])
     captured = capsys.readouterr()
@@ -122,16 +121,12 @@ def test_an_unresolved_package_or_macro_is_one_line_naming_the_file(tmp_path, ca
 
 
 def test_ik_solves_on_the_compiled_chain(capsys):
-    from kinverify.cli import main
-
     code = main(["ik", "--urdf", str(XACRO), "--tip", "link3", "--target", "0.1", "0.1", "0.9", "--xacro-arg", "table_height=0.5"])
     out = capsys.readouterr().out
     assert code in (0, 1) and "root -> link3" in out and "3 joints" in out
 
 
 def test_diff_compiles_xacro_and_finds_the_generated_arm3(tmp_path, capsys):
-    from kinverify.cli import main
-
     plain = tmp_path / "arm3.urdf"
     plain.write_text(generate_urdf(load_spec(MODELS / "arm3.toml")))
     report = str(tmp_path / "d.html")
