@@ -78,20 +78,16 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
     return ModelDesc("mjcf", "mujoco", joints, frames, owner, depth, bodies, skipped, kind, _mjcf_couplings(m, movable),
                      np.array(m.opt.gravity, dtype=float), held=held,
                      gravcomp={m.body(b).name: float(m.body_gravcomp[b]) for b in range(1, m.nbody)
-                               if m.body_gravcomp[b] and m.body_mass[b] > 0}, free_joint=_free_joint_values(m))
+                               if m.body_gravcomp[b] and m.body_mass[b] > 0})
 
 
 def free_joint_values(text: str) -> dict[str, float]:
-    """The free joints' largest armature and damping in an MJCF text ({} if MuJoCo cannot read it)."""
+    """The largest armature and damping an MJCF's free joints give their six dofs (often from a
+    default class meant for the legs), those that are not 0 ({} if MuJoCo cannot read the text)."""
     try:
-        return _free_joint_values(mujoco.MjModel.from_xml_string(text))
+        m = mujoco.MjModel.from_xml_string(text)
     except ValueError:
         return {}
-
-
-def _free_joint_values(m) -> dict[str, float]:
-    """The largest armature and damping MJCF free joints give their six dofs (often from a default
-    class meant for the legs), those that are not 0."""
     dofs = [int(m.jnt_dofadr[j]) + k for j in range(m.njnt) if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)
             for k in range(6)]
     values = {"armature": float(max((m.dof_armature[v] for v in dofs), default=0.0)),

@@ -80,7 +80,7 @@ class ModelDesc:
     held: list[str] = field(default_factory=list)  # joints with several coordinates, held at neutral (not compared)
     no_inertial: set[str] = field(default_factory=set)  # links/bodies that state no inertial (massless by default)
     gravcomp: dict[str, float] = field(default_factory=dict)  # MJCF body -> share of its weight compensated (gravcomp)
-    free_joint: dict[str, float] = field(default_factory=dict)  # MJCF free joints' largest armature, damping (if any)
+    free_joint: dict[str, float] = field(default_factory=dict)  # MJCF free joints' armature, damping (read.files)
 
     def joint(self, name: str) -> JointDesc:
         return next(j for j in self.joints if j.name == name)
