@@ -30,7 +30,8 @@ def _num(x) -> str:
 
 
 def order_rows(result: MapResult) -> tuple[list[str], list[list[str]]]:
-    """One row per joint: its name and place in each file's order (``#k name``, ``qpos[a]`` for MuJoCo)."""
+    """One row per joint: its place in each file's order (``#k``, its name there when it is
+    another, ``qpos[a]`` for MuJoCo)."""
     labels, rows = short_labels(result), []
     columns = ["joint"] + [labels[s] for s, side in enumerate(result.sides) if side.ordered]
     for r, names in enumerate(result.rows.names):
@@ -44,7 +45,8 @@ def order_rows(result: MapResult) -> tuple[list[str], list[list[str]]]:
                 continue
             j = side.joint(n)
             at = f" qpos[{j.qpos}]" if j.qpos is not None and side.format == "mjcf" else ""
-            cells.append(f"#{side.names.index(n)} {n}{at}")
+            named = f" {n}" if n != cells[0] else ""
+            cells.append(f"#{side.names.index(n)}{named}{at}")
         rows.append(cells)
     return columns, rows
 
@@ -115,7 +117,7 @@ def print_map(result: MapResult, console: Console | None = None, json_path: str 
         for note in side.notes:
             console.print(f"  [dim]{escape(note)}[/]")
     for title, columns, rows in tables(result):
-        table = Table(title=title, title_justify="left", show_edge=False, pad_edge=False)
+        table = Table(title=escape(title), title_justify="left", show_edge=False, pad_edge=False)
         for c in columns:
             table.add_column(escape(c), overflow="fold")
         for row in rows:

@@ -32,7 +32,7 @@ def read_sdf(path: str, options) -> Side:
         if joint.num_positions() != 1 or joint.num_velocities() != 1 or joint.type_name() not in MOVABLE:
             continue
         j = MapJoint(joint.name(), MOVABLE[joint.type_name()], int(joint.position_start()), int(joint.velocity_start()),
-                     default=float(joint.get_default_positions()[0]), driven=False,
+                     default=float(joint.default_positions()[0]), driven=False,
                      joint_damping=float(joint.default_damping()), how={"default": "Drake's default position"})
         velocity = float(joint.velocity_upper_limits()[0])
         if velocity < 1e300:

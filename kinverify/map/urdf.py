@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
+from kinverify.errors import library_reason
 from kinverify.filemode.align.floating import fixed_urdf
 from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.filemode.read.loading import load_urdf
@@ -43,8 +44,12 @@ def read_urdf(path: str, options) -> Side:
         joints.append(j)
     actuators = _transmissions(root, joints)
     expresses = EXPRESSES | ({"armature", "stiffness", "damping"} if actuators else frozenset())
-    desc = describe_urdf(fixed_urdf(loaded.text, keep_origin=True))
     notes = list(loaded.warnings)
+    try:
+        desc = describe_urdf(fixed_urdf(loaded.text, keep_origin=True))
+    except (ValueError, RuntimeError) as err:  # Pinocchio refuses it: joints matched by name only
+        desc = None
+        notes.append(f"Pinocchio cannot read it ({library_reason(err)}): joints matched to the other files by name")
     if actuators is None:
         notes.append("no <transmission>: which joints are driven is each simulator's choice (not compared)")
     return Side(path, path, "urdf", "URDF declaration order", joints, actuators, expresses, desc, notes)
