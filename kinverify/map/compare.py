@@ -132,9 +132,10 @@ def value_findings(rows: Rows, rtol: float = RTOL) -> list[Finding]:
             for s, x in stated[1:]:
                 if not _agree(v, ref_value, x, rtol):
                     ratio = x / ref_value if ref_value else math.inf
-                    named = _ratio_name(ratio) if math.isfinite(ratio) and ratio else None
-                    key = (ref, s, named or ("" if v.absolute else round(math.log(abs(ratio)), 3) if ratio and math.isfinite(ratio) else "?"))
-                    groups.setdefault(("difference",) + key, []).append((r, ref_value, x))
+                    finite = math.isfinite(ratio) and ratio != 0
+                    named = _ratio_name(ratio) if finite else None
+                    bucket = None if v.absolute or named or not finite else round(math.log(abs(ratio)), 3)
+                    groups.setdefault(("difference", ref, s, named, bucket), []).append((r, ref_value, x))
             for s in range(len(rows.sides)):
                 _, why = _compared(rows, r, s, v)
                 if why in ("unset", "inexpressible") and ref_value != 0:  # 0: every format's default
@@ -157,14 +158,14 @@ def _value_finding(rows: Rows, v: Value, key: tuple, hits: list) -> Finding:
         message = f"{v.label}: {b.label} {why} on {len(joints)} joints where {a.label} states up to {size:.6g} {unit}: {listed(joints)}"
         return map_finding(kind, severity, message, joints, {"files": [a.label, b.label],
                         "stated": {rows.label(r): x for r, x, _ in hits}}, size, unit, v.name)
-    named = key[3] if isinstance(key[3], str) and key[3] else None
+    named = key[3]
     size = max(abs(y - x) for _, x, y in hits)
     pairs = {rows.label(r): [x, y] for r, x, y in hits}
     ratio = hits[0][2] / hits[0][1] if hits[0][1] else math.inf
     scale = f"×{ratio:.6g}" if math.isfinite(ratio) and not v.absolute else ""
     detail = "; ".join(f"{n} {x:.6g} vs {y:.6g}" for n, (x, y) in list(pairs.items())[:4])
     kind = f"{v.name}_units" if named else f"{v.name}_difference"
-    message = (f"{v.label}: {b.label} states {scale + ' ' if scale else ''}{a.label}'s on {len(joints)} joints"
+    message = (f"{v.label}: {b.label}'s is {scale + ' ' if scale else 'not '}{a.label}'s on {len(joints)} joints"
                f"{f' ({named})' if named else ''}, up to {size:.6g} {unit} apart: {detail}")
     return map_finding(kind, "error", message, joints, {"files": [a.label, b.label], "values": pairs,
                     "ratio": ratio if math.isfinite(ratio) else None}, size, unit, v.name)
