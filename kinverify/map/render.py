@@ -117,7 +117,8 @@ def print_map(result: MapResult, console: Console | None = None, json_path: str 
         for note in side.notes:
             console.print(f"  [dim]{escape(note)}[/]")
     for title, columns, rows in tables(result):
-        table = Table(title=escape(title), title_justify="left", show_edge=False, pad_edge=False)
+        console.print(f"[bold]{escape(title)}[/]")
+        table = Table(show_edge=False, pad_edge=False)
         for c in columns:
             table.add_column(escape(c), overflow="fold")
         for row in rows:
