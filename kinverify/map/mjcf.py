@@ -52,6 +52,7 @@ def read_mjcf(path: str, options) -> Side:
             if theirs in said:
                 field = {"armature": m.dof_armature, "friction": m.dof_frictionloss, "joint_damping": m.dof_damping}[ours]
                 setattr(j, ours, float(field[dof]))
+                j.how[ours] = f"joint {'frictionloss' if ours == 'friction' else theirs} (its own or its default class's)"
         if desc.has_joint(name):
             d = desc.joint(name)
             if d.effort is not None and math.isfinite(d.effort):
@@ -101,6 +102,11 @@ def _actuators(m, by_id: dict) -> list[Actuator]:
                 j.stiffness = (j.stiffness or 0.0) - b1 * gear**2
                 j.damping = (j.damping or 0.0) - b2 * gear**2
                 j.how["stiffness"] = j.how["damping"] = f"{name}: −biasprm[1:3] × gear²" + (f" (gear {gear:g})" if gear != 1 else "")
+                gain = float(m.actuator_gainprm[a][0])
+                if b1 and abs(gain + b1) > 1e-9 * abs(b1):  # the target is ctrl scaled: a policy's action is not a joint angle
+                    j.how["target"] = f"{name}: target = ctrl × {gain / (-b1 * gear):.6g} (gainprm[0] / (−biasprm[1]·gear))"
+                elif gear != 1 and b1:
+                    j.how["target"] = f"{name}: target = ctrl / gear {gear:g}"
             else:
                 kind = "motor (torque)" if bias == none and fixed_gain else "general"
                 j.apart.setdefault("stiffness", f"{name} is a {kind}: the gains live in the controller")

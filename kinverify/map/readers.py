@@ -31,10 +31,10 @@ ROOTS = {b"<mujoco": "mjcf", b"<robot": "urdf", b"<sdf": "sdf"}
 def format_of(path: str) -> str:
     """``urdf``, ``mjcf``, ``sdf`` (or another registered format) for ``path``; :class:`InputError`
     for a file no reader takes."""
+    head = read_head(path, 4096, "FILE")  # absent, a folder or a FIFO: refused here, named as the user gave it
     suffix = Path(path).suffix.lower()
     if suffix in SUFFIXES:
         return SUFFIXES[suffix]
-    head = read_head(path, 4096, "FILE")
     for root, kind in ROOTS.items():
         if root in head:
             return kind

@@ -87,3 +87,10 @@ def test_mjcf_actuator_order_and_the_joint_to_actuator_map(tmp_path):
     assert (f.kind, f.magnitude) == ("actuator_order", 3)
     to_ctrl = {(m["from"], m["to"]): m["index"] for m in result.maps["joints_to_actuators"]}
     assert to_ctrl[("arm.xml", "moved.xml")] == [1, 2, 0, 3]  # ctrl_moved = q_arm[index]
+
+
+def test_an_inactive_equality_is_no_coupling(tmp_path):
+    text = robot.mjcf(follower_actuator=True).replace('joint2="finger_a"/>', 'joint2="finger_a" active="false"/>')
+    result = run(tmp_path, arm_urdf=robot.urdf(), arm_xml=text)
+    assert [(f.kind, f.severity, f.subject) for f in serious(result)] == [("coupling_one_file", "warning", "finger_b")]
+    assert result.sides[1].joint("finger_b").follows is None
