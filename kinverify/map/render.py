@@ -84,7 +84,8 @@ def drive_rows(result: MapResult) -> tuple[list[str], list[list[str]]]:
             if j is None:
                 cells.append("")
                 continue
-            drive = {True: j.mode or "driven", False: "passive", None: "not stated"}[j.driven]
+            unstated = "the asset's drive" if result.sides[s].format == "table" else "not stated"
+            drive = {True: j.mode or "driven", False: "passive", None: unstated}[j.driven]
             follows = f"; follows {j.follows.leader} ×{j.follows.multiplier:g}" if j.follows else ""
             cells.append(drive + follows)
         rows.append(cells)

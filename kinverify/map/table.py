@@ -18,7 +18,8 @@ A flat form, ``[joints."REGEX"]`` with the same keys, is one group per pattern. 
 are per radian for a revolute joint (its Python config feeds PhysX per radian); ``units =
 "degree"`` converts stiffness and damping ×180/π, velocities and positions ×π/180. The patterns
 are matched against the joint names of the first file in which every pattern names a joint; the
-joints the table's groups name are driven, the others are not. A value the table leaves out comes
+joints the table's groups name are driven; the others keep whatever drive the asset gives them (Isaac
+Lab warns and leaves them to the asset: not stated here). A value the table leaves out comes
 from the asset, as a ``None`` does in Isaac Lab ("inherited": not compared). It has no order of
 its own."""
 
@@ -110,7 +111,7 @@ def read_table(path: str, files: list[Side]) -> tuple[Side, int]:
         raise InputError(f"{LABEL}: {path}: no file has every joint the table names (pattern {missing!r} "
                          f"matches no joint of {', '.join(s.label for s in files)})" if missing else
                          f"{LABEL}: {path}: no single file has every joint the table names")
-    joints = {j.name: MapJoint(j.name, j.type, driven=False) for j in target.joints}
+    joints = {j.name: MapJoint(j.name, j.type) for j in target.joints}  # driven: None, the asset's drives
     owner: dict[str, str] = {}
     for gname, group in _groups(data, path).items():
         exprs = [_compile(p, f"actuators.{gname}.joint_names_expr", path) for p in group["joint_names_expr"]]

@@ -90,7 +90,7 @@ def test_a_yaml_table_in_isaac_lab_form_is_read(tmp_path):
     result = map_files([str(tmp_path / "arm.urdf")], MapOptions(actuators=paths[0]))
     side = result.sides[1]
     assert (side.joint("shoulder").stiffness, side.joint("wrist").stiffness, side.joint("elbow").default) == (100.0, 50.0, 0.5)
-    assert side.joint("finger_a").driven is False and side.joint("shoulder").velocity == 3.0
+    assert side.joint("finger_a").driven is None and side.joint("shoulder").velocity == 3.0
 
 
 def test_file_mode_reports_carry_the_map_as_a_section(tmp_path):
