@@ -104,3 +104,20 @@ def test_file_mode_reports_carry_the_map_as_a_section(tmp_path):
     broken = robot.write(tmp_path, broken_xml="<mujoco><worldbody><body><joint/></body></worldbody>")
     add_map(result, [paths[0], broken[0]])
     assert result.notes and "map not made" in result.notes[0]
+
+
+def test_menagerie_panda_gripper_tendon_and_inverse_equality_are_no_finding():
+    """The URDF's finger_joint2 mimics finger_joint1; Menagerie's MJCF states the equality the other
+    way round and drives both fingers through one tendon: the same coupling, no driven follower."""
+    from kinverify.map.contract import map_files
+
+    folder = REAL / "panda"
+    if not folder.is_dir():
+        pytest.skip(f"{folder} absent")
+    result = map_files([str(folder / "panda_erd.urdf"), str(folder / "panda_menagerie.xml")])
+    kinds = {f.kind for f in result.findings}
+    assert not kinds & {"driven_follower", "coupling_difference", "coupling_one_file", "joint_order", "joint_missing"}
+    assert result.maps["joints"][0]["index"] == list(range(9))
+    (to_ctrl,) = [m for m in result.maps["joints_to_actuators"] if m["from"] == "panda_erd.urdf"]
+    assert to_ctrl["index"] == [0, 1, 2, 3, 4, 5, 6, None]  # actuator8 drives the tendon "split"
+    assert result.sides[1].joint("finger_joint1").stiffness is None  # a tendon's gains are no joint's
