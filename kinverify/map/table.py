@@ -147,5 +147,8 @@ def _assign(joints: dict, members: list[str], name: str, spec, where: str, path:
         if hits:
             j = joints[n]
             amount = to_radian(hits[0], name, j.type) if units == "degree" else hits[0]
+            if not math.isfinite(amount) or (amount < 0 and name != "default"):
+                raise InputError(f"{LABEL}: {path}: {where}: {hits[0]!r} on joint {n!r} is "
+                                 + ("negative" if amount < 0 else "too large once per radian"))
             setattr(j, name, amount)
             j.how[name] = where
