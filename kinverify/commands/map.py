@@ -31,8 +31,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        "(to = from[index]) and, side by side per radian, the default pose, PD gains, effort and velocity "
                        "limits, armature, friction, drives and couplings. Exit 0 they agree, 1 they differ, 2 bad input.")
     p.add_argument("files", nargs="+", metavar="FILE", help="URDF (.urdf, .xacro), MJCF (.xml, .mjcf) or SDFormat (.sdf) files")
-    p.add_argument("--keyframe", metavar="NAME", help="the MJCF keyframe that is the default pose (default: qpos0, the "
-                   "joints' ref)")
+    p.add_argument("--keyframe", metavar="NAME", help="the MJCF keyframe that is the default pose, in every MJCF given "
+                   "(default: qpos0, the joints' ref)")
     p.add_argument("--actuators", metavar="TABLE", help="an Isaac Lab-style actuator table (YAML or TOML: joint-name regex -> "
                    "stiffness, damping, effort_limit, velocity_limit, armature, friction; per radian unless units = "
                    "\"degree\"), compared as one more side")

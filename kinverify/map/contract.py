@@ -80,6 +80,8 @@ def map_files(paths: list[str], options: MapOptions | None = None) -> MapResult:
     if len(set(paths)) != len(paths):
         raise InputError(f"{next(p for p in paths if paths.count(p) > 1)} is given twice")
     sides = [read_side(p, options) for p in paths]
+    if options.keyframe and not any(side.format == "mjcf" for side in sides):
+        raise InputError(f"--keyframe {options.keyframe!r}: no MJCF among the files (keyframes are MJCF's)")
     targets = {}
     if options.actuators:
         table, targets[len(sides)] = read_table(options.actuators, sides)
