@@ -20,7 +20,7 @@ def read_sdf(path: str, options) -> Side:
     loaded = load_sdf(path)
     info = backend_info("drake-sdf")
     if not info.available:
-        return _declared(path, loaded)
+        return declared_sdf(path, loaded)
     try:
         plant, _, warnings = info.backend_class.load_plant(loaded.text, "sdf", name="drake-sdf")
         desc = describe_sdf(loaded.text)
@@ -60,7 +60,7 @@ def read_sdf(path: str, options) -> Side:
     return Side(path, path, "sdf", "Drake plant order", joints, actuators, expresses, desc, notes)
 
 
-def _declared(path: str, loaded) -> Side:
+def declared_sdf(path: str, loaded) -> Side:
     """Without Drake: the joints in SDFormat declaration order, their values as written."""
     joints = []
     for el in loaded.tree.iter("joint"):

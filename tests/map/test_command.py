@@ -121,3 +121,14 @@ def test_menagerie_panda_gripper_tendon_and_inverse_equality_are_no_finding():
     (to_ctrl,) = [m for m in result.maps["joints_to_actuators"] if m["from"] == "panda_erd.urdf"]
     assert to_ctrl["index"] == [0, 1, 2, 3, 4, 5, 6, None]  # actuator8 drives the tendon "split"
     assert result.sides[1].joint("finger_joint1").stiffness is None  # a tendon's gains are no joint's
+
+
+def test_without_drake_an_sdformat_file_is_read_in_declaration_order(tmp_path):
+    from kinverify.filemode.read.loading import load_sdf
+    from kinverify.map.sdf import declared_sdf
+
+    (path,) = robot.write(tmp_path, arm3_sdf=generate_sdf(load_spec(MODELS / "arm3.toml")))
+    side = declared_sdf(path, load_sdf(path))
+    assert side.names == ["joint1", "joint2", "joint3"] and side.order == "SDFormat declaration order"
+    assert (side.joint("joint1").effort, side.joint("joint1").velocity, side.joint("joint1").joint_damping) == (100.0, 3.0, 0.1)
+    assert side.actuators is None
