@@ -22,12 +22,13 @@ import sys
 
 from kinverify import __version__
 
-COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff", "check")
+COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff", "check", "map")
 ISSUES = "the kinverify issue tracker"
 # argument -> how messages name it; these name files a command reads
 # (files found while loading, such as an MJCF's includes, are added by the reader: kinverify.io.read)
 INPUTS = {"model": "the spec MODEL", "urdf": "--urdf", "mjcf": "--mjcf", "results": "RESULTS", "baseline": "--baseline",
-          "old": "OLD", "new": "NEW", "accept": "--accept", "targets": "--targets", "initial": "--initial"}
+          "old": "OLD", "new": "NEW", "accept": "--accept", "targets": "--targets", "initial": "--initial",
+          "actuators": "--actuators"}
 OUTPUTS = {"json": "--json", "report": "--report", "junit": "--junit", "out": "--out",  # generate's --out is a directory
            "write_accepted": "--write-accepted"}
 

@@ -42,6 +42,8 @@ from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.files import LABELS, mjcf_angle_unit, read_mjcf, read_sdf, read_urdf
 from kinverify.filemode.read.precision import Precision, floors, mjcf_precision, urdf_precision
 from kinverify.filemode.read.validate import validate_inertials
+from kinverify.map.contract import map_files
+from kinverify.map.render import map_section
 from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE, base_limits
 from kinverify.pipeline.sampling import sample_configurations
 from kinverify.results import VerifyResult
@@ -184,8 +186,23 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
         result.model_info["files"] = {kinds[0]: urdf, kinds[1]: mjcf}
         result.notes.append(f"{LABELS['sdf']}: read by Drake, its only reader here; compared: kinematics, limits and "
                             "inertials (dynamics and the drawings need Pinocchio and MuJoCo on both files)")
+    add_map(result, [urdf, mjcf])  # after relabel: the map names each file's format itself
     result.duration_s = time.perf_counter() - t0
     return result
+
+
+def add_map(result, paths: list[str]) -> None:
+    """The sim-to-sim map of the files (:mod:`kinverify.map`) as the report's "map" section: joint
+    and actuator orders, index maps, values per radian; its findings are notes there (file mode's
+    own findings decide the verdict). A file the map cannot read is a note."""
+    try:
+        result.sections["map"] = map_section(map_files(paths))
+    except KinverifyError as err:
+        result.notes.append(f"sim-to-sim map not made: {err}")
+    except KeyboardInterrupt:
+        raise
+    except Exception as err:  # kinverify's bug
+        result.internal_errors.append(f"file mode, the sim-to-sim map: {type(err).__name__}: {err}")
 
 
 def relabel(result, kinds) -> None:
