@@ -47,12 +47,14 @@ def test_verify_exits_1_when_a_check_fails(tmp_path, capsys):
     assert all(c["max_error"] > 1e-13 for c in failed)
 
 
-def test_generate_writes_the_three_files(tmp_path, capsys):
+def test_generate_writes_the_four_files(tmp_path, capsys):
+    pytest.importorskip("pxr")  # without usd-core: tests/generate/test_usd.py checks the three files and the note
     assert main(["generate", "models/scara.toml", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "scara.urdf").read_text().startswith("<?xml")
     assert "<mujoco" in (tmp_path / "scara.xml").read_text()
     assert '<sdf version="1.9"' in (tmp_path / "scara.sdf").read_text()
-    assert capsys.readouterr().out.split() == [str(tmp_path / f"scara.{ext}") for ext in ("urdf", "xml", "sdf")]
+    assert (tmp_path / "scara.usda").read_text().startswith("#usda 1.0")
+    assert capsys.readouterr().out.split() == [str(tmp_path / f"scara.{ext}") for ext in ("urdf", "xml", "sdf", "usda")]
 
 
 @pytest.mark.parametrize("argv, words", [
