@@ -30,50 +30,50 @@ MODELS = sorted(str(p) for p in Path("models").glob("*.toml"))
 FLOAT = 2e-6  # single precision, relative, after a few compositions
 
 
-def _stage(text: str) -> Usd.Stage:
+def stage_of(text: str) -> Usd.Stage:
     stage = Usd.Stage.CreateInMemory()
     assert stage.GetRootLayer().ImportFromString(text)
     return stage
 
 
-def _parsed(stage) -> dict:
+def physics_of(stage) -> dict:
     """UsdPhysics' parse of the stage: {object type: {prim path: description}}."""
     out = UsdPhysics.UsdPhysicsLoadStageFromPrimRange(stage, [Sdf.Path.absoluteRootPath])
     return {kind: {str(p): d for p, d in zip(paths, descs, strict=True)} for kind, (paths, descs) in out.items()}
 
 
-def _rotation(quat) -> np.ndarray:
+def rotation_of(quat) -> np.ndarray:
     """Column-vector rotation matrix of a Gf quaternion (Gf's matrices act on row vectors). Not
     through ``Gf.Rotation``, whose angle (2·acos w) loses ~1e-6 rad of a float quaternion near 1."""
     return np.array(Gf.Matrix3d().SetRotate(Gf.Quatd(quat).GetNormalized())).T
 
 
-def _transform(pos, quat) -> np.ndarray:
+def pose_of(pos, quat) -> np.ndarray:
     t = np.eye(4)
-    t[:3, :3], t[:3, 3] = _rotation(quat), np.array(pos)
+    t[:3, :3], t[:3, 3] = rotation_of(quat), np.array(pos)
     return t
 
 
-def _joint_poses(parsed: dict, spec) -> dict:
-    """World pose of every body at rest, composed from the joints alone: body1 = body0 · L0 · L1⁻¹
-    from the world (the fixed joint without body0), or from a floating base's parsed pose."""
+def joint_poses(parsed: dict) -> dict:
+    """World pose of every rigid body at rest, composed from the joints alone: body1 = body0 · L0 ·
+    L1⁻¹, from the world (a joint whose body0 is no rigid body) or from a body no joint moves (a
+    floating base: its pose as parsed)."""
+    bodies = parsed[UsdPhysics.ObjectType.RigidBody]
     joints = [d for kind in ("FixedJoint", "RevoluteJoint", "PrismaticJoint")
               for d in parsed.get(getattr(UsdPhysics.ObjectType, kind), {}).values()]
-    poses = {}
-    if spec.floating:
-        body = next(iter(parsed[UsdPhysics.ObjectType.RigidBody].items()))
-        poses[body[0]] = _transform(body[1].position, body[1].rotation)
-    while len(poses) < spec.dof + 1:
+    moved = {str(j.body1) for j in joints}
+    poses = {p: pose_of(b.position, b.rotation) for p, b in bodies.items() if p not in moved}
+    while len(poses) < len(bodies):
         grown = False
         for j in joints:
-            parent = str(j.body0)
+            parent = str(j.body0) if str(j.body0) in bodies else ""
             if str(j.body1) in poses or (parent and parent not in poses):
                 continue
-            local = _transform(j.localPose0Position, j.localPose0Orientation) @ np.linalg.inv(
-                _transform(j.localPose1Position, j.localPose1Orientation))
+            local = pose_of(j.localPose0Position, j.localPose0Orientation) @ np.linalg.inv(
+                pose_of(j.localPose1Position, j.localPose1Orientation))
             poses[str(j.body1)] = (poses[parent] if parent else np.eye(4)) @ local
             grown = True
-        assert grown, f"bodies no joint reaches: {len(poses)} of {spec.dof + 1}"
+        assert grown, f"bodies no joint reaches: {sorted(set(bodies) - set(poses))}"
     return poses
 
 
@@ -84,10 +84,10 @@ def _world(stage, path: str) -> np.ndarray:
 def check_usd(spec) -> None:
     """Every stated value of ``spec`` in its generated USD, as usd-core reads it."""
     text = generate_usd(spec)
-    stage = _stage(text)
+    stage = stage_of(text)
     assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0 and UsdPhysics.GetStageKilogramsPerUnit(stage) == 1.0
     assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z
-    parsed = _parsed(stage)
+    parsed = physics_of(stage)
     root = f"/{spec.name}"
     (articulation,) = parsed[UsdPhysics.ObjectType.Articulation].values()
     assert str(articulation.primPath) == root
@@ -104,7 +104,7 @@ def check_usd(spec) -> None:
         assert (type(d).__name__, str(d.body0), str(d.body1)) == (
             "RevoluteJointDesc" if joint.type == "revolute" else "PrismaticJointDesc", links[parent], links[i + 1])
         token = np.eye(3)[int(d.axis)]  # UsdPhysics.Axis X, Y, Z = 0, 1, 2
-        np.testing.assert_allclose(_rotation(d.localPose1Orientation) @ token, joint.axis, atol=FLOAT)
+        np.testing.assert_allclose(rotation_of(d.localPose1Orientation) @ token, joint.axis, atol=FLOAT)
         per = math.degrees(1.0) if joint.type == "revolute" else 1.0
         lim = joint.limits
         np.testing.assert_allclose([d.limit.lower, d.limit.upper], [lim.lower * per, lim.upper * per], rtol=FLOAT,
@@ -123,11 +123,11 @@ def check_usd(spec) -> None:
         i = link.inertial
         np.testing.assert_allclose(mass.GetMassAttr().Get(), i.mass, rtol=FLOAT)
         np.testing.assert_allclose(np.array(mass.GetCenterOfMassAttr().Get()), i.com, atol=FLOAT * max(1.0, *np.abs(i.com)))
-        axes = _rotation(mass.GetPrincipalAxesAttr().Get())
+        axes = rotation_of(mass.GetPrincipalAxesAttr().Get())
         tensor = axes @ np.diag(np.array(mass.GetDiagonalInertiaAttr().Get())) @ axes.T
         np.testing.assert_allclose(tensor, i.matrix, atol=FLOAT * np.abs(i.matrix).max())
     fk = link_poses(spec, spec.home())[0]
-    composed = _joint_poses(parsed, spec)
+    composed = joint_poses(parsed)
     for k, path in enumerate(links):
         scale = max(1.0, float(np.abs(fk[k, :3, 3]).max()))
         np.testing.assert_allclose(composed[path], fk[k], atol=FLOAT * scale * (spec.dof + 1), err_msg=path)
@@ -157,7 +157,7 @@ def test_names_usd_cannot_take_become_identifiers_and_keep_theirs():
         {"name": "j.1", "type": "revolute", "axis": [0, -1, 0], "xyz": [0, 0, 0.1], "limits": {"lower": -1, "upper": 1, "unit": "rad"}},
         {"name": "j_1", "type": "prismatic", "axis": [0.6, 0.8, 0], "xyz": [0, 0, 0.1], "limits": {"lower": 0, "upper": 0.2}}],
         "tools": [{"name": "tip-0", "xyz": [0.1, 0, 0]}]})
-    stage = _stage(generate_usd(spec))
+    stage = stage_of(generate_usd(spec))
     shown = {prim.GetName(): (prim.GetTypeName(), prim.GetDisplayName()) for prim in stage.Traverse()}
     assert shown["two_arms"] == ("Xform", "two.arms") and shown["base_link"] == ("Xform", "base-link")
     assert shown["j_1_1"] == ("PhysicsRevoluteJoint", "j.1") and shown["j_1"] == ("PhysicsPrismaticJoint", "")
