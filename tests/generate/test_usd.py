@@ -8,7 +8,6 @@ and tools' double-precision xformOps agree with FK to 1e-12."""
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +16,6 @@ from hypothesis import given, settings
 
 from kinverify import load_spec, spec_from_dict
 from kinverify.backends import ModelSources, backend_info, names_reading
-from kinverify.cli import main
 from kinverify.model.kinematics import frame_poses, link_poses
 from kinverify.testing import strategies as kst
 
@@ -178,14 +176,3 @@ def test_model_sources_carry_the_usd_and_the_registry_names_its_backend():
     assert (info.source, info.extra, info.cls) == ("usd", "usd", "UsdBackend")
     # the adapter module may be absent: the registry then treats it as an extra not installed
     assert info.available or "pip install 'kinverify[usd]'" in info.reason
-
-
-def test_without_usd_core_generate_writes_three_files_and_says_why(tmp_path, capsys, monkeypatch):
-    monkeypatch.setitem(sys.modules, "pxr", None)  # as if usd-core were not installed
-    monkeypatch.delitem(sys.modules, "kinverify.generate.usd")
-    assert main(["generate", "models/arm3.toml", "--out", str(tmp_path)]) == 0
-    out, err = capsys.readouterr()
-    assert out.split() == [str(tmp_path / f"arm3.{ext}") for ext in ("urdf", "xml", "sdf")]
-    assert "no arm3.usda written: usd-core (pxr) is not installed; pip install 'kinverify[usd]'" in err
-    assert not (tmp_path / "arm3.usda").exists()
-    assert ModelSources.from_spec(load_spec("models/arm3.toml")).usd is None
