@@ -14,6 +14,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from kinverify import load_spec
+from kinverify.backends import ModelSources
 from kinverify.cli import main
 
 ARM3 = Path("models/arm3.toml").read_text()
@@ -47,12 +49,25 @@ def test_verify_exits_1_when_a_check_fails(tmp_path, capsys):
     assert all(c["max_error"] > 1e-13 for c in failed)
 
 
-def test_generate_writes_the_three_files(tmp_path, capsys):
+def test_generate_writes_the_four_files(tmp_path, capsys):
+    pytest.importorskip("pxr")  # without usd-core: the next test checks the three files and the note
     assert main(["generate", "models/scara.toml", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "scara.urdf").read_text().startswith("<?xml")
     assert "<mujoco" in (tmp_path / "scara.xml").read_text()
     assert '<sdf version="1.9"' in (tmp_path / "scara.sdf").read_text()
-    assert capsys.readouterr().out.split() == [str(tmp_path / f"scara.{ext}") for ext in ("urdf", "xml", "sdf")]
+    assert (tmp_path / "scara.usda").read_text().startswith("#usda 1.0")
+    assert capsys.readouterr().out.split() == [str(tmp_path / f"scara.{ext}") for ext in ("urdf", "xml", "sdf", "usda")]
+
+
+def test_without_usd_core_generate_writes_three_files_and_says_why(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pxr", None)  # as if usd-core were not installed
+    monkeypatch.delitem(sys.modules, "kinverify.generate.usd", raising=False)
+    assert main(["generate", "models/arm3.toml", "--out", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert out.split() == [str(tmp_path / f"arm3.{ext}") for ext in ("urdf", "xml", "sdf")]
+    assert "no arm3.usda written: usd-core (pxr) is not installed; pip install 'kinverify[usd]'" in err
+    assert not (tmp_path / "arm3.usda").exists()
+    assert ModelSources.from_spec(load_spec("models/arm3.toml")).usd is None
 
 
 @pytest.mark.parametrize("argv, words", [

@@ -1,6 +1,6 @@
 """Backend registry: one entry per backend, filled by trying to import its library.
 
-Each entry names the model source it reads (the spec, the URDF or the MJCF) and a builder
+Each entry names the model source it reads (the spec, the URDF, the MJCF, the SDFormat or the USD) and a builder
 ``build(sources) -> Backend``. Adding a backend is one module plus one line in ``_ENTRIES``.
 """
 
@@ -26,7 +26,7 @@ class BackendInfo:
     name: str
     module: str  # kinverify module holding the adapter
     cls: str
-    source: str  # "spec", "urdf", "mjcf" or "sdf"
+    source: str  # "spec", "urdf", "mjcf", "sdf" or "usd"
     available: bool
     reason: str = ""  # why it is unavailable
     extra: str = ""  # the optional extra of kinverify that installs its library
@@ -47,6 +47,7 @@ _BUILDERS: dict[str, Callable] = {
     "urdf": lambda cls, s, name: cls.from_urdf(s.urdf, s.joint_names, s.frames, name=name),
     "mjcf": lambda cls, s, name: cls.from_mjcf(s.mjcf, s.mjcf_joint_names or s.joint_names, s.mjcf_frames or s.frames, name=name),
     "sdf": lambda cls, s, name: cls.from_sdf(s.sdf, s.sdf_joint_names or s.joint_names, s.sdf_frames or s.frames, name=name),
+    "usd": lambda cls, s, name: cls.from_usd(s.usd, s.usd_joint_names or s.joint_names, s.usd_frames or s.frames, name=name),
 }
 
 # name, module, class, source[, extra]: a backend is an adapter class reading one model source;
@@ -63,6 +64,7 @@ _ENTRIES = (
     ("drake-urdf", ".drake_", "DrakeBackend", "urdf", "drake"),
     ("drake-mjcf", ".drake_", "DrakeBackend", "mjcf", "drake"),
     ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake"),
+    ("usd", ".usd_", "UsdBackend", "usd", "usd"),
 )
 PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf"}  # the reference reader of each file in file mode
 
@@ -88,7 +90,7 @@ def available_backends() -> dict[str, BackendInfo]:
 
 
 def names_reading(source: str) -> tuple[str, ...]:
-    """Registered backends that read ``source`` ("spec", "urdf", "mjcf" or "sdf"), the primary reader first."""
+    """Registered backends that read ``source`` ("spec", "urdf", "mjcf", "sdf" or "usd"), the primary reader first."""
     names = [entry[0] for entry in _ENTRIES if entry[3] == source]
     primary = PRIMARY.get(source)
     return tuple(sorted(names, key=lambda n: n != primary))
