@@ -33,7 +33,8 @@ def test_hostile_arguments_exit_0_1_or_2_with_one_line(capfd, options):
                   for k, text in enumerate(TABLES)}
         (tmp / "dir").mkdir()
         (tmp / "out").mkdir()
-        names = {"IN_URDF": urdf, "DIR": str(tmp / "dir"), "OUT/map.json": str(tmp / "out" / "map.json"), **tables}
+        names = {"IN_URDF": urdf, "DIR": str(tmp / "dir"), "OUT/map.json": str(tmp / "out" / "map.json"),
+                 "missing/deep/x.json": str(tmp / "missing" / "deep" / "x.json"), **tables}
         argv = ["map", urdf, mjcf]
         for flag, value in options:
             argv += [flag, names.get(value, value)]
