@@ -110,3 +110,32 @@ def test_the_accepted_file_beside_the_urdf_is_found_by_its_name(tmp_path):
     assert default_path(str(urdf)) is None
     (tmp_path / DEFAULT_NAME).write_text("")
     assert default_path(str(urdf)) == (tmp_path / DEFAULT_NAME).resolve()
+
+
+def test_a_changed_size_says_what_it_was_accepted_at_and_what_it_is_now():
+    def changed(recorded, now, unit):
+        f = finding("length_units", "lengths differ", magnitude=now, unit=unit) if now is not None else \
+            finding("length_units", "lengths differ")
+        (out,) = apply([f], [Entry("length_units", "", recorded, unit)], lambda g: 0.0)
+        return out.message
+    assert changed(None, 2.0, "") == "lengths differ (changed: accepted at no size, now 2)"
+    assert changed(1.5, None, "m") == "lengths differ (changed: accepted at 1.5 m, now no size)"
+
+
+def test_written_names_and_messages_with_quotes_backslashes_and_newlines_stay_one_entry(tmp_path):
+    odd = finding("frame_offset", 'tcp moved\nby "1 cm" \\ there', {}, magnitude=0.01, unit='m "SI"', frame=['tcp "a" \\ b\nc'])
+    text = write(tmp_path / "a.toml", [odd], "u + m").read_text()
+    assert text.splitlines()[:2] == ["# kinverify accepted differences for u + m", "# Each entry accepts one finding (kind + subject) "
+                                     "at its magnitude; review every one and say why."]
+    assert '# tcp moved by "1 cm" \\ there' in text.splitlines()
+    assert load(tmp_path / "a.toml") == [Entry("frame_offset", 'tcp "a" \\ b c', 0.01, 'm "SI"')]
+
+
+def test_an_unreadable_or_too_deep_accepted_file_is_named_with_its_flag(tmp_path):
+    missing = tmp_path / "none.toml"
+    with pytest.raises(InputError, match=f"^--accept: {missing} is not a file$"):
+        load(missing)
+    deep = tmp_path / "deep.toml"
+    deep.write_text("x = " + "[" * 100 + "]" * 100)
+    with pytest.raises(InputError, match=f"^--write-accepted: {deep} nests values more than 64 levels deep"):
+        load(deep, "--write-accepted")
