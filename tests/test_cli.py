@@ -184,3 +184,29 @@ def test_an_internal_error_in_a_suite_still_writes_the_report(tmp_path, capsys, 
     data = json.loads((tmp_path / "r.json").read_text())
     assert data["verdict"] == "error" and data["internal_errors"][0].startswith("suite workspace: ZeroDivisionError")
     assert data["checks"] and (tmp_path / "r.html").exists()  # what the other suites computed is kept
+
+
+def test_a_system_error_exits_2_naming_it_not_3(capsys, monkeypatch):
+    """The system refusing a write (a full disk: /dev/full always is) is no kinverify bug: exit 2
+    and one line saying so, as bad input, never 3. The generate command writes to it for real."""
+    import kinverify.commands.generate as generate
+
+    def fills_the_disk(args):
+        with open("/dev/full", "w") as handle:
+            handle.write("x")
+            handle.flush()
+        return 0
+
+    monkeypatch.setattr(generate, "run", fills_the_disk)
+    assert main(["generate", "models/arm3.toml", "--out", "unused"]) == 2
+    err = capsys.readouterr().err
+    assert err == "kinverify: error: No space left on device (a system error)\n"
+
+
+@pytest.mark.skipif(not Path("/sys/kernel").is_dir(), reason="no sysfs here")
+def test_an_output_folder_the_system_refuses_exits_2_in_one_line(capsys):
+    """/sys refuses new files even to root (EPERM), as a read-only folder refuses them (EACCES)."""
+    assert main(["generate", "models/arm3.toml", "--out", "/sys/kinverify-test"]) == 2
+    err = capsys.readouterr().err
+    assert re.fullmatch(r"kinverify: error: /sys/kinverify-test/arm3\.urdf: cannot write: "
+                        r"(Operation not permitted|Permission denied|Read-only file system)\n", err), err

@@ -6,12 +6,14 @@ written (docs/robustness.md: one reader for every input)."""
 from __future__ import annotations
 
 import os
+import types
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from kinverify.errors import InputError
+from kinverify.io import read as read_mod
 from kinverify.io.read import InputFileError, read_bytes, read_head
 from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_MODEL_BYTES
 from tests.fuzz.conftest import FAST, FILES
@@ -157,3 +159,43 @@ def test_an_unreachable_dask_scheduler_is_bad_input_at_once(capfd, work):
     pytest.importorskip("dask.distributed")
     refused(capfd, ["verify", "m.toml", *FAST, "--executor", "dask", "--scheduler", "tcp://127.0.0.1:1"], work,
             "--scheduler tcp://127.0.0.1:1: no Dask scheduler answers there within 5 s (Connection refused)")
+
+
+def test_a_file_swapped_for_a_fifo_after_the_check_is_refused_on_its_descriptor(tmp_path, monkeypatch):
+    """The path is a regular file when checked and a FIFO when opened (swapped in between, here
+    right after the check): the non-blocking open returns at once and the descriptor's own fstat
+    refuses it, the descriptor closed."""
+    target = tmp_path / "robot.urdf"
+    target.write_text("<robot/>")
+    real_stat, swapped = os.stat, []
+
+    def stat_then_swap(path, *args, **kwargs):
+        st = real_stat(path, *args, **kwargs)
+        if os.fspath(path) == str(target) and not swapped:
+            swapped.append(path)
+            os.unlink(target)
+            os.mkfifo(target)
+        return st
+
+    monkeypatch.setattr(read_mod.os, "stat", stat_then_swap)
+    before = len(os.listdir("/proc/self/fd"))
+    with pytest.raises(InputFileError, match=r"is a FIFO \(named pipe\), not a regular file"):
+        read_mod._open(str(target), "--urdf")
+    monkeypatch.undo()
+    assert swapped and target.is_fifo() and len(os.listdir("/proc/self/fd")) == before
+
+
+def test_files_a_library_opens_share_one_byte_budget(tmp_path):
+    """Inside :func:`library_reads` (xacro's includes) the files read together stay within the
+    limit: two of 60 bytes each fit 120, not 100, though each alone fits."""
+    first, second = tmp_path / "a.xacro", tmp_path / "b.xacro"
+    first.write_bytes(b"a" * 60)
+    second.write_bytes(b"b" * 60)
+    library = types.ModuleType("library")
+    with read_mod.library_reads([library], "robot.urdf.xacro: xacro include", limit=120):
+        assert library.open(first).read() + library.open(second).read() == "a" * 60 + "b" * 60
+    with read_mod.library_reads([library], "robot.urdf.xacro: xacro include", limit=100):
+        assert library.open(first).read() == "a" * 60
+        with pytest.raises(InputFileError, match=r"b\.xacro is 0\.0 MB, above the 0 MB") as err:
+            library.open(second)
+    assert err.value.too_large and "open" not in vars(library)

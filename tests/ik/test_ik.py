@@ -208,3 +208,19 @@ def test_arm3_closed_form_on_a_limit_with_a_nearly_straight_elbow(q):
     assert res.reachable
     assert np.abs(np.angle(np.exp(1j * (res.solutions - q)))).max(axis=1).min() < 1e-9
     assert np.abs(frame_poses(ARM3, res.solutions)[:, -1, :3, 3] - target).max() < 1e-12
+
+
+def test_the_reach_bound_counts_a_prismatic_joints_travel_both_ways():
+    """A slide along y going 0.5 m back and 0.1 m forth, 0.3 m out from a base yaw: at its lower
+    limit the carriage is √(0.3² + 0.5²) ≈ 0.58 m from the yaw's origin, beyond 0.3 + 0.1 (the
+    upper limit taken for the travel); the bound is 0.3 + 0.5."""
+    spec = spec_from_dict({"name": "slider", "base": {"link": {"name": "base"}}, "joints": [
+        {"name": "yaw", "type": "revolute", "xyz": [0.0, 0.0, 0.1], "axis": [0.0, 0.0, 1.0],
+         "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"}, "link": {"name": "arm", "mass": 1.0}},
+        {"name": "slide", "type": "prismatic", "parent": "arm", "xyz": [0.3, 0.0, 0.0], "axis": [0.0, 1.0, 0.0],
+         "limits": {"lower": -0.5, "upper": 0.1, "unit": "m"}, "link": {"name": "carriage", "mass": 0.5}}]})
+    centre, radius = reach_bound(spec, "carriage")
+    assert np.allclose(centre, [0.0, 0.0, 0.1]) and radius == pytest.approx(0.8, abs=1e-12)
+    at_lower = frame_poses(spec, np.array([[0.0, -0.5]]))[0, spec.frame_names.index("carriage"), :3, 3]
+    distance = float(np.linalg.norm(at_lower - centre))
+    assert distance == pytest.approx(math.hypot(0.3, 0.5), abs=1e-12) and distance <= radius

@@ -321,3 +321,32 @@ def test_a_retyped_or_emptied_section_is_refused(arm3_baseline, tmp_path, edit, 
     bad.write_text(json.dumps(data))
     with pytest.raises(InputError, match=re.escape(message)):
         bl.read_baseline(bad)
+
+
+def test_a_quantity_that_became_nan_has_moved():
+    """NaN compares false with everything: ``delta > tol`` would call it unmoved."""
+    old = [{"property": "fk.position", "frame": "link3", "sample": 0, "value": [0.0, 0.0, 1.0]},
+           {"property": "fk.position", "frame": "link3", "sample": 1, "value": [0.0, 0.0, 1.0]}]
+    new = [dict(old[0], value=[float("nan"), 0.0, 1.0]), dict(old[1])]
+    moved, compared = bl_check.compare_records(old, new, np.zeros((2, 3)), ["link3"],
+                                               {"fk.position": bl.Tolerance(1e-9, "m")})
+    (m,) = moved
+    assert compared == 2 and (m.property, m.frame, m.sample, m.count, m.of) == ("fk.position", "link3", 0, 1, 2)
+    assert np.isnan(m.delta)
+
+
+def test_a_frame_the_model_no_longer_has_fails_the_check(arm3_baseline):
+    spec = load_spec(ARM3)
+    result = bl_check.check(replace(spec, tools=()), arm3_baseline)
+    assert result.frames_removed == ["end_effector"] and result.frames_added == []
+    assert not result.passed and not result.moved  # what is left agrees; the frame's absence fails alone
+    assert bl_check.check(spec, arm3_baseline).passed
+
+
+@pytest.mark.parametrize("model, position_only", [("ur5e", False), ("arm3", True)])
+def test_ik_targets_keep_their_orientation_when_the_arm_has_six_joints(model, position_only):
+    spec = load_spec(MODELS / f"{model}.toml")
+    q = spec_samples(spec, 4, seed=0)
+    fixed = bl_q.ik_fixed(spec, q)
+    assert fixed["position_only"] is position_only and len(fixed["targets"]) == min(len(q), bl_q.IK_TARGETS)
+    assert np.array(fixed["targets"][0]["pose"]).shape == (4, 4)

@@ -18,7 +18,8 @@ from kinverify.cli import main
 from kinverify.model.specfile import load_spec
 from kinverify.report.json_ import load_result_json
 from kinverify.report.progress import UNITS, VerifyProgress
-from kinverify.report.terminal import compact, display_unit, fit_table, track_table
+from kinverify.report.terminal import compact, display_unit, fit_table, print_result, track_table
+from kinverify.results import VerifyResult
 from kinverify.run import VerifyOptions, verify
 from kinverify.suites.base import Finding, value_check
 from kinverify.suites.registry import get_property
@@ -207,3 +208,14 @@ def test_findings_and_notes_wrap_under_their_text_and_keep_every_word(failing):
     indent = lines[start].index("base_transform")  # continuation lines start under the text
     block = [lines[start]] + list(itertools.takewhile(lambda line: line[:indent].isspace(), lines[start + 1:]))
     assert len(block) > 1 and all(line[indent] != " " for line in block) and " ".join(" ".join(block).split()) == f"error base_transform (model): {' '.join(long.split())}"
+
+
+def test_a_findings_message_and_subject_are_printed_literally_not_as_markup():
+    """Messages quote the files (``[0.1 0.2]``, a joint named ``[bold]j``): printed as written."""
+    message = "axis [0 0 1] in the URDF, [bold]0 1 0[/bold] in the MJCF [/]"
+    finding = Finding("axis_direction", "error", message, "[red]joint3", "joint")
+    result = VerifyResult("arm3", "files", 0, 0, ["joint3"], [], [], [], {}, findings=[finding])
+    console = Console(width=200, record=True, color_system=None)
+    print_result(result, console)
+    text = console.export_text()
+    assert f"axis_direction (joint [red]joint3): {message}" in text, text

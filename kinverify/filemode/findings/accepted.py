@@ -91,10 +91,14 @@ def apply(findings: list[Finding], entries: list[Entry], tolerance_of) -> list[F
             if _same(e.magnitude, f.magnitude, tolerance_of(f)):
                 f = dataclasses.replace(f, accepted=True, values={**f.values, "accepted_reason": e.reason})
             else:
-                f = dataclasses.replace(f, message=f"{f.message} (changed: accepted at {e.magnitude:g} {e.unit}, now "
-                                        f"{f.magnitude:g} {f.unit})", values={**f.values, "accepted_magnitude": e.magnitude})
+                f = dataclasses.replace(f, message=f"{f.message} (changed: accepted at {_size(e.magnitude, e.unit)}, now "
+                                        f"{_size(f.magnitude, f.unit)})", values={**f.values, "accepted_magnitude": e.magnitude})
         out.append(f)
     return out
+
+
+def _size(magnitude: float | None, unit: str) -> str:
+    return "no size" if magnitude is None else f"{magnitude:g} {unit}".rstrip()
 
 
 def _toml_string(text: str) -> str:
@@ -113,6 +117,6 @@ def write(path, findings: list[Finding], source: str) -> Path:
             lines.append(f"magnitude = {'inf' if math.isinf(f.magnitude) else repr(float(f.magnitude))}")
         if f.unit:
             lines.append(f"unit = {_toml_string(f.unit)}")
-        lines += [f"# {f.message}", 'reason = ""', ""]
+        lines += [f"# {' '.join(f.message.splitlines())}", 'reason = ""', ""]  # a newline would end the comment
 
     return Path(write_atomic(path, "\n".join(lines)))

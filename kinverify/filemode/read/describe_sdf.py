@@ -85,7 +85,8 @@ def describe_sdf(sdf_text: str, source: str = "sdf") -> ModelDesc:
         described.append(JointDesc(
             j.name(), "revolute" if revolute else "prismatic", owner(j.parent_body().index()), j.child_body().name(),
             j.parent_body().name(), axis / np.linalg.norm(axis), x_wf[:3, 3].copy(), lo if abs(lo) < 1e300 else -INF,
-            up if abs(up) < 1e300 else INF,  # a URDF continuous joint: ±1e308 (prepare_urdf) or ±inf damping=float(j.default_damping()), friction=None, armature=reflected,
+            up if abs(up) < 1e300 else INF,  # a URDF continuous joint: ±1e308 (prepare_urdf) or ±inf
+            damping=float(j.default_damping()), friction=None, armature=reflected,
             effort=force, velocity=vel if np.isfinite(vel) else None,
             effort_how="SDFormat <limit><effort> (Drake's actuator)" if force is not None else "no actuator in Drake's model"))
     skipped += [f"Drake: {w}" for w in warnings]

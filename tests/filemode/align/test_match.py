@@ -8,7 +8,10 @@ import re
 
 import pytest
 
+from kinverify.filemode.align.match import match_joints
 from kinverify.filemode.pipeline import verify_files
+from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import spec_from_dict
 from kinverify.run import VerifyOptions
@@ -95,3 +98,32 @@ def test_a_joint_renamed_under_a_joint_one_file_adds_is_matched_by_how_it_lies(t
     assert pairs["panda_joint7"] == "wrist_roll"
     (extra,) = [f for f in result.findings if f.kind == "extra_parts"]
     assert extra.values["joints"] == ["suspension_joint"] and extra.values["mass_kg"] == pytest.approx(0.05)
+
+
+def fingers() -> dict:
+    """A wrist and two fingers of two joints each, on either side of the palm."""
+    def finger(name, y):
+        return [{"name": f"{name}_base", "type": "revolute", "parent": "palm", "xyz": [0.03, y, 0.05], "axis": [1.0, 0.0, 0.0],
+                 "limits": {"lower": -1.0, "upper": 1.0, "unit": "rad"}, "link": {"name": f"{name}_1", "mass": 0.02}},
+                {"name": f"{name}_tip", "type": "revolute", "parent": f"{name}_1", "xyz": [0.0, 0.0, 0.04],
+                 "axis": [1.0, 0.0, 0.0], "limits": {"lower": 0.0, "upper": 1.5, "unit": "rad"},
+                 "link": {"name": f"{name}_2", "mass": 0.01}}]
+    joints = [{"name": "wrist", "type": "revolute", "xyz": [0.0, 0.0, 0.1], "axis": [0.0, 0.0, 1.0],
+               "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"}, "link": {"name": "palm", "mass": 0.3}}]
+    return {"name": "fingers", "base": {"link": {"name": "base"}},
+            "joints": joints + finger("index", 0.02) + finger("ring", -0.03)}
+
+
+def test_a_number_two_urdf_joints_share_pairs_neither_with_the_one_mjcf_joint_carrying_it():
+    """URDF finger1_joint1 and finger2_joint1 both end in 1, and only the MJCF's index_joint1 does:
+    the number says nothing (two URDF joints share it), so each finger is paired by its place."""
+    spec = spec_from_dict(fingers())
+    urdf = renamed(generate_urdf(spec), {"index_base": "finger1_joint1", "index_tip": "finger1_joint2",
+                                         "ring_base": "finger2_joint1", "ring_tip": "finger2_joint2"})
+    mjcf = renamed(generate_mjcf(spec), {"index_base": "index_joint1", "index_tip": "index_joint2"})
+    pairs, free_u, free_m = match_joints(describe_urdf(urdf), describe_mjcf(mjcf))
+    assert {a: b for a, b, _ in pairs} == {"wrist": "wrist", "finger1_joint1": "index_joint1",
+                                           "finger1_joint2": "index_joint2", "finger2_joint1": "ring_base",
+                                           "finger2_joint2": "ring_tip"}
+    assert (free_u, free_m) == ([], [])
+    assert {a: how for a, _, how in pairs}["finger2_joint1"] != "number in the name"

@@ -110,3 +110,16 @@ def test_an_orientation_rounded_upstream_is_a_rounding_note_not_a_zero_offset(tm
     assert serious(result) == [] and result.passed
     rounding = [f for f in result.findings if f.kind == "rounding" and f.subject == "panda_link2"]
     assert len(rounding) == 1 and "0.70711" in rounding[0].message
+
+
+def test_a_named_tool_frame_placed_elsewhere_on_its_link_is_an_error(tmp_path):
+    """The MJCF's end_effector site sits 1 cm further out along link3 than the URDF's tool frame of
+    that name: the joints and their motion agree, but a tool frame is where the tool is, so the
+    offset is a difference (it fails the verdict), not a choice of link frame."""
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = P.sub_once(r'<site name="end_effector" pos="0.0 0.0 0.05"', '<site name="end_effector" pos="0.0 0.0 0.06"', mjcf)
+    result = run(tmp_path, urdf, mjcf)
+    assert [x for x in serious(result) if x[0] != "inexpressible"] == [("frame_offset", "end_effector")]
+    assert result.verdict == "fail"
+    (f,) = [f for f in result.findings if f.kind == "frame_offset"]
+    assert f.severity == "error" and f.fails and f.unit == "m" and f.magnitude == pytest.approx(0.01, abs=1e-9)

@@ -3,8 +3,14 @@ stated the other way round, ties the same joints."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
+import pytest
+
 import tests.filemode.pairs as P
+from kinverify.filemode.findings.couplings import coupling_findings
 from kinverify.filemode.pipeline import verify_files
+from kinverify.filemode.read.model import Coupling
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import spec_from_dict
 from kinverify.run import VerifyOptions
@@ -67,3 +73,23 @@ def test_the_same_written_coupling_on_a_reversed_leader_is_a_difference(tmp_path
     (f,) = [f for f in result.findings if f.kind.startswith("coupling")]
     assert f.kind == "coupling_difference" and f.subject == "index_tip"
     assert f.values == {"urdf": [1.0, 0.0], "mjcf": [-1.0, 0.0]}
+
+
+def test_a_followers_fitted_zero_offset_is_taken_off_its_coupling():
+    """The MJCF's index_tip zero sits 0.3 rad further (q_mjcf = q_urdf + 0.3, fitted): its coupling
+    index_tip = index_base + 0.4 in its own coordinates is the URDF's index_tip = index_base + 0.1
+    (0.4 − 0.3); the same 0.1 written in the MJCF is 0.3 away. The leader has no offset."""
+    order = ["index_base", "index_tip"]
+    u = SimpleNamespace(couplings=[Coupling("index_tip", "index_base", 1.0, 0.1, "<mimic>")],
+                        joint=lambda name: SimpleNamespace(type="revolute"))
+    matching = SimpleNamespace(joints=[(n, n, "name") for n in order])
+    alignment = SimpleNamespace(joints=[SimpleNamespace(urdf="index_base", sign=1, offset=0.0),
+                                        SimpleNamespace(urdf="index_tip", sign=1, offset=0.3)])
+
+    def findings(c: float) -> list:
+        m = SimpleNamespace(couplings=[Coupling("index_tip", "index_base", 1.0, c, "<equality joint>")])
+        return [(f.kind, f.subject, f.values["mjcf"]) for f in coupling_findings(u, m, matching, alignment)]
+
+    assert findings(0.4) == []
+    (kind, subject, (k, c)), = findings(0.1)
+    assert (kind, subject, k) == ("coupling_difference", "index_tip", 1.0) and c == pytest.approx(-0.2, abs=1e-12)

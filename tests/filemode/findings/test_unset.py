@@ -105,3 +105,15 @@ def test_a_joint_spring_the_urdf_cannot_express_is_a_warning(tmp_path):
     (f,) = [f for f in result.findings if f.kind == "stiffness_inexpressible"]
     assert f.severity == "warning" and f.subject == "joint2" and f.magnitude == 5.0
     assert kinds(result) == [("stiffness_inexpressible", "warning")] and result.passed  # springs are off in the dynamics
+
+
+def test_a_continuous_urdf_joint_states_no_limits_so_an_mjcf_range_on_it_is_an_error(tmp_path):
+    """``continuous`` says the joint has no position limits (stated, not left unset): the MJCF's
+    ±π on joint1 is a limit difference (an error), not a limit the URDF leaves unset."""
+    urdf, mjcf = P.generated_pair("arm3")
+    urdf = P.sub_once(r'<joint name="joint1" type="revolute">(.*?)<limit lower="[^"]*" upper="[^"]*"',
+                      lambda m: f'<joint name="joint1" type="continuous">{m[1]}<limit', urdf)
+    result = run(tmp_path, urdf, mjcf)
+    assert kinds(result) == [("limit_difference", "error")] and result.verdict == "fail"
+    (f,) = [f for f in result.findings if f.kind == "limit_difference"]
+    assert f.subject == "joint1" and f.values.get("unset_in") is None
