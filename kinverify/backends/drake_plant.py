@@ -61,7 +61,7 @@ def load_plant(text: str, source: str, floating: bool = False, name: str = "drak
     try:  # Drake can end the process (e.g. on an MJCF's <inertial mass="0">): each file is tried in a child first
         survives(("drake", source, floating, text), lambda: _build(text, source, floating, name) and None)
     except LibraryDied as err:
-        raise BackendError(name, f"Drake died reading the {source.upper()} ({err.reason}): not read") from None
+        raise BackendError(name, f"Drake's {source.upper()} parser {err.reason}: the file is not read by Drake") from None
     return _build(text, source, floating, name)
 
 

@@ -77,7 +77,7 @@ def in_child(fn: Callable[[], object], seconds: float | None = None, memory: int
         os.close(err_r)
     _, status = os.waitpid(pid, 0)
     if timed_out:
-        raise LibraryDied(f"still running after {seconds:g} s, stopped")
+        raise LibraryDied(f"ran longer than {seconds:g} s (stopped)")
     return _outcome(status, data, said, memory)
 
 
@@ -147,13 +147,14 @@ def _outcome(status: int, data: bytes, said: bytes, memory: int):
     words = last_words(said)
     if os.WIFSIGNALED(status):
         sig = os.WTERMSIG(status)
-        what = "ran out of CPU time" if sig == signal.SIGXCPU else f"killed by {signal.Signals(sig).name}"
+        what = f"ran longer than {limits.LIBRARY_SECONDS:g} s of CPU (stopped)" if sig == signal.SIGXCPU \
+            else f"was killed by {signal.Signals(sig).name}"
         raise LibraryDied(f"{what}{': ' + words if words else ''}")
     if not data:
         raise LibraryDied(f"ended the process (exit status {os.WEXITSTATUS(status)}){': ' + words if words else ''}")
     kind, value = pickle.loads(data)
     if kind == "memory":
-        raise LibraryDied(f"needed more than the {memory // 2**20} MB of memory it may use")
+        raise LibraryDied(f"needed more than the {memory // 2**20} MB of memory a library may use (stopped)")
     if kind == "exit":
         raise LibraryDied(f"ended the process: {last_words(str(value).encode())}")
     if kind == "raised":

@@ -130,12 +130,13 @@ def _system(path: str, label: str, err: OSError) -> InputFileError:
 
 
 @contextlib.contextmanager
-def library_reads(modules, label: str, limit: int = MAX_MODEL_BYTES) -> Iterator[None]:
+def library_reads(modules, label: str, limit: int = MAX_MODEL_BYTES, record: list | None = None) -> Iterator[None]:
     """Within the block, a library module that opens files itself (xacro, for its includes) reads
     them through :func:`read_bytes`: ``open(name)`` in each of ``modules`` returns the bounded
     content (the files together within ``limit`` bytes), a FIFO or device is refused, and each
     file is an input of the run. A missing file is still ``FileNotFoundError`` (the library's
-    own optional includes rely on it). Opening for writing is left alone."""
+    own optional includes rely on it). Opening for writing is left alone. ``record``: a list each
+    file read is appended to (a child process's reads, to record in the parent's plan)."""
     budget = [limit]
 
     def bounded_open(file, mode="r", *args, **kwargs):
@@ -148,6 +149,8 @@ def library_reads(modules, label: str, limit: int = MAX_MODEL_BYTES) -> Iterator
                 raise FileNotFoundError(err.errno, os.strerror(err.errno), os.fspath(file)) from None
             raise
         budget[0] -= len(data)
+        if record is not None:
+            record.append(os.fspath(file))
         return io.BytesIO(data) if "b" in mode else io.StringIO(data.decode(kwargs.get("encoding") or "utf-8"))
 
     patched = [m for m in modules if "open" not in vars(m)]
