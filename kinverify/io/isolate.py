@@ -171,7 +171,7 @@ def last_words(said: bytes) -> str:
     if not lines:
         return ""
     line = lines[-1]
-    return _LOCATION.sub("", line)[:300]
+    return _LOCATION.sub("", line).rstrip(".")[:300]
 
 
 def survives(key, fn: Callable[[], object], seconds: float | None = None) -> None:

@@ -20,7 +20,7 @@ import stat
 from typing import Iterator
 
 from kinverify.errors import InputError
-from kinverify.pipeline.limits import MAX_MODEL_BYTES
+from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_MODEL_BYTES
 from kinverify.io.plan import KINDS, note_input
 
 _BLOCK = 1 << 20
@@ -74,6 +74,20 @@ def read_text(path, label: str = "", limit: int = MAX_MODEL_BYTES, register: boo
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as err:
         raise InputFileError(path, f"is not UTF-8 text (byte {err.start})", label) from None
+
+
+def check_file(path, label: str = "", limit: int = MAX_DATA_BYTES, register: bool = True) -> int:
+    """The size of ``path`` when a library may open it: a regular file (the same refusals as
+    :func:`read_bytes`, made on a non-blocking descriptor) of at most ``limit`` bytes (a regular
+    file's size is exact: nothing is read); recorded as an input of the run."""
+    path = os.fspath(path)
+    fd, size = _open(path, label)
+    os.close(fd)
+    if size > limit:
+        raise _too_large(path, label, limit, size)
+    if register:
+        note_input(path, label)
+    return size
 
 
 def read_head(path, size: int = 4096, label: str = "") -> bytes:
