@@ -17,6 +17,7 @@ parses a 7-joint arm in 2 to 4 ms), because a parsed library object cannot cross
 from __future__ import annotations
 
 import contextlib
+import faulthandler
 import hashlib
 import os
 import pickle
@@ -86,6 +87,7 @@ def _child(fn, out_w: int, err_w: int, closing, ceiling: int, seconds: float) ->
     try:
         for fd in closing:
             os.close(fd)
+        faulthandler.disable()  # a crash is the parent's to report, not a traceback on the terminal
         for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM):
             signal.signal(sig, signal.SIG_DFL)
         null = os.open(os.devnull, os.O_WRONLY)
