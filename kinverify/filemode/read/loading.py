@@ -26,7 +26,7 @@ from kinverify.filemode.read.xacro import compile_xacro, is_xacro
 from kinverify.io.formats import xml_parse
 from kinverify.io.models import check_mjcf_numbers, check_urdf_numbers, check_urdf_tree, expand_includes
 from kinverify.io.read import check_file, read_bytes
-from kinverify.io.references import mjcf_files, package_file, sdf_for_drake, sdf_meshes
+from kinverify.io.references import Budget, mjcf_files, package_file, sdf_for_drake, sdf_meshes
 from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
 
 
@@ -132,24 +132,26 @@ def _product(counts: str | None) -> int:
     return out
 
 
-def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = None) -> Path | None:
+def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = None, budget: Budget | None = None) -> Path | None:
     """The file a mesh reference names, if it exists: ``package://pkg/rel`` as ``<PATH>/rel`` for
     ``packages`` ``{pkg: PATH}`` (``--package``), else as ``<dir>/pkg/rel`` or ``<dir>/rel`` with
     ``<dir>`` named ``pkg``, for the model's folder and each folder above it; ``file://`` and plain
-    paths relative to ``base``. None when absent."""
+    paths relative to ``base``. None when absent. ``budget``: what the model's meshes may take together."""
     if filename.startswith("package://"):
         found = package_file(filename, base, packages)
-        return _read_asset(found) if found is not None and found.is_file() else None
+        return _read_asset(found, budget) if found is not None and found.is_file() else None
     filename = filename[len("file://"):] if filename.startswith("file://") else filename
     candidate = Path(filename) if Path(filename).is_absolute() else base / filename
-    return _read_asset(candidate) if candidate.is_file() else None
+    return _read_asset(candidate, budget) if candidate.is_file() else None
 
 
-def _read_asset(path: Path) -> Path:
+def _read_asset(path: Path, budget: Budget | None = None) -> Path:
     """An asset the model references is an input of the run: no output may replace it. The
     libraries read it themselves: a regular file whose size is exact, bounded here."""
     path = path.resolve()
-    check_file(path, "a mesh the model references:", MAX_DATA_BYTES)
+    size = check_file(path, "a mesh the model references:", max(budget.data, 0) if budget else MAX_DATA_BYTES)
+    if budget:
+        budget.data -= size
     return path
 
 
@@ -186,6 +188,7 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
     elif given_here:  # arguments for this very file (a block's arguments are for its xacro files)
         raise InputError(f"--xacro-arg: {path} is not a xacro file (no .xacro suffix, no xacro namespace)")
     dropped = kept = present = 0
+    budget = Budget()
     base = Path(path).resolve().parent
     for link in root.iter("link"):
         for tag in ("visual", "collision"):
@@ -193,7 +196,7 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
                 mesh = el.find("geometry/mesh")
                 if mesh is None:
                     continue
-                found = resolve_asset(mesh.get("filename", ""), base, packages)  # an input even when not loaded
+                found = resolve_asset(mesh.get("filename", ""), base, packages, budget)  # an input even when not loaded
                 if found is None or not keep_meshes:
                     link.remove(el)
                     dropped += found is None
