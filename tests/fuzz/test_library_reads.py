@@ -123,16 +123,21 @@ def test_a_present_mesh_is_not_called_absent_in_a_one_file_audit(capfd, files):
     assert any("1 of their files present, not loaded" in n for n in notes), notes
 
 
-@pytest.mark.parametrize("name, words", [
-    ("fifo.xml", "is a FIFO (named pipe), not a regular file"),
-    ("/dev/zero", "/dev/zero is a character device"),
-    ("withmodel.xml", "the model includes itself"),
+MODEL = '<asset><model name="sub" file="{}"/></asset>\n<worldbody>'
+FLEXCOMP = '<worldbody><flexcomp name="f" type="mesh" file="{}" dim="2"/>'
+
+
+@pytest.mark.parametrize("element, name, words", [
+    (MODEL, "fifo.xml", "is a FIFO (named pipe), not a regular file"),
+    (MODEL, "/dev/zero", "/dev/zero is a character device"),
+    (MODEL, "withmodel.xml", "the model includes itself"),
+    (FLEXCOMP, "fifo.xml", "is a FIFO (named pipe), not a regular file"),
+    (FLEXCOMP, "/dev/zero", "/dev/zero is a character device"),
 ])
-def test_a_bad_mjcf_model_file_is_one_line_naming_it(capfd, files, name, words):
+def test_a_bad_mjcf_model_or_flexcomp_file_is_one_line_naming_it(capfd, files, element, name, words):
     os.mkfifo(files / "fifo.xml")
     mjcf = (files / "r.xml").read_text()
-    (files / "withmodel.xml").write_text(mjcf.replace("<worldbody>", f'<asset><model name="sub" file="{name}"/></asset>\n'
-                                                      "<worldbody>", 1))
+    (files / "withmodel.xml").write_text(mjcf.replace("<worldbody>", element.format(name), 1))
     line = refused(capfd, ["verify", "--mjcf", "withmodel.xml", *FILES, "--json", "out/x.json"], files, words)
     assert name.rsplit("/", 1)[-1] in line
 
