@@ -37,7 +37,7 @@ from kinverify.io.formats import xml_parse
 from kinverify.io.models import expand_includes
 from kinverify.io.plan import note_input
 from kinverify.io.read import InputFileError, check_file, read_bytes
-from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_INCLUDE_DEPTH, MAX_MODEL_BYTES
+from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_INCLUDE_DEPTH, MAX_LINKS, MAX_MODEL_BYTES
 
 
 class Budget:
@@ -119,13 +119,18 @@ def sdf_for_drake(text: str, root: ET.Element, path, label: str = "--sdf", packa
     if root.find(".//include") is None:
         return text
     budget = Budget(len(text.encode()))
-    done: dict[str, str] = {}  # resolved file -> its snapshot
+    done: dict[str, tuple[str, int]] = {}  # resolved file -> its snapshot, the links it makes (with its includes)
     main = str(Path(path).resolve())
-    return _rewrite(text, root, Path(path).resolve().parent, [main], done, budget, label, packages, str(path))
+    text, links = _rewrite(text, root, Path(path).resolve().parent, [main], done, budget, label, packages, str(path))
+    if links > MAX_LINKS:  # each <include> is a copy: a file included twice by a file included twice... multiplies
+        raise InputError(f"{label}: {path} has {links} links with the models it includes, above the {MAX_LINKS} kinverify "
+                         "compares (see docs/robustness.md)")
+    return text
 
 
 def _rewrite(text: str, root: ET.Element, base: Path, chain: list[str], done: dict, budget: Budget, label: str,
-             packages, where: str) -> str:
+             packages, where: str) -> tuple[str, int]:
+    links = sum(1 for _ in root.iter("link"))
     for include in root.iter("include"):
         uri = (include.findtext("uri") or "").strip()
         if not uri:
@@ -151,15 +156,18 @@ def _rewrite(text: str, root: ET.Element, base: Path, chain: list[str], done: di
             sub = xml_parse(data, target, what)
             if sub.tag != "sdf":
                 raise InputError(f"{what}: {target} is not SDFormat (root element <{sub.tag}>, expected <sdf>)")
-            inner = _rewrite(data.decode("utf-8", "replace"), sub, target.resolve().parent, [*chain, key], done, budget,
-                             label, packages, str(target))
+            inner, inner_links = _rewrite(data.decode("utf-8", "replace"), sub, target.resolve().parent, [*chain, key],
+                                          done, budget, label, packages, str(target))
             snap = _snapshot_folder() / f"{hashlib.sha256(inner.encode()).hexdigest()[:16]}-{target.name}"
             snap.write_text(inner, encoding="utf-8")
-            done[key] = str(snap)
+            done[key] = (str(snap), inner_links)
+        links += done[key][1]
+        if links > MAX_LINKS:
+            break
         pattern = re.compile(r"<uri>\s*" + re.escape(escape(uri)) + r"\s*</uri>")
-        replacement = f"<uri>{escape(done[key])}</uri>"
+        replacement = f"<uri>{escape(done[key][0])}</uri>"
         text = pattern.sub(lambda _m, r=replacement: r, text)
-    return text
+    return text, links
 
 
 def sdf_meshes(root: ET.Element, path, packages=None) -> None:

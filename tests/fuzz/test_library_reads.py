@@ -149,3 +149,16 @@ def test_a_mesh_that_is_a_fifo_or_a_device_is_refused_in_an_audit(capfd, files):
     refused(capfd, ["verify", "--mjcf", "m.xml", *FILES], files, "fifo.stl is a FIFO")
     (files / "m.xml").write_text(mjcf.replace('file="m.stl"', 'file="/dev/zero"'))
     refused(capfd, ["verify", "--mjcf", "m.xml", *FILES], files, "/dev/zero is a character device")
+
+
+def test_includes_that_multiply_a_model_are_bounded_by_the_link_limit(capfd, files):
+    # each level includes the next twice: 2**7 copies of the last one's 3 links, from 8 small files
+    leaf = '<sdf version="1.9"><model name="l7"><link name="x"/><link name="y"/><link name="z"/></model></sdf>\n'
+    (files / "l7.sdf").write_text(leaf)
+    for level in range(6, -1, -1):
+        (files / f"l{level}.sdf").write_text(
+            f'<sdf version="1.9"><model name="l{level}"><include><uri>l{level + 1}.sdf</uri><name>a</name></include>'
+            f"<include><uri>l{level + 1}.sdf</uri><name>b</name></include></model></sdf>\n")
+    (files / "main.sdf").write_text(including((files / "plain.sdf").read_text(), "l0.sdf"))
+    refused(capfd, ["verify", "--sdf", "main.sdf", *FILES], files, "main.sdf has", "links with the models it includes, "
+            "above the 256")
