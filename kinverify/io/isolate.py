@@ -66,7 +66,12 @@ def in_child(fn: Callable[[], object], seconds: float | None = None, memory: int
     err_r, err_w = os.pipe()
     sys.stdout.flush()
     sys.stderr.flush()
-    pid = os.fork()
+    try:
+        pid = os.fork()
+    except OSError:  # no process to spare (a process limit): computed here, unbounded, rather than not at all
+        for fd in (out_r, out_w, err_r, err_w):
+            os.close(fd)
+        return fn()
     if pid == 0:  # the child: never returns
         _child(fn, out_w, err_w, (out_r, err_r), ceiling, seconds)
     os.close(out_w)
@@ -89,7 +94,8 @@ def _child(fn, out_w: int, err_w: int, closing, ceiling: int, seconds: float) ->
             os.close(fd)
         faulthandler.disable()  # a crash is the parent's to report, not a traceback on the terminal
         for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM):
-            signal.signal(sig, signal.SIG_DFL)
+            with contextlib.suppress(ValueError):  # forked from another thread than the main one
+                signal.signal(sig, signal.SIG_DFL)
         null = os.open(os.devnull, os.O_WRONLY)
         os.dup2(null, 1)
         os.dup2(err_w, 2)  # the library's last words, for the reason
