@@ -113,6 +113,7 @@ def _child(fn, out_w: int, err_w: int, closing, ceiling: int, seconds: float) ->
             result = ("raised", err)
         try:
             data = pickle.dumps(result)
+            pickle.loads(data)  # an exception whose class takes other arguments does not come back as itself
         except Exception:
             data = pickle.dumps(("raised", ChildRaised(f"{type(result[1]).__name__}: {result[1]}")))
         view = memoryview(data)
