@@ -17,6 +17,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import BodyIndex, FixedOffsetFrame, FrameIndex
 
 from kinverify.errors import BackendError, UnknownNameError
+from kinverify.io.isolate import LibraryDied, survives, usable_cwd
 from kinverify.model.floating import base_transforms, rate_matrices
 from kinverify.model.transforms import matrix_to_quat
 
@@ -57,13 +58,15 @@ def refused_elements(warnings) -> list[str]:
 def load_plant(text: str, source: str, floating: bool = False, name: str = "drake") -> tuple:
     """``(plant, model instances, parser warnings)``: Drake's reading of ``text`` (``source`` "urdf",
     "sdf" or "mjcf"), finalized. Root bodies are welded to the world unless ``floating``."""
-    plant = MultibodyPlant(0.0)
-    warnings: list[str] = []
-    try:
-        with captured_warnings(warnings):
-            instances = Parser(plant).AddModelsFromString(text, FORMATS[source])
-    except (RuntimeError, ValueError) as err:
-        raise BackendError(name, f"cannot load the {source.upper()}: {first_line(err)}") from None
+    try:  # Drake can end the process (e.g. on an MJCF's <inertial mass="0">): each file is tried in a child first
+        survives(("drake", source, floating, text), lambda: _build(text, source, floating, name) and None)
+    except LibraryDied as err:
+        raise BackendError(name, f"Drake's {source.upper()} parser {err.reason}: the file is not read by Drake") from None
+    return _build(text, source, floating, name)
+
+
+def _build(text: str, source: str, floating: bool, name: str) -> tuple:
+    plant, instances, warnings = _parse(text, source, name)
     children = {plant.get_joint(j).child_body().index() for j in plant.GetJointIndices()}
     roots = [plant.get_body(b) for m in instances for b in plant.GetBodyIndices(m)
              if b not in children and b != plant.world_body().index()]
@@ -73,6 +76,18 @@ def load_plant(text: str, source: str, floating: bool = False, name: str = "drak
     if source == "mjcf":
         _add_sites(plant, text, name)
     plant.Finalize()
+    return plant, instances, warnings
+
+
+def _parse(text: str, source: str, name: str = "drake") -> tuple:
+    """``(plant, model instances, parser warnings)``: the plant Drake's parser makes of ``text``, not finalized."""
+    plant = MultibodyPlant(0.0)
+    warnings: list[str] = []
+    try:
+        with captured_warnings(warnings), usable_cwd():
+            instances = Parser(plant).AddModelsFromString(text, FORMATS[source])
+    except (RuntimeError, ValueError) as err:
+        raise BackendError(name, f"cannot load the {source.upper()}: {first_line(err)}") from None
     return plant, instances, warnings
 
 

@@ -9,6 +9,10 @@
   XML), each with bounded nesting.
 - :mod:`kinverify.io.models`: checks on a URDF or MJCF tree before any library sees it (a URDF's
   links form one tree; finite poses and axes; MJCF ``<include>`` expanded through the reader).
+- :mod:`kinverify.io.references`: the files a library opens for us (SDFormat includes, MJCF model
+  files, meshes...), found and checked before the library parses the model.
+- :mod:`kinverify.io.isolate`: libraries that can crash or run away (Drake's parsers, xacro), run
+  in a child process bounded in memory and time.
 - :mod:`kinverify.io.plan`: the inputs and outputs of a run: an output that is an input, another
   output, a folder or a device is refused; the outputs are committed together at the end.
 - :mod:`kinverify.io.write`: the atomic writer (a temporary file, ``fsync``, a rename).

@@ -20,7 +20,7 @@ import stat
 from typing import Iterator
 
 from kinverify.errors import InputError
-from kinverify.pipeline.limits import MAX_MODEL_BYTES
+from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_MODEL_BYTES
 from kinverify.io.plan import KINDS, note_input
 
 _BLOCK = 1 << 20
@@ -74,6 +74,20 @@ def read_text(path, label: str = "", limit: int = MAX_MODEL_BYTES, register: boo
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as err:
         raise InputFileError(path, f"is not UTF-8 text (byte {err.start})", label) from None
+
+
+def check_file(path, label: str = "", limit: int = MAX_DATA_BYTES, register: bool = True) -> int:
+    """The size of ``path`` when a library may open it: a regular file (the same refusals as
+    :func:`read_bytes`, made on a non-blocking descriptor) of at most ``limit`` bytes (a regular
+    file's size is exact: nothing is read); recorded as an input of the run."""
+    path = os.fspath(path)
+    fd, size = _open(path, label)
+    os.close(fd)
+    if size > limit:
+        raise _too_large(path, label, limit, size)
+    if register:
+        note_input(path, label)
+    return size
 
 
 def read_head(path, size: int = 4096, label: str = "") -> bytes:
@@ -130,12 +144,13 @@ def _system(path: str, label: str, err: OSError) -> InputFileError:
 
 
 @contextlib.contextmanager
-def library_reads(modules, label: str, limit: int = MAX_MODEL_BYTES) -> Iterator[None]:
+def library_reads(modules, label: str, limit: int = MAX_MODEL_BYTES, record: list | None = None) -> Iterator[None]:
     """Within the block, a library module that opens files itself (xacro, for its includes) reads
     them through :func:`read_bytes`: ``open(name)`` in each of ``modules`` returns the bounded
     content (the files together within ``limit`` bytes), a FIFO or device is refused, and each
     file is an input of the run. A missing file is still ``FileNotFoundError`` (the library's
-    own optional includes rely on it). Opening for writing is left alone."""
+    own optional includes rely on it). Opening for writing is left alone. ``record``: a list each
+    file read is appended to (a child process's reads, to record in the parent's plan)."""
     budget = [limit]
 
     def bounded_open(file, mode="r", *args, **kwargs):
@@ -148,6 +163,8 @@ def library_reads(modules, label: str, limit: int = MAX_MODEL_BYTES) -> Iterator
                 raise FileNotFoundError(err.errno, os.strerror(err.errno), os.fspath(file)) from None
             raise
         budget[0] -= len(data)
+        if record is not None:
+            record.append(os.fspath(file))
         return io.BytesIO(data) if "b" in mode else io.StringIO(data.decode(kwargs.get("encoding") or "utf-8"))
 
     patched = [m for m in modules if "open" not in vars(m)]

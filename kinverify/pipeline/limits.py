@@ -101,3 +101,10 @@ def chunk_for(requested: int, frames: int, dof: int, backends: int) -> tuple[int
         return requested, None
     return fits, (f"--chunk {requested} lowered to {fits} configurations: with {frames} frames and {dof} joints "
                   f"a larger chunk would hold more than {CHUNK_BYTES // 2**20} MB")
+
+
+# A library run in a child process (:mod:`kinverify.io.isolate`: xacro evaluation, Drake's parsers):
+# the memory it may add to the process it was forked from (address space, RLIMIT_AS) and the
+# seconds it may run (CPU and wall clock).
+LIBRARY_MEMORY_BYTES = 512 * 2**20
+LIBRARY_SECONDS = 30.0

@@ -25,8 +25,8 @@ from kinverify.filemode.read.stated import attribute, class_defaults
 from kinverify.filemode.read.xacro import compile_xacro, is_xacro
 from kinverify.io.formats import xml_parse
 from kinverify.io.models import check_mjcf_numbers, check_urdf_numbers, check_urdf_tree, expand_includes
-from kinverify.io.plan import note_input
-from kinverify.io.read import read_bytes
+from kinverify.io.read import check_file, read_bytes
+from kinverify.io.references import Budget, mjcf_files, package_file, sdf_for_drake, sdf_meshes
 from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
 
 
@@ -132,35 +132,26 @@ def _product(counts: str | None) -> int:
     return out
 
 
-def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = None) -> Path | None:
+def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = None, budget: Budget | None = None) -> Path | None:
     """The file a mesh reference names, if it exists: ``package://pkg/rel`` as ``<PATH>/rel`` for
     ``packages`` ``{pkg: PATH}`` (``--package``), else as ``<dir>/pkg/rel`` or ``<dir>/rel`` with
     ``<dir>`` named ``pkg``, for the model's folder and each folder above it; ``file://`` and plain
-    paths relative to ``base``. None when absent."""
+    paths relative to ``base``. None when absent. ``budget``: what the model's meshes may take together."""
     if filename.startswith("package://"):
-        package, _, rel = filename[len("package://"):].partition("/")
-        given = Path((packages or {}).get(package, "")).expanduser() / rel if package in (packages or {}) else None
-        if given is not None and given.is_file():
-            return _read_asset(given)
-        for folder in (base, *base.parents):
-            for candidate in (folder / package / rel, folder / rel if folder.name == package else None):
-                if candidate is not None and candidate.is_file():
-                    return _read_asset(candidate)
-        return None
+        found = package_file(filename, base, packages)
+        return _read_asset(found, budget) if found is not None and found.is_file() else None
     filename = filename[len("file://"):] if filename.startswith("file://") else filename
     candidate = Path(filename) if Path(filename).is_absolute() else base / filename
-    return _read_asset(candidate) if candidate.is_file() else None
+    return _read_asset(candidate, budget) if candidate.is_file() else None
 
 
-def _read_asset(path: Path) -> Path:
+def _read_asset(path: Path, budget: Budget | None = None) -> Path:
     """An asset the model references is an input of the run: no output may replace it. The
-    libraries read it themselves: a regular file (``is_file``) whose size is exact, bounded here."""
+    libraries read it themselves: a regular file whose size is exact, bounded here."""
     path = path.resolve()
-    size = path.stat().st_size
-    if size > MAX_DATA_BYTES:
-        raise InputError(f"{path}: a mesh of {size / 2**20:.1f} MB, above the {MAX_DATA_BYTES // 2**20} MB kinverify lets "
-                         "a library read (see docs/robustness.md)")
-    note_input(path, "a mesh the model references:")
+    size = check_file(path, "a mesh the model references:", max(budget.data, 0) if budget else MAX_DATA_BYTES)
+    if budget:
+        budget.data -= size
     return path
 
 
@@ -196,7 +187,8 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
         compiled.insert(0, f"URDF compiled from xacro ({Path(path).name})")
     elif given_here:  # arguments for this very file (a block's arguments are for its xacro files)
         raise InputError(f"--xacro-arg: {path} is not a xacro file (no .xacro suffix, no xacro namespace)")
-    dropped = kept = 0
+    dropped = kept = present = 0
+    budget = Budget()
     base = Path(path).resolve().parent
     for link in root.iter("link"):
         for tag in ("visual", "collision"):
@@ -204,10 +196,11 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
                 mesh = el.find("geometry/mesh")
                 if mesh is None:
                     continue
-                found = resolve_asset(mesh.get("filename", ""), base, packages) if keep_meshes else None
-                if found is None:
+                found = resolve_asset(mesh.get("filename", ""), base, packages, budget)  # an input even when not loaded
+                if found is None or not keep_meshes:
                     link.remove(el)
-                    dropped += 1
+                    dropped += found is None
+                    present += found is not None
                 else:
                     mesh.set("filename", str(found))
                     kept += 1
@@ -215,17 +208,24 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
                                    "(meshes are not needed for kinematics and dynamics)",) if dropped else ())
     if kept:
         warnings += (f"URDF: {kept} mesh references resolved to existing files and kept",)
+    if present:
+        warnings += (f"URDF: {present} mesh visual/collision elements not loaded, their files present (meshes are not "
+                     "needed for kinematics and dynamics)",)
     cleaned = ET.tostring(root, encoding="unicode")
     return LoadedFile(str(path), "urdf", text, cleaned, root.get("name") or Path(path).stem, warnings)
 
 
-def load_sdf(path: str) -> LoadedFile:
+def load_sdf(path: str, packages: dict[str, str] | None = None) -> LoadedFile:
     """An SDFormat file, read safely. Drake's plant is built without a scene graph, so it never
-    opens the meshes (nor any other geometry): the text is kept as it is."""
+    opens the meshes (nor any other geometry; they are inputs of the run all the same); the files
+    it ``<include>``s are checked and handed to Drake as snapshots (``text``:
+    :func:`kinverify.io.references.sdf_for_drake`)."""
+    packages = _GIVEN["packages"] if packages is None else packages
     text, root = read_xml(path, "sdf")
     model = root.find("model")
     name = (model.get("name") if model is not None else None) or Path(path).stem
-    return LoadedFile(str(path), "sdf", text, text, name)
+    sdf_meshes(root, path, packages)
+    return LoadedFile(str(path), "sdf", text, sdf_for_drake(text, root, path, "--sdf", packages), name)
 
 
 def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
@@ -238,9 +238,12 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     _route_mujoco_warnings(mujoco)
     text, root = read_xml(path, "mjcf")
     name = root.get("model") or Path(path).stem
-    kept = _resolve_mesh_assets(root, Path(path).resolve().parent) if keep_meshes else set()
+    found = mjcf_files(root, path)  # every file MuJoCo would open, checked, an input of the run
+    kept, present = _resolve_mesh_assets(root, found, keep_meshes)
     dropped, massless, approximate = _drop_meshes(root, kept)
-    warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped, their files are absent"] if dropped else []
+    warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped, their files are absent" if not present else
+                f"MJCF: {dropped} mesh geoms and their assets skipped ({present} of their files present, not loaded: meshes "
+                "are not needed for kinematics and dynamics)"] if dropped else []
     if kept:
         warnings.append(f"MJCF: {len(kept)} mesh assets resolved to existing files and kept")
     if massless:
@@ -270,20 +273,21 @@ def _mujoco_warning(message: str) -> None:
     warnings.warn(f"MuJoCo: {message}", UserWarning, stacklevel=2)
 
 
-def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:
-    """Names of the mesh assets whose files exist (``compiler meshdir``/``assetdir`` honoured);
-    their ``file`` is rewritten as an absolute path so the text loads from anywhere."""
-    compiler = root.find("compiler")
-    folder = base / ((compiler.get("meshdir") or compiler.get("assetdir") or "") if compiler is not None else "")
-    kept = set()
-    for asset in root.iter("asset"):
-        for mesh in asset.findall("mesh"):
-            filename = mesh.get("file")
-            found = resolve_asset(filename, folder) if filename else None
-            if found is not None:
-                mesh.set("file", str(found))
-                kept.add(mesh.get("name") or Path(filename).stem)
-    return kept
+def _resolve_mesh_assets(root: ET.Element, found: dict, keep: bool = True) -> tuple[set[str], int]:
+    """Names of the mesh assets kept (their files exist, ``keep``) and how many exist: each file
+    found (:func:`~kinverify.io.references.mjcf_files`) rewritten as an absolute path, so the text
+    loads from anywhere (``<model>`` and ``<flexcomp>`` files too)."""
+    kept, present = set(), 0
+    meshes = {id(mesh) for asset in root.iter("asset") for mesh in asset.findall("mesh")}
+    for (element, name), target in found.items():
+        if element.tag in ("model", "flexcomp"):
+            element.set(name, str(target))
+        elif id(element) in meshes:
+            present += 1
+            if keep:
+                kept.add(element.get("name") or Path(element.get("file")).stem)
+                element.set("file", str(target))
+    return kept, present
 
 
 PLACEHOLDER_MASS, PLACEHOLDER_INERTIA = 1e-6, 1e-12  # kg, kg·m²: a body whose mass was all in absent meshes

@@ -5,7 +5,9 @@ from package folders found walking up from the file (ROS style). ``<xacro:arg>``
 ``--xacro-arg NAME=VALUE``. Anything xacro cannot resolve (an unknown macro, package or
 argument, a malformed expression) is a one-line :class:`~kinverify.errors.InputError`.
 
-xacro evaluates the ``${...}`` expressions a file contains: compile only files you trust.
+xacro evaluates the ``${...}`` expressions a file contains: it runs in a child process bounded in
+memory and time (:mod:`kinverify.io.isolate`), so an expression that runs away ends there, as a
+one-line error naming the file; still, compile only files you trust.
 """
 
 from __future__ import annotations
@@ -21,6 +23,8 @@ from xacrodoc import XacroDoc
 from xacrodoc import packages as xpackages
 
 from kinverify.errors import InputError, library_reason
+from kinverify.io.isolate import LibraryDied, in_child
+from kinverify.io.plan import note_input
 from kinverify.io.read import library_reads
 
 XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
@@ -64,20 +68,43 @@ def compile_xacro(path: str | Path, packages: dict[str, str] | None = None,
     xpackages.update_package_cache(found)
 
 
-    printed = io.StringIO()  # xacro prints its warnings: keep them for the report, off the terminal
+    try:  # xacro evaluates the file's expressions: in a child process bounded in memory and time
+        text, printed, read = in_child(lambda: _compile(path, args))
+    except LibraryDied as err:
+        raise InputError(f"{path}: xacro cannot compile it: its evaluation {err.reason} (see docs/robustness.md)") from None
+    finally:
+        xpackages.reset()
+    for name in read:  # what the child read is an input of this run too
+        note_input(name, f"{path}: xacro include")
+    warnings = [f"xacro: {line.strip()}" for line in printed.splitlines() if line.strip().startswith("warning")]
+    return text, warnings
+
+
+def _compile(path, args) -> tuple[str, str, list[str]]:
+    """The URDF text, what xacro printed and the files it read (run in the child)."""
+    printed, read = io.StringIO(), []  # xacro prints its warnings: keep them for the report, off the terminal
     try:
         # the file and everything it includes are read by kinverify's reader (bounded, no FIFO)
         with contextlib.redirect_stderr(printed), contextlib.redirect_stdout(printed), \
-                library_reads((xacro, xacrodoc.xacrodoc), f"{path}: xacro include"):
+                library_reads((xacro, xacrodoc.xacrodoc), f"{path}: xacro include", record=read):
             text = XacroDoc.from_file(str(path), subargs=dict(args or {}), walk_up=True).to_urdf_string()
-    except InputError:
-        raise
+    except InputError as err:
+        raise InputError(str(err)) from None  # as a plain InputError: it crosses back to the parent
     except Exception as err:  # xacro raises XacroException, NameError, KeyError... for bad files
+        if _out_of_memory(err):
+            raise MemoryError from None
         missing = re.search(r"Package not found: (\S+)", str(err))
         if missing:
             raise InputError(f"{path}: xacro package {missing[1]!r} not found (give it with --package NAME=PATH)") from None
         raise InputError(f"{path}: xacro cannot compile it: {library_reason(err)}") from None
-    finally:
-        xpackages.reset()
-    warnings = [f"xacro: {line.strip()}" for line in printed.getvalue().splitlines() if line.strip().startswith("warning")]
-    return text, warnings
+    return text, printed.getvalue(), read
+
+
+def _out_of_memory(err: BaseException | None) -> bool:
+    """Whether a MemoryError is behind ``err`` (xacro wraps what an expression raises)."""
+    seen = 0
+    while err is not None and seen < 20:
+        if isinstance(err, MemoryError):
+            return True
+        err, seen = err.__cause__ or err.__context__, seen + 1
+    return False
