@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from kinverify.text import shown
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("generate", help="write the URDF, MJCF and SDFormat generated from a spec",
@@ -30,5 +32,5 @@ def run(args) -> int:
     claim_outputs(*(("", path) for path, _ in files))  # all checked before any is written
     for path, text in files:
         write_atomic(path, text)
-        print(path)
+        print(shown(path))
     return 0

@@ -17,6 +17,7 @@ import math
 
 from kinverify.commands.ik_single import ALL_STARTS
 from kinverify.pipeline.limits import MAX_TARGET_M
+from kinverify.text import shown
 
 
 def add_parser(sub):
@@ -144,7 +145,7 @@ def _batch(args) -> int:
                         initial_outside_limits=outside)
     kind = "position" if position_only else "full-pose"
     how = "batched: batch time / N" if sol.batched else "per target"
-    print(f"{where}: {len(targets)} {kind} target(s), {n} joints; {data['solver']}"
+    print(f"{shown(where)}: {len(targets)} {kind} target(s), {n} joints; {data['solver']}"
           + (f"; {outside} initial guess(es) outside the limits were moved onto them" if outside else ""))
     print(f"success_rate {100 * data['success_rate']:.2f} % ({data['solved']}/{data['targets']} within {args.tol_pos:g} m"
           + ("" if position_only else f" / {args.tol_rot:g} rad") + f")  median_ms {data['median_ms']:.4g}  "
@@ -155,7 +156,7 @@ def _batch(args) -> int:
         from kinverify.io.write import write_atomic
 
         path = write_atomic(args.json, json.dumps(data, indent=1) + "\n")
-        print(f"json: {os.fspath(path)}")
+        print(f"json: {shown(os.fspath(path))}")
     return 0 if data["solved"] == data["targets"] else 1
 
 
