@@ -114,15 +114,13 @@ def run(args) -> int:
 
 
 def _batch(args) -> int:
-    import json
     import os
 
     import numpy as np
 
     from kinverify import __version__
-    from kinverify.errors import InputError
     from kinverify.ik import IKOptions, solve_lm
-    from kinverify.ik.files import load_initial, load_targets, results_json
+    from kinverify.ik.files import json_bytes, load_initial, load_targets, results_json
 
     model, lower, upper, joints, where = _batch_model(args)
     if args.targets:
@@ -155,7 +153,7 @@ def _batch(args) -> int:
     if args.json:
         from kinverify.io.write import write_atomic
 
-        path = write_atomic(args.json, json.dumps(data, indent=1) + "\n")
+        path = write_atomic(args.json, json_bytes(data))
         print(f"json: {shown(os.fspath(path))}")
     return 0 if data["solved"] == data["targets"] else 1
 
