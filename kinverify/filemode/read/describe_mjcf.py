@@ -19,9 +19,11 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
     mujoco.mj_kinematics(m, d)
     hinge, slide = int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)
     flex, flex_notes = flex_bodies(m)
+    unnamed, unnamed_notes = unnamed_subtrees(m, flex)
+    flex |= unnamed
+    flex_notes += unnamed_notes
     robot = [j for j in range(m.njnt) if int(m.jnt_bodyid[j]) not in flex]
-    # an unnamed joint gets a name of its own: two on one body must not be each other's parent
-    movable = {j: m.joint(j).name or f"joint #{j}" for j in robot if int(m.jnt_type[j]) in (hinge, slide)}
+    movable = {j: m.joint(j).name for j in robot if int(m.jnt_type[j]) in (hinge, slide)}
     skipped = [f"{m.joint(j).name or f'joint #{j}'}: {mujoco.mjtJoint(int(m.jnt_type[j])).name} joints are not compared "
                "(held at 0)" for j in robot if j not in movable] + flex_notes
     held = [m.joint(j).name for j in robot if j not in movable and m.joint(j).name]
@@ -82,6 +84,24 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
                      np.array(m.opt.gravity, dtype=float), held=held,
                      gravcomp={m.body(b).name: float(m.body_gravcomp[b]) for b in range(1, m.nbody)
                                if m.body_gravcomp[b] and m.body_mass[b] > 0 and b not in flex})
+
+
+def unnamed_subtrees(m, skipped: set[int]) -> tuple[set[int], list[str]]:
+    """Bodies moved by a hinge or slide joint without a name (no library can be asked for it by
+    name), with the bodies they carry, and one note per such body: not compared."""
+    moving = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+    tops = sorted({int(m.jnt_bodyid[j]) for j in range(m.njnt) if not m.joint(j).name
+                   and int(m.jnt_type[j]) in moving and int(m.jnt_bodyid[j]) not in skipped})
+    out = set()
+    for b in range(1, m.nbody):
+        a = b
+        while a > 0 and a not in tops:
+            a = int(m.body_parentid[a])
+        if a > 0:
+            out.add(b)
+    notes = [f"body {m.body(b).name or f'#{b}'}: moved by an unnamed joint; it and the bodies it carries are not "
+             "compared (name the joint to compare them)" for b in tops]
+    return out, notes
 
 
 def flex_bodies(m) -> tuple[set[int], list[str]]:
