@@ -63,7 +63,7 @@ def test_chunks_solve_every_target_as_one_batch_would(monkeypatch):
     whole = solve_lm(model, targets, chain.lower, chain.upper, options=opts)
     sizes = []
     solve_rows = batch.solve_rows
-    monkeypatch.setattr(batch, "CHUNK_BYTES", batch.ROW_BYTES_PER_JOINT * 6 * batch.MIN_ROWS)  # chunks of 64 targets
+    monkeypatch.setattr(batch, "CHUNK_BYTES", 0)  # the smallest chunks: MIN_ROWS (64) targets
     monkeypatch.setattr(batch, "solve_rows", lambda fk, t, *a: sizes.append(len(t)) or solve_rows(fk, t, *a))
     chunked = solve_lm(model, targets, chain.lower, chain.upper, options=opts)
     assert sizes == [64, 64, 22]
