@@ -182,6 +182,6 @@ def run(args) -> int:
 
                 traceback.print_exc()
             code, line = 3, f"ERROR (internal): {type(err).__name__}: {shown(' '.join(str(err).split())[:300])} (a kinverify bug)"
-        print(f"{label}: {line}", flush=True)
+        print(f"{label}: {shown(line)}", flush=True)
         worst = max(worst, code)
     return worst
