@@ -82,7 +82,9 @@ def run_files(args) -> tuple[list, list]:
 
 
 def _one_line(err: BaseException, limit: int | None = None) -> str:
-    text = " ".join(str(err).split()) or type(err).__name__
+    from kinverify.text import shown
+
+    text = shown(" ".join(str(err).split()) or type(err).__name__)
     return text if limit is None or len(text) <= limit else text[:limit - 3] + "..."
 
 
@@ -94,14 +96,17 @@ def main(argv: list[str] | None = None) -> int:
     terminal (:mod:`kinverify.io.quiet`). The outputs are committed together at the end
     (:mod:`kinverify.io.plan`), with the signals held for the renames."""
     from kinverify import interrupts
+    from kinverify.text import restore_streams, tolerant_streams
 
     previous = interrupts.install()
+    streams = tolerant_streams()  # a name the terminal's encoding cannot show is replaced, never fatal
     try:
         try:
             return _main(argv)
         except KeyboardInterrupt:  # a signal while an error was being reported
             return _interrupted()
     finally:
+        restore_streams(streams)
         if argv is not None or not previous:  # called in-process: give the caller its handlers back
             interrupts.restore(previous)
         else:  # the process exits now: a late signal must not print a traceback on the way out
@@ -149,7 +154,9 @@ def _main(argv: list[str] | None) -> int:
     except OSError as err:  # the system refused (disk full, file size limit, permissions): not a bug
         if interrupts.received():
             return _interrupted()
-        where = f"{err.filename}: " if err.filename else ""
+        from kinverify.text import shown
+
+        where = f"{shown(err.filename)}: " if err.filename else ""
         print(f"kinverify: error: {where}{err.strerror or _one_line(err)} (a system error)", file=sys.stderr)
         return 2
     except Exception as err:  # a kinverify bug: say so in one line, never a traceback

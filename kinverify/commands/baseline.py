@@ -47,18 +47,18 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def run(args) -> int:
     import sys
 
-    from rich.console import Console
+    from kinverify.text import console as text_console, markup
 
     from kinverify.model.specfile import load_spec
 
-    console = Console() if sys.stdout.isatty() else Console(width=160)
+    console = text_console() if sys.stdout.isatty() else text_console(width=160)
     spec = load_spec(args.model)
     if args.action == "save":
         from kinverify.regression.baseline import DEFAULT_SAMPLES, save_baseline
 
         samples = DEFAULT_SAMPLES if args.samples is None else args.samples
         path = save_baseline(spec, args.out, samples, args.seed)
-        console.print(f"baseline of {spec.name} written: {path}")
+        console.print(f"baseline of {markup(spec.name)} written: {markup(path)}")
         return 0
     from kinverify.regression.baseline import BASELINE_TOLERANCES, Tolerance
     from kinverify.regression.check import check
@@ -71,5 +71,5 @@ def run(args) -> int:
     doc = check_document(result)
     print_document(doc, console)
     if args.report:
-        console.print(f"report: {write_document(doc, args.report)}")
+        console.print(f"report: {markup(write_document(doc, args.report))}")
     return 0 if result.passed else 1

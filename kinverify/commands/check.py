@@ -17,6 +17,7 @@ import argparse
 from pathlib import Path
 
 from kinverify.commands import count as _count
+from kinverify.text import shown
 
 DEFAULT_SUITES = "kinematics,limits,inertia,dynamics"  # the agreement suites; ik and tracking are slower
 ACCEPTED = "kinverify-accepted.toml"
@@ -161,7 +162,7 @@ def run(args) -> int:
     options = VerifyOptions(samples=args.samples, seed=args.seed, suites=suites)
     worst = 0
     for kind, path, other in jobs(args.files):
-        label = f"{path} + {other.name}" if kind == "pair" else str(path)
+        label = shown(f"{path} + {other.name}" if kind == "pair" else path)
         if kind == "skip":
             print(f"{label}: skipped (not a spec .toml, a URDF or an MJCF)", flush=True)
             continue
@@ -169,8 +170,8 @@ def run(args) -> int:
             code, line = (check_spec(path, options, args) if kind == "spec" else check_pair(path, other, options) if kind == "pair"
                           else check_audit(path, options))
         except KinverifyError as err:  # the message names the file
-            message = " ".join(str(err).split())
-            print(f"error: {message}" if str(path) in message else f"{label}: error: {message}", file=sys.stderr, flush=True)
+            message = shown(" ".join(str(err).split()))
+            print(f"error: {message}" if shown(path) in message else f"{label}: error: {message}", file=sys.stderr, flush=True)
             worst = max(worst, 2)
             continue
         except (KeyboardInterrupt, OSError):
@@ -180,7 +181,7 @@ def run(args) -> int:
                 import traceback
 
                 traceback.print_exc()
-            code, line = 3, f"ERROR (internal): {type(err).__name__}: {' '.join(str(err).split())[:300]} (a kinverify bug)"
-        print(f"{label}: {line}", flush=True)
+            code, line = 3, f"ERROR (internal): {type(err).__name__}: {shown(' '.join(str(err).split())[:300])} (a kinverify bug)"
+        print(f"{label}: {shown(line)}", flush=True)
         worst = max(worst, code)
     return worst

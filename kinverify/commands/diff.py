@@ -32,7 +32,7 @@ def run(args) -> int:
     import sys
     from pathlib import Path
 
-    from rich.console import Console
+    from kinverify.text import console as text_console, markup
 
     from kinverify.errors import InputError
     from kinverify.regression.filediff import diff_files, file_kind
@@ -58,11 +58,11 @@ def run(args) -> int:
 
         with given_packages(parse_pairs(args.package, "--package"), parse_pairs(args.xacro_arg, "--xacro-arg")):
             result = diff_files(args.old, args.new, samples, args.seed)
-    console = Console() if sys.stdout.isatty() else Console(width=160)
+    console = text_console() if sys.stdout.isatty() else text_console(width=160)
     doc = diff_document(result, args.old, args.new)
     print_document(doc, console)
     from kinverify.io.plan import default_output
 
     path = write_document(doc, args.report or default_output(f"diff-{result.old_name}-{result.new_name}", ".html"))
-    console.print(f"report: {path}")
+    console.print(f"report: {markup(path)}")
     return 0 if doc["passed"] else 1

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import argparse
 
+from kinverify.text import shown
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("generate", help="write the URDF, MJCF, SDFormat and OpenUSD generated from a spec",
@@ -36,7 +38,7 @@ def run(args) -> int:
     claim_outputs(*(("", path) for path, _ in files))  # all checked before any is written
     for path, text in files:
         write_atomic(path, text)
-        print(path)
+        print(shown(path))
     if usd is None:
         print(f"note: no {spec.name}.usda written: {USD_MISSING}", file=sys.stderr)
     return 0

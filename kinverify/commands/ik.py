@@ -17,6 +17,7 @@ import math
 
 from kinverify.commands.ik_single import ALL_STARTS
 from kinverify.pipeline.limits import MAX_TARGET_M
+from kinverify.text import shown
 
 
 def add_parser(sub):
@@ -113,15 +114,13 @@ def run(args) -> int:
 
 
 def _batch(args) -> int:
-    import json
     import os
 
     import numpy as np
 
     from kinverify import __version__
-    from kinverify.errors import InputError
     from kinverify.ik import IKOptions, solve_lm
-    from kinverify.ik.files import load_initial, load_targets, results_json
+    from kinverify.ik.files import json_bytes, load_initial, load_targets, results_json
 
     model, lower, upper, joints, where = _batch_model(args)
     if args.targets:
@@ -144,7 +143,7 @@ def _batch(args) -> int:
                         initial_outside_limits=outside)
     kind = "position" if position_only else "full-pose"
     how = "batched: batch time / N" if sol.batched else "per target"
-    print(f"{where}: {len(targets)} {kind} target(s), {n} joints; {data['solver']}"
+    print(f"{shown(where)}: {len(targets)} {kind} target(s), {n} joints; {data['solver']}"
           + (f"; {outside} initial guess(es) outside the limits were moved onto them" if outside else ""))
     print(f"success_rate {100 * data['success_rate']:.2f} % ({data['solved']}/{data['targets']} within {args.tol_pos:g} m"
           + ("" if position_only else f" / {args.tol_rot:g} rad") + f")  median_ms {data['median_ms']:.4g}  "
@@ -154,8 +153,8 @@ def _batch(args) -> int:
     if args.json:
         from kinverify.io.write import write_atomic
 
-        path = write_atomic(args.json, json.dumps(data, indent=1) + "\n")
-        print(f"json: {os.fspath(path)}")
+        path = write_atomic(args.json, json_bytes(data))
+        print(f"json: {shown(os.fspath(path))}")
     return 0 if data["solved"] == data["targets"] else 1
 
 

@@ -7,6 +7,8 @@ The solve starts once the solver backend's library is loaded; the confirming bac
 
 from __future__ import annotations
 
+from kinverify.text import shown
+
 CONFIRM_TOL = 1e-6  # m and rad
 ALL_STARTS = 32  # random starts for --all-solutions
 
@@ -58,7 +60,7 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
     opts = IKOptions(seed=args.seed, start="given" if args.all_solutions else "seeded")
     sol = solve_lm(model, np.repeat(target[None], starts, axis=0), lower, upper, position_only, opts)
     kind = "position" if position_only else "pose"
-    print(f"{spec.name}: {kind} target for {frame}: xyz = {_fmt(xyz)} m" + (f", rpy = {_fmt(rpy)} rad" if rpy else "")
+    print(f"{shown(spec.name)}: {kind} target for {shown(frame)}: xyz = {_fmt(xyz)} m" + (f", rpy = {_fmt(rpy)} rad" if rpy else "")
           + f"; solver lm on {name}")
     closed = None
     if position_only:

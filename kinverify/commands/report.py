@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from kinverify.text import shown
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("report", help="re-render the HTML report from a saved results JSON",
@@ -23,6 +25,6 @@ def run(args) -> int:
 
     result = load_result_json(args.results)
     out = write_html(result, args.out or Path(args.results).with_suffix(".html"))
-    print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
-          f"{len(result.failing_findings)} error findings); report: {out}")
+    print(f"{shown(result.model)}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
+          f"{len(result.failing_findings)} error findings); report: {shown(out)}")
     return result.exit_code

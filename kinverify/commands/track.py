@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import argparse
 
+from kinverify.text import shown
+
 
 def _float(text: str) -> float:
     try:
@@ -97,20 +99,20 @@ def _report(args, spec, result, started, t0, cartesian=None) -> int:
     import shlex
     import time
 
-    from rich.console import Console
+    from kinverify.text import console as text_console, markup
 
     from kinverify.report.terminal import track_table as metrics_table
     from kinverify.results import VerifyResult
     from kinverify.versions import library_versions
 
-    console = Console()  # the terminal's width: the table fits it
+    console = text_console()  # the terminal's width: the table fits it
     console.print(metrics_table(spec, result, console))
     for m in result.metrics:
         if not m.passed:
-            console.print(f"[red]{m.controller} fails:[/] {m.reason}")
+            console.print(f"[red]{markup(m.controller)} fails:[/] {markup(m.reason)}")
     for c in result.checks:
         if c.property == "tracking.plan" and not c.passed:
-            console.print(f"[red]plan outside limits:[/] {c.note}")
+            console.print(f"[red]plan outside limits:[/] {markup(c.note)}")
     if cartesian is not None:
         _ee_errors(console, spec, result, cartesian)
     passed = all(c.passed for c in result.checks)  # every check is gated here
@@ -122,7 +124,7 @@ def _report(args, spec, result, started, t0, cartesian=None) -> int:
                           checks=result.checks, versions=library_versions(), command="kinverify " + shlex.join(args.argv),
                           started=started.isoformat(timespec="seconds"), duration_s=time.perf_counter() - t0,
                           lower=list(spec.lower), upper=list(spec.upper), sections={"tracking": result.section})
-        console.print(f"json: {write_json(vr, args.json)}")
+        console.print(f"json: {markup(write_json(vr, args.json))}")
     console.print(f"verdict: {'PASS' if passed else 'FAIL'}")
     return 0 if passed else 1
 
@@ -153,7 +155,7 @@ def _run_cartesian(args, spec, default, controllers) -> int:
     cplan = plan_cartesian(spec, [t for t, _ in parsed], default.q0, durations, position_only, args.ik_backend,
                            min_duration=default.duration)
     kind = "position" if position_only else "pose"
-    print(f"{spec.name}: {len(parsed)} {kind} target(s) for {cplan.frame}, IK by lm on {cplan.backend} "
+    print(f"{shown(spec.name)}: {len(parsed)} {kind} target(s) for {shown(cplan.frame)}, IK by lm on {cplan.backend} "
           f"(closest of the solutions to the previous configuration)")
     for k, c in enumerate(cplan.choices):
         print(f"  target {k + 1}: xyz = {_vec(c.target[:3, 3])} m -> q = {_vec(c.q)} rad  (IK residual {c.pos_error:.1e} m"
@@ -183,7 +185,7 @@ def _ee_errors(console, spec, result, cplan) -> None:
         rot = lambda e: "" if cplan.position_only else f", {e[1]:.3e} rad"
         line = (f"{run.controller}: final end-effector error against the Cartesian target {at_end[0]:.3e} m{rot(at_end)} "
                 f"at the end of the motion, {after[0]:.3e} m{rot(after)} at the end of the hold")
-        console.print(line)
+        console.print(line, markup=False, highlight=False)
         result.section.notes.append(line)
         errors.append({"controller": run.controller, "position_error_end_of_motion": at_end[0],
                        "rotation_error_end_of_motion": at_end[1], "position_error_end_of_hold": after[0],

@@ -167,14 +167,17 @@ def run(args) -> int:
     import time
 
     t_run = time.perf_counter()
-    from rich.console import Console
+    from rich.cells import cell_len
+    from rich.text import Text
+
+    from kinverify.text import console as text_console, markup
 
     from kinverify.report import print_result, write_json
     from kinverify.report.html import write_html
 
     options = options_from_args(args)
     command = "kinverify " + shlex.join(args.argv)
-    console = Console()  # the terminal's width (COLUMNS, or 80 when not a terminal); tables fit it
+    console = text_console()  # the terminal's width (COLUMNS, or 80 when not a terminal); tables fit it
     files = [f for f in (args.urdf, args.mjcf, args.sdf) if f]
     if files:
         if args.model:
@@ -234,21 +237,22 @@ def run(args) -> int:
     claim_outputs(("--json", json_out), ("--report", html_out))  # both checked before either is written
     t_report = time.perf_counter()
     json_path = write_json(result, json_out)  # the JSON first: it holds everything the page shows
-    written = [f"report: {write_html(result, html_out)}", f"json: {json_path}"]
+    written = [f"report: {markup(write_html(result, html_out))}", f"json: {markup(json_path)}"]
     if args.junit:
         from kinverify.report.junit import junit_xml
         from kinverify.io.write import write_atomic
 
-        written.append(f"junit: {write_atomic(args.junit, junit_xml(result))}")
+        written.append(f"junit: {markup(write_atomic(args.junit, junit_xml(result)))}")
     outputs = "  ".join(written)
     if args.quiet:  # one line, whatever the terminal's width
-        console.print(f"{result.model}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
+        console.print(f"{markup(result.model)}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
                       f"{len(result.failing_findings)} error findings); {outputs}", soft_wrap=True)
     else:  # paths are never broken: one line, or one line each when that is too wide
-        console.print(outputs if len(outputs) <= console.width else "\n".join(written), soft_wrap=True, highlight=False)
+        wide = cell_len(Text.from_markup(outputs, emoji=False).plain) > console.width
+        console.print("\n".join(written) if wide else outputs, soft_wrap=True, highlight=False)
     if args.profile:
         console.print(profile_line(result, time.perf_counter() - t_report, time.perf_counter() - t_run), highlight=False)
     for err in result.internal_errors:
         console.print(f"[bold red]internal error[/] (a kinverify bug, not a property of the model; please report it "
-                      f"with the JSON): {err}")
+                      f"with the JSON): {markup(err)}")
     return result.exit_code

@@ -21,9 +21,34 @@ import numpy as np
 
 from kinverify.model.transforms import rotation_log
 
+# bytes one row holds per joint while it is solved: the Jacobian (6 × 8 bytes) and about seven
+# arrays of its size (FK's joint axes and origins, the steps' products); measured, docs/robustness.md
+ROW_BYTES_PER_JOINT = 400
+ROW_BYTES = 1024  # and per row whatever the chain: the target, its rotation columns, the bookkeeping
+CHUNK_BYTES = 192 * 2**20  # targets are solved in chunks of at most this working set
 MIN_ROWS = 64  # below this many active rows, unsolved targets get parallel restart rows...
 ROWS_PER_TARGET = 8  # ...up to this many rows each
 LDL_ABOVE = 300  # systems: numpy's batched LAPACK solve below, a vectorised LDLᵀ above
+
+
+def chunk_size(n_joints: int) -> int:
+    """Targets solved together on a chain of ``n_joints``: as many as fit in ``CHUNK_BYTES`` (rows
+    a chunk adds for restarts stay below ``MIN_ROWS × ROWS_PER_TARGET``, a few hundred)."""
+    return max(MIN_ROWS, CHUNK_BYTES // (ROW_BYTES_PER_JOINT * max(n_joints, 1) + ROW_BYTES))
+
+
+def solve_chunks(fk, targets, q0, lower, upper, wrap, position_only: bool, opts, seeds, rng) -> dict:
+    """:func:`solve_rows` on consecutive chunks of :func:`chunk_size` targets, so memory does not
+    grow with the number of targets; each chunk gets ``opts.time_budget`` per target of its own.
+    One chunk (every run of up to about 7,500 targets on a 64-joint chain, 87,000 on 3 joints) is
+    exactly :func:`solve_rows` on all targets."""
+    size = chunk_size(q0.shape[1])
+    parts = []
+    for start in range(0, len(targets), size):
+        part = slice(start, start + size)
+        deadline = time.perf_counter() + opts.time_budget * len(targets[part])
+        parts.append(solve_rows(fk, targets[part], q0[part], lower, upper, wrap, position_only, opts, seeds, rng, deadline))
+    return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
 
 
 def solve_rows(fk, targets, q0, lower, upper, wrap, position_only: bool, opts, seeds, rng, deadline: float) -> dict:

@@ -107,11 +107,10 @@ def solve_lm(model: FrameModel, targets, lower, upper, position_only: bool = Fal
     seeds, build_s = model.seed_table(lo_s, hi_s, position_only, opts.seed_samples) if wanted else (None, 0.0)
     wrap = np.asarray(model.revolute, bool)
     if batch:
-        from kinverify.ik.batch import solve_rows
+        from kinverify.ik.batch import solve_chunks
 
         t0, c0 = time.perf_counter(), time.process_time()
-        out = solve_rows(model.soa, targets, q0, lower, upper, wrap, position_only, opts, seeds, rng,
-                         t0 + opts.time_budget * max(b, 1)) if b else _empty(len(lower))
+        out = solve_chunks(model.soa, targets, q0, lower, upper, wrap, position_only, opts, seeds, rng) if b else _empty(len(lower))
         out["time_s"] = np.full(b, (time.perf_counter() - t0) / max(b, 1))
         out["cpu_s"] = np.full(b, (time.process_time() - c0) / max(b, 1))
     else:

@@ -52,7 +52,11 @@ class _File:
 
 def _file(label: str, path) -> _File:
     path = Path(path)
-    resolved = path.resolve()
+    try:
+        resolved = path.resolve()
+    except (RuntimeError, OSError):  # Python 3.11 raises RuntimeError on a loop, 3.13 OSError (ELOOP)
+        named = f"{label} {path}" if label else str(path)
+        raise InputError(f"{named} is a loop of symbolic links (it never reaches a file)") from None
     try:
         st = os.stat(resolved)
         inode = (st.st_dev, st.st_ino)

@@ -48,7 +48,8 @@ def write_atomic(path: str | os.PathLike, data: str | bytes) -> Path:
     Returns ``path`` as given. A symbolic link at ``path`` is kept: its target file is replaced."""
     given = Path(path)
     target = target_for_write(given)
-    payload = data.encode("utf-8") if isinstance(data, str) else bytes(data)
+    # a path that was not UTF-8 (its bytes are lone surrogates in Python) is shown as \udcff in the page
+    payload = data.encode("utf-8", "backslashreplace") if isinstance(data, str) else bytes(data)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=temp_prefix(target.name), suffix=".tmp")

@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import shutil
 import signal
+import tempfile
 import uuid
 from typing import Any, Callable, Iterator
 
@@ -172,17 +174,23 @@ def stop_workers(pool, timeout: float = 5.0) -> None:
 
 def _dask_results(fn, payload: Payload, chunks, opts) -> Iterator:
     try:
+        import dask.config
         from dask.distributed import Client, LocalCluster
     except ImportError:
         raise InputError("--executor dask needs dask.distributed: pip install 'kinverify[dask]'") from None
-    cluster = None
-    if opts.scheduler:
-        client = _connect(Client, opts.scheduler)
-    else:
-        cluster = LocalCluster(n_workers=opts.jobs, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=40)
-        client = Client(cluster)
+    cluster = client = None
+    scratch = tempfile.mkdtemp(prefix="kinverify-dask-")  # the workers' dask-scratch-space, removed at the end
     try:
+        if opts.scheduler:
+            client = _connect(Client, opts.scheduler)
+        else:
+            # a signal while the workers start is acted on once the cluster exists: a half-started
+            # cluster cannot be closed, and distributed's exit handler then prints a traceback
+            with interrupts.held(), dask.config.set({"temporary-directory": scratch}):
+                cluster = LocalCluster(n_workers=opts.jobs, threads_per_worker=1, processes=True,
+                                       dashboard_address=None, silence_logs=40, local_directory=scratch)
+                client = Client(cluster)
+        interrupts.check()
         remote = client.scatter(payload, broadcast=True)
         window = 4 * max(1, opts.jobs)
         futures, order = [], iter(chunks)
@@ -196,10 +204,13 @@ def _dask_results(fn, payload: Payload, chunks, opts) -> Iterator:
             if nxt is not None:
                 futures.append(client.submit(_run_chunk, fn, remote, *nxt, pure=False))
             yield result
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    finally:  # also when the generator is closed by the garbage collector: a signal now is acted on later
+        with interrupts.held():
+            if client is not None:
+                client.close()
+            if cluster is not None:
+                cluster.close()
+            shutil.rmtree(scratch, ignore_errors=True)
 
 
 def _connect(client_class, address: str):

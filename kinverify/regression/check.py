@@ -152,6 +152,10 @@ def check_baseline(spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, To
     prints = fingerprints(spec)
     stored = data.get("fingerprints") or {}
     result.spec_changed = stored.get("spec") != prints["spec"] and data["spec"] != spec_to_canonical(spec)
+    if not result.spec_changed and (result.frames_removed or result.frames_added):  # the same model, other frames
+        raise InputError(f"{source}: frames: the baseline records this very spec, yet its frames differ from the model's "
+                         f"(only in the baseline: {', '.join(result.frames_removed) or 'none'}; only in the model: "
+                         f"{', '.join(result.frames_added) or 'none'}): the file does not match the model; save the baseline again")
     if result.spec_changed:
         result.spec_changes = diff_specs(spec_from_canonical(data["spec"], where=f"{source}: spec"), spec)
     result.files_changed = [k for k in ("urdf", "mjcf") if stored.get(k) != prints[k]]

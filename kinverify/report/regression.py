@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from jinja2 import Environment, PackageLoader, select_autoescape
 from rich.console import Console
-from rich.markup import escape
+from kinverify.text import console as text_console, markup as escape
 from rich.table import Table
 
 from kinverify.regression.check import BaselineCheck
@@ -109,7 +109,7 @@ def diff_document(d: ModelDiff, old_path: str = "", new_path: str = "") -> dict[
 
 
 def print_document(doc: dict[str, Any], console: Console | None = None) -> None:
-    console = console or Console()
+    console = console or text_console()
     console.print(f"[bold]{escape(doc['title'])}[/]")
     for table in doc["tables"]:
         if not table["rows"]:

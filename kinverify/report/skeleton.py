@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from kinverify.report.plots import RC, _figure, _svg
+from kinverify.text import literal
 
 REF_COLOUR, OTHER_COLOUR = "#263238", "#d32f2f"
 AXES = ("#e53935", "#43a047", "#1e88e5")
@@ -107,13 +108,13 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
                     for i, p in enumerate(poses):
                         name = frames[i] if i < len(frames) else ""  # a saved file's lists may disagree
                         if p is not None and (i in (0, len(poses) - 1) or marks.get(name) == "error"):
-                            ax.text(*p[:3, 3], " " + name, fontsize=6.5, color="#b71c1c" if marks.get(name) == "error" else "#37474f")
+                            ax.text(*p[:3, 3], " " + literal(name), fontsize=6.5, color="#b71c1c" if marks.get(name) == "error" else "#37474f")
             ax.set_xlim(lo[0], hi[0])
             ax.set_ylim(lo[1], hi[1])
             ax.set_zlim(lo[2], hi[2])
             ax.set_box_aspect(hi - lo)
             ax.view_init(elev=22, azim=azim)
-            ax.set_title(title, pad=0)
+            ax.set_title(literal(title), pad=0)
             for name, axis in (("x", ax.xaxis), ("y", ax.yaxis), ("z", ax.zaxis)):
                 axis.set_major_locator(matplotlib.ticker.MaxNLocator(3))
                 axis.set_tick_params(labelsize=5.5, pad=0)
@@ -121,9 +122,9 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
             ax.set_xlabel("x [m]", fontsize=6, labelpad=-6)
             ax.set_ylabel("y [m]", fontsize=6, labelpad=-6)
             ax.set_zlabel("z [m]", fontsize=6, labelpad=-6)
-        handles = [Line2D([], [], color=REF_COLOUR, lw=2.4, label=f"{ref} (solid)")]
+        handles = [Line2D([], [], color=REF_COLOUR, lw=2.4, label=f"{literal(ref)} (solid)")]
         if other and any(other in drawn for _, drawn in todo):
-            handles.append(Line2D([], [], color=OTHER_COLOUR, lw=2.0, ls=(0, (4, 2)), alpha=0.6, label=f"{other} (ghosted)"))
+            handles.append(Line2D([], [], color=OTHER_COLOUR, lw=2.0, ls=(0, (4, 2)), alpha=0.6, label=f"{literal(other)} (ghosted)"))
         handles += [Line2D([], [], color=c, lw=1.3, label=f"frame {a}") for c, a in zip(AXES, "xyz")]
         fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=6.5, frameon=False)
         fig.subplots_adjust(left=0.0, right=1.0, top=0.93, bottom=0.1, wspace=0.05)

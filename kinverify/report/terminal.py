@@ -15,7 +15,7 @@ from typing import Sequence
 
 from rich.cells import cell_len
 from rich.console import Console
-from rich.markup import escape
+from kinverify.text import console as text_console, markup as escape
 from rich.table import Table
 from rich.text import Text
 
@@ -54,7 +54,7 @@ def fit_table(console: Console, columns: Sequence[Column], rows: Sequence[Sequen
     allows. The ``optional`` headers are dropped in that order until every row fits on one line;
     only if none does even then, :data:`TEXT` cells wrap between words. No word (a number, a
     name) is ever broken; headers wrap (between words) only with ``wrap_headers``."""
-    plain = [[h for h, _ in columns]] + [[Text.from_markup(c).plain for c in row] for row in rows]
+    plain = [[h for h, _ in columns]] + [[Text.from_markup(c, emoji=False).plain for c in row] for row in rows]
 
     def header(i: int) -> int:
         words = columns[i][0].split() if wrap_headers else [columns[i][0]]
@@ -243,7 +243,7 @@ def results_tables(result: VerifyResult, console: Console) -> list[tuple[str, Ta
 
 
 def print_result(result: VerifyResult, console: Console | None = None) -> None:
-    console = console or Console()
+    console = console or text_console()
     console.print(suites_grid(result))
     for title, table in results_tables(result, console):
         if title:
@@ -290,7 +290,7 @@ def verdict_line(result: VerifyResult, width: int | None = None) -> str:
                   f"; {goals} (not counted)"),
              line(f"{checks} checks, {findings} findings, {len(result.backends)} backends, {seconds}",
                   f"; {goals.replace('performance ', '')}")]
-    return next((f for f in forms if width is None or cell_len(Text.from_markup(f).plain) <= width), forms[-1])
+    return next((f for f in forms if width is None or cell_len(Text.from_markup(f, emoji=False).plain) <= width), forms[-1])
 
 
 def track_table(spec, result, console: Console) -> Table:

@@ -18,6 +18,7 @@ import sys
 import numpy as np
 
 from kinverify.suites.base import Figure
+from kinverify.text import literal
 
 from kinverify.tracking.execute import Run
 
@@ -43,7 +44,7 @@ def joint_plot(run: Run, joint_names) -> dict:
     s = _every(len(run.t))
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
     for j, name in enumerate(joint_names):
-        line, = ax1.plot(run.t[s], run.q[s, j], label=name)
+        line, = ax1.plot(run.t[s], run.q[s, j], label=literal(name))
         ax1.plot(run.plan.t[s], run.plan.q[s, j], "--", color=line.get_color(), linewidth=0.8)
         ax2.plot(run.t[s], run.qd[s, j], color=line.get_color())
     for ax in (ax1, ax2):

@@ -108,6 +108,9 @@ def _baseline(work, edit) -> None:
     (lambda d: d["records"][3].update(value=[1e400]), "holds Infinity"),
     (lambda d: d["fixed"]["ik"]["targets"][0].update(start=["0"] * 3), "fixed.ik targets must hold finite numbers"),
     (lambda d: d.update(format_version=True), "format_version must be an integer"),
+    (lambda d: d.update(frames=[f.replace("link2", "linkX") for f in d["frames"]],  # renamed, records and all
+                        records=[{**r, "frame": r["frame"].replace("link2", "linkX")} for r in d["records"]]),
+     "its frames differ from the model's (only in the baseline: linkX; only in the model: link2)"),
 ])
 def test_an_edited_baseline_is_refused_not_compared(capfd, work, edit, words):
     _baseline(work, edit)

@@ -28,6 +28,7 @@ from kinverify.io.formats import toml_loads
 from kinverify.io.read import read_text
 from kinverify.io.write import write_atomic
 from kinverify.suites.base import Finding
+from kinverify.text import toml_comment, toml_string
 
 DEFAULT_NAME = "kinverify-accepted.toml"
 RELATIVE = 1e-6  # a recorded magnitude still matches within this fraction (or the property's tolerance)
@@ -101,22 +102,18 @@ def _size(magnitude: float | None, unit: str) -> str:
     return "no size" if magnitude is None else f"{magnitude:g} {unit}".rstrip()
 
 
-def _toml_string(text: str) -> str:
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", " ") + '"'
-
-
 def write(path, findings: list[Finding], source: str) -> Path:
     """Write the error findings as entries (to review: fill in each ``reason``)."""
-    lines = [f"# kinverify accepted differences for {source}",
+    lines = [toml_comment(f"kinverify accepted differences for {source}"),
              "# Each entry accepts one finding (kind + subject) at its magnitude; review every one and say why.", ""]
     for f in findings:
         if f.severity != "error":
             continue
-        lines += ["[[accepted]]", f"kind = {_toml_string(f.kind)}", f"subject = {_toml_string(f.subject)}"]
+        lines += ["[[accepted]]", f"kind = {toml_string(f.kind)}", f"subject = {toml_string(f.subject)}"]
         if f.magnitude is not None:
             lines.append(f"magnitude = {'inf' if math.isinf(f.magnitude) else repr(float(f.magnitude))}")
         if f.unit:
-            lines.append(f"unit = {_toml_string(f.unit)}")
-        lines += [f"# {' '.join(f.message.splitlines())}", 'reason = ""', ""]  # a newline would end the comment
+            lines.append(f"unit = {toml_string(f.unit)}")
+        lines += [toml_comment(f.message), 'reason = ""', ""]
 
     return Path(write_atomic(path, "\n".join(lines)))

@@ -18,10 +18,15 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
     d.qpos[:] = 0.0
     mujoco.mj_kinematics(m, d)
     hinge, slide = int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)
-    movable = {j: m.joint(j).name for j in range(m.njnt) if int(m.jnt_type[j]) in (hinge, slide)}
+    flex, flex_notes = flex_bodies(m)
+    unnamed, unnamed_notes = unnamed_subtrees(m, flex)
+    flex |= unnamed
+    flex_notes += unnamed_notes
+    robot = [j for j in range(m.njnt) if int(m.jnt_bodyid[j]) not in flex]
+    movable = {j: m.joint(j).name for j in robot if int(m.jnt_type[j]) in (hinge, slide)}
     skipped = [f"{m.joint(j).name or f'joint #{j}'}: {mujoco.mjtJoint(int(m.jnt_type[j])).name} joints are not compared "
-               "(held at 0)" for j in range(m.njnt) if j not in movable]
-    held = [m.joint(j).name for j in range(m.njnt) if j not in movable and m.joint(j).name]
+               "(held at 0)" for j in robot if j not in movable] + flex_notes
+    held = [m.joint(j).name for j in robot if j not in movable and m.joint(j).name]
 
     def body_owner(b: int) -> str | None:
         while b > 0:
@@ -34,7 +39,7 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
     frames, owner, depth, kind = {}, {}, {}, {}
     for b in range(1, m.nbody):
         name = m.body(b).name
-        if not name:
+        if not name or b in flex:
             continue
         frames[name], owner[name] = _pose(d.xpos[b], d.xmat[b]), body_owner(b)
         depth[name], kind[name] = _body_depth(m, b), "link"
@@ -67,7 +72,7 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
             effort_each=each if len(each) > 1 else ()))
     bodies = []
     for b in range(1, m.nbody):
-        if m.body_mass[b] <= 0:
+        if m.body_mass[b] <= 0 or b in flex:
             continue
         rot_i = np.reshape(d.ximat[b], (3, 3))
         rot_b = np.reshape(d.xmat[b], (3, 3))
@@ -78,7 +83,43 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
     return ModelDesc("mjcf", "mujoco", joints, frames, owner, depth, bodies, skipped, kind, _mjcf_couplings(m, movable),
                      np.array(m.opt.gravity, dtype=float), held=held,
                      gravcomp={m.body(b).name: float(m.body_gravcomp[b]) for b in range(1, m.nbody)
-                               if m.body_gravcomp[b] and m.body_mass[b] > 0})
+                               if m.body_gravcomp[b] and m.body_mass[b] > 0 and b not in flex})
+
+
+def unnamed_subtrees(m, skipped: set[int]) -> tuple[set[int], list[str]]:
+    """Bodies moved by a hinge or slide joint without a name (no library can be asked for it by
+    name), with the bodies they carry, and one note per such body: not compared."""
+    moving = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+    tops = sorted({int(m.jnt_bodyid[j]) for j in range(m.njnt) if not m.joint(j).name
+                   and int(m.jnt_type[j]) in moving and int(m.jnt_bodyid[j]) not in skipped})
+    out = set()
+    for b in range(1, m.nbody):
+        a = b
+        while a > 0 and a not in tops:
+            a = int(m.body_parentid[a])
+        if a > 0:
+            out.add(b)
+    notes = [f"body {m.body(b).name or f'#{b}'}: moved by an unnamed joint; it and the bodies it carries are not "
+             "compared (name the joint to compare them)" for b in tops]
+    return out, notes
+
+
+def flex_bodies(m) -> tuple[set[int], list[str]]:
+    """The bodies MuJoCo made for the vertices of deformable objects (``<flexcomp>``; each with its
+    own unnamed slide joints), and one note per object: they are not part of the robot and are not
+    compared. A vertex held by its parent body (``<pin>``, or a rigid flex) leaves that body in."""
+    out, notes = set(), []
+    for f in range(m.nflex):
+        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_FLEX, f) or f"#{f}"
+        ids = {int(b) for b in m.flex_vertbodyid[m.flex_vertadr[f]:m.flex_vertadr[f] + m.flex_vertnum[f]]}
+        parents = {int(m.body_parentid[b]) for b in ids}
+        # <flexcomp name="cloth"> makes bodies cloth_0, cloth_1, ...; a <flex> over the model's own bodies makes none
+        own = {b for b in ids if b > 0 and b not in parents and m.body(b).name.startswith(f"{name}_")} if len(ids) > 1 else set()
+        if own:
+            out |= own
+            notes.append(f"flex {name}: a deformable object of {len(own)} bodies (<flexcomp>), not part of the robot: "
+                         "not compared")
+    return out, notes
 
 
 def free_joint_values(text: str) -> dict[str, float]:
