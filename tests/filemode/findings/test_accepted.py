@@ -127,7 +127,7 @@ def test_written_names_and_messages_with_quotes_backslashes_and_newlines_stay_on
     text = write(tmp_path / "a.toml", [odd], "u + m").read_text()
     assert text.splitlines()[:2] == ["# kinverify accepted differences for u + m", "# Each entry accepts one finding (kind + subject) "
                                      "at its magnitude; review every one and say why."]
-    assert '# tcp moved by "1 cm" \\ there' in text.splitlines()
+    assert '# tcp moved\\nby "1 cm" \\ there' in text.splitlines()  # the newline shown as an escape: one comment line
     assert load(tmp_path / "a.toml") == [Entry("frame_offset", 'tcp "a" \\ b c', 0.01, 'm "SI"')]
 
 
