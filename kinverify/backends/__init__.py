@@ -26,7 +26,7 @@ class BackendInfo:
     name: str
     module: str  # kinverify module holding the adapter
     cls: str
-    source: str  # "spec", "urdf", "mjcf" or "sdf"
+    source: str  # "spec", "urdf", "mjcf", "sdf" or "usd"
     available: bool
     reason: str = ""  # why it is unavailable
     extra: str = ""  # the optional extra of kinverify that installs its library
@@ -47,6 +47,7 @@ _BUILDERS: dict[str, Callable] = {
     "urdf": lambda cls, s, name: cls.from_urdf(s.urdf, s.joint_names, s.frames, name=name),
     "mjcf": lambda cls, s, name: cls.from_mjcf(s.mjcf, s.mjcf_joint_names or s.joint_names, s.mjcf_frames or s.frames, name=name),
     "sdf": lambda cls, s, name: cls.from_sdf(s.sdf, s.sdf_joint_names or s.joint_names, s.sdf_frames or s.frames, name=name),
+    "usd": lambda cls, s, name: cls.from_usd(s.usd, s.usd_joint_names or s.joint_names, s.usd_frames or s.frames, name=name),
 }
 
 # name, module, class, source[, extra]: a backend is an adapter class reading one model source;
@@ -63,8 +64,9 @@ _ENTRIES = (
     ("drake-urdf", ".drake_", "DrakeBackend", "urdf", "drake"),
     ("drake-mjcf", ".drake_", "DrakeBackend", "mjcf", "drake"),
     ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake"),
+    ("usd", ".usd_", "UsdBackend", "usd", "usd"),
 )
-PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf"}  # the reference reader of each file in file mode
+PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf", "usd": "usd"}  # the reference reader of each file in file mode
 
 
 @lru_cache(maxsize=None)

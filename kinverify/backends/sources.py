@@ -32,6 +32,10 @@ class ModelSources:
     # File mode: the SDFormat file's own names (None: same as the URDF's).
     sdf_joint_names: tuple[str, ...] | None = None
     sdf_frames: tuple[str, ...] | None = None
+    usd: str | None = None  # a USD file's path (its layers resolve from there) or usda text
+    # File mode: the USD file's own names (None: same as the URDF's).
+    usd_joint_names: tuple[str, ...] | None = None
+    usd_frames: tuple[str, ...] | None = None
 
     @classmethod
     def from_spec(cls, spec: ArmSpec) -> "ModelSources":

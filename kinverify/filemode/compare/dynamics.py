@@ -171,15 +171,22 @@ def parameter_findings(info, tolerances: dict) -> list:
     for j in info.alignment.joints:
         ju, jm = info.u.joint(j.urdf), info.m.joint(j.mjcf)
         for prop, value, x, y in (("dynamics.damping", "damping", ju.damping, jm.damping),
-                                  ("dynamics.friction", "friction", ju.friction, jm.friction)):
+                                  ("dynamics.friction", "friction", ju.friction, jm.friction),
+                                  ("dynamics.armature", "armature", ju.armature, jm.armature)):  # both: a USD side
             if x is None or y is None or abs(x - y) <= tolerances.get(prop, 1e-12):
                 continue
             silent = "URDF" if unset(ju.stated, value) else "MJCF" if unset(jm.stated, value) else ""
             groups.setdefault((value, prop, silent, round(x, 12), round(y, 12)), []).append(j)
-    units = {"dynamics.damping": "N·m·s/rad", "dynamics.friction": "N·m"}
+    units = {"dynamics.damping": "N·m·s/rad", "dynamics.friction": "N·m", "dynamics.armature": "kg·m²"}
+    usd = {"damping": "no newton:damping or mjc:damping on the joint", "friction": "no newton:friction or mjc:frictionloss "
+           "on the joint", "armature": "no physxJoint:armature, newton:armature or mjc:armature on the joint"}
     how = {"URDF": {"damping": "no <dynamics damping>", "friction": "no <dynamics friction>"},
            "MJCF": {"damping": "no damping on the joint or its default class",
-                    "friction": "no frictionloss on the joint or its default class"}}
+                    "friction": "no frictionloss on the joint or its default class",
+                    "armature": "no armature on the joint or its default class"}}
+    for side, desc in (("URDF", info.u), ("MJCF", info.m)):
+        if desc.kind == "usd":  # a USD side takes the URDF's or the MJCF's place
+            how[side] = usd
     for (value, prop, silent, x, y), joints in groups.items():
         label = {"dynamics.friction": "friction (URDF friction, MJCF frictionloss)"}.get(prop, "damping")
         names = ", ".join(j.urdf for j in joints)
@@ -200,7 +207,8 @@ def parameter_findings(info, tolerances: dict) -> list:
              "the comparison gives Pinocchio the MJCF's"),
             ("stiffness_inexpressible", "stiffness", "a spring (stiffness {})", "N·m/rad", "dynamics.stiffness",
              "springs are left out of the dynamics comparison")):
-        given = [(j, getattr(info.m.joint(j.mjcf), field)) for j in info.alignment.joints if getattr(info.m.joint(j.mjcf), field)]
+        given = [(j, getattr(info.m.joint(j.mjcf), field)) for j in info.alignment.joints if getattr(info.m.joint(j.mjcf), field)
+                 and getattr(info.u.joint(j.urdf), field) is None]  # a USD first side states armature: compared above
         if given:
             values = ", ".join(f"{v:g}" for v in sorted({round(x, 12) for _, x in given}))
             out.append(finding(kind, f"the MJCF gives {len(given)} joints {what.format(values)}, which a URDF cannot express: "
