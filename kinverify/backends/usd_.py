@@ -5,8 +5,9 @@ body0 and ``localPos1/localRot1`` in body1; rotations are ``GfQuat`` written (re
 (w, x, y, z); ``Gf`` matrices act on row vectors (transposed here); angular values (limits, drive
 gains, velocities) are in degrees; lengths in stage units (``metersPerUnit``). A body's world
 pose is ``T_body1 = T_body0 · localPose0 · motion(q about/along the joint axis) · localPose1⁻¹``
-from the articulation's root (:func:`kinverify.backends.usd_stage.forward`); the Jacobians are
-finite differences of it.
+from the articulation's root (:func:`kinverify.backends.usd_stage.forward`). Jacobians: each
+joint's column from its world axis line (``[a × (p − o); a]`` for a revolute joint, ``[a; 0]`` for a
+prismatic one); with a floating base, finite differences of the FK.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from functools import lru_cache
 import numpy as np
 import pxr  # noqa: F401  (the backend is unavailable without the extra "usd")
 
-from kinverify.backends.base import BackendBase
+from kinverify.backends.base import BackendBase, finite_difference_jacobians
 from kinverify.backends.usd_stage import UsdRobot, forward, read_robot
 from kinverify.errors import UnknownNameError
 from kinverify.model.floating import BASE_COORDINATES, base_transforms
@@ -46,7 +47,7 @@ class UsdBackend(BackendBase):
     """FK of a USD articulation (pxr reads it; the joint frames composed in numpy)."""
 
     library = "usd-core"
-    jacobian_method = "finite-difference"
+    jacobian_method = "analytic"
 
     def __init__(self, robot: UsdRobot, joint_names, frames, name: str = "usd") -> None:
         self.robot, self.name = robot, name
@@ -56,6 +57,8 @@ class UsdBackend(BackendBase):
         unknown = [j for j in self.joint_names if j not in movable and not j.startswith("base:")]
         if unknown:
             raise UnknownNameError("USD joint", unknown[0], sorted(movable))
+        if self.floating:
+            self.jacobian_method = "finite-difference"
         by_name = {n: b for b, n in robot.names.items()}
         self._where = []
         for f in self.frames:
@@ -69,6 +72,33 @@ class UsdBackend(BackendBase):
     @classmethod
     def from_usd(cls, usd_text_or_path: str, joint_names, frames, name: str = "usd") -> "UsdBackend":
         return cls(load_robot(usd_text_or_path), joint_names, frames, name=name)
+
+    def jacobians(self, q: np.ndarray) -> np.ndarray:
+        """World-aligned Jacobians at each frame's origin, rows [linear; angular]."""
+        if self.floating:
+            return finite_difference_jacobians(self.poses, self._check(q))
+        q = self._check(q)
+        n, robot = len(q), self.robot
+        world = forward(robot, {name: q[:, i] for i, name in enumerate(self.joint_names)}, n)
+        column = {name: i for i, name in enumerate(self.joint_names)}
+        out = np.zeros((n, len(self.frames), 6, len(self.joint_names)))
+        for k, (body, local) in enumerate(self._where):
+            point = (world[body] @ local)[:, :3, 3]
+            b = body
+            while b != robot.root:
+                j = robot.parent_joint[b]
+                if j.name in column:
+                    flipped = j.path in robot.flipped
+                    frame = world[j.body1] @ j.x1 if flipped else world[j.body0] @ j.x0
+                    axis = frame[:, :3, j.axis] * (-1.0 if flipped else 1.0)
+                    i = column[j.name]
+                    if j.kind == "revolute":
+                        out[:, k, :3, i] = np.cross(axis, point - frame[:, :3, 3])
+                        out[:, k, 3:, i] = axis
+                    else:
+                        out[:, k, :3, i] = axis
+                b = j.body0 if b == j.body1 else j.body1
+        return out
 
     def poses(self, q: np.ndarray) -> np.ndarray:
         q = self._check(q)

@@ -170,7 +170,9 @@ def f32(x) -> float:
 def frame_matrix(pos, rot, meters: float) -> np.ndarray:
     """4x4 from a position (stage units; float32 components as written) and a GfQuat (w, x, y, z)."""
     t = np.eye(4)
-    t[:3, :3] = np.array(Gf.Matrix3d(Gf.Rotation(Gf.Quatd(rot))), dtype=float).T  # Gf matrices are row-vector: transpose
+    # normalized first: GfRotation takes the angle from the real part as written, so a quaternion a rounding
+    # away from unit length near the identity turns by ~sqrt(rounding) (|q| = 1 - 2e-7: 0.07°)
+    t[:3, :3] = np.array(Gf.Matrix3d(Gf.Rotation(Gf.Quatd(rot).GetNormalized())), dtype=float).T  # row-vector Gf: transposed
     t[:3, 3] = np.array([f32(x) for x in pos], dtype=float) * meters
     return t
 

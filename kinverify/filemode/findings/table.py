@@ -32,7 +32,7 @@ SEVERITY = {
     "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
     "stiffness_inexpressible": "warning",
     "coupling_one_file": "warning", "base_inertial_difference": "warning", "base_frame_offset": "warning",
-    "actuator_alternatives": "warning",
+    "actuator_alternatives": "warning", "usd_pose_mismatch": "warning",
     # one file leaves a value unset (the format's default), the other states one
     "damping_unset": "warning", "friction_unset": "warning", "limit_unset": "warning", "effort_unset": "warning",
     "inertial_unset": "warning", "mass_unknown": "warning",

@@ -245,3 +245,32 @@ def usd_precision(robot: UsdRobot) -> Precision:
                                                                   default=0.0))):
         out.note(category, value, "float32")
     return out
+
+
+def pose_mismatches(robot: UsdRobot) -> list[tuple[str, float, float]]:
+    """Bodies whose authored transform (``xformOp``s, where a simulator starts them) is not where their
+    joint frames put them, each joint at its initial position (``PhysicsJointStateAPI``, else 0),
+    beyond single precision: (body, position [m], rotation [rad]), the root's pose taken as given."""
+    initial = {}
+    for j in robot.joints:
+        if j.kind in MOVABLE:
+            kind = "angular" if j.kind == "revolute" else "linear"
+            value = _number(robot.stage.GetPrimAtPath(j.path), f"state:{kind}:physics:position")
+            if value is not None:
+                initial[j.name] = np.array([value * (DEG if kind == "angular" else robot.meters)])
+    composed = forward(robot, initial, 1)
+    bound = usd_precision(robot).frames
+    root_a, root_c = np.linalg.inv(robot.authored[robot.root]), np.linalg.inv(composed[robot.root][0])
+    out = []
+    for body in robot.bodies[1:]:
+        a, c = root_a @ robot.authored[body], root_c @ composed[body][0]
+        rot_b, pos_b = bound.get(robot.names[body], (0.0, 0.0))
+        pos = float(np.linalg.norm(a[:3, 3] - c[:3, 3]))
+        rot = float(np.arccos(np.clip((np.trace(a[:3, :3].T @ c[:3, :3]) - 1) / 2, -1, 1)))
+        reach = float(np.linalg.norm(c[:3, 3]))
+        if pos > 2 * (pos_b + rot_b * reach) + 1e-9 or rot > 2 * rot_b + 1e-9:
+            orient = _get(robot.stage.GetPrimAtPath(body), "xformOp:orient")
+            norm = 1.0 if orient is None else math.sqrt(orient.GetReal() ** 2 + sum(x * x for x in orient.GetImaginary()))
+            why = f" (its xformOp:orient is not a unit quaternion, |q| = {norm:.9g}: pxr reads it as a turn)" if abs(norm - 1) > 1e-9 else ""
+            out.append((robot.names[body] + why, pos, rot))
+    return out

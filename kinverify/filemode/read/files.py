@@ -20,7 +20,7 @@ from kinverify.filemode.align.floating import UrdfBase, decide, fixed_urdf, floa
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf, free_joint_values
 from kinverify.filemode.read.describe_sdf import describe_sdf
-from kinverify.filemode.read.describe_usd import describe_usd
+from kinverify.filemode.read.describe_usd import describe_usd, pose_mismatches
 from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.backends.usd_stage import read_robot
 from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_sdf, load_urdf
@@ -162,6 +162,14 @@ def read_usd(path: str, findings: list, free=None):
     no joint to the world floats: its root body is held at the identity, as an MJCF's free joint is."""
     loaded, robot = load_usd(path)
     desc = describe_usd(robot)
+    mismatched = pose_mismatches(robot)
+    if mismatched:
+        findings.append(finding("usd_pose_mismatch", f"the USD places {len(mismatched)} bodies (their xformOps, where a "
+                                "simulator starts them) elsewhere than their joint frames do (compared: the joint frames): "
+                                + ", ".join(f"{b} {p:.3g} m, {r:.3g} rad" for b, p, r in mismatched),
+                                {"file": "USD", "bodies": {b: [p, r] for b, p, r in mismatched}},
+                                magnitude=max(max(p, r) for _, p, r in mismatched), unit="m|rad",
+                                link=[b.split(" (")[0] for b, _, _ in mismatched]))
     roots = [robot.names[robot.root]] if robot.floating else []
     if free is None:
         return loaded, loaded.text, desc, roots
