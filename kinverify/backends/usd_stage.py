@@ -120,6 +120,12 @@ def _check_layer(path: str, label: str, named_by: str | None) -> None:
     note_input(Path(path), "a USD layer:")
 
 
+def _pxr_reason(err) -> str:
+    """pxr's message without its C++ location: ``'a.usda:18:36: Expected } at ...'``."""
+    text = " ".join(str(err).split())
+    return text.split(" : ", 1)[-1].strip(" '") if " : " in text else text
+
+
 def open_stage(path: str, label: str = "--usd") -> tuple[Usd.Stage, list[str], list]:
     """The stage of ``path`` (every layer checked first), the layers named but absent, and the opened
     layers (kept alive so the stage reuses them). :class:`InputError` on an unsafe or unreadable layer."""
@@ -137,7 +143,7 @@ def open_stage(path: str, label: str = "--usd") -> tuple[Usd.Stage, list[str], l
             try:
                 layer = Sdf.Layer.FindOrOpen(file)
             except Exception as err:  # pxr raises Tf.ErrorException
-                raise InputError(f"{label}: {file}: not a USD layer pxr reads: {str(err).strip().splitlines()[-1]}") from None
+                raise InputError(f"{label}: {file}: not a USD layer pxr reads: {_pxr_reason(err)}") from None
         if layer is None:
             raise InputError(f"{label}: {file}: not a USD layer pxr reads")
         layers.append(layer)
