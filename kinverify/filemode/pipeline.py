@@ -211,7 +211,12 @@ def relabel(result, kinds) -> None:
 
     def text(value):
         if isinstance(value, str):
-            return pattern.sub(lambda m: words[m[0]], value)
+            value = pattern.sub(lambda m: words[m[0]], value)
+            if "usd" in kinds:  # a USD side floats with no joint to the world, not with a free joint
+                value = re.sub(r"(the USD's body \S+) has a free joint", r"\1 has no joint to the world", value)
+                value = value.replace("the USD's free joint says", "the USD's root body with no joint to the world says")
+                value = value.replace("its free body's pos/quat", "its root body's xform")
+            return value
         if isinstance(value, list):
             return [text(v) for v in value]
         if isinstance(value, dict):
