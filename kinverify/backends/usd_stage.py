@@ -247,8 +247,8 @@ def read_robot(path: str, label: str = "--usd") -> UsdRobot:
     scenes = objects["Scene"][1]
     if scenes:
         g = np.array(scenes[0].gravityDirection, dtype=float)
-        mag = float(scenes[0].gravityMagnitude)
-        g = g if np.linalg.norm(g) > 0 else -world[:3, 2]  # unset: along -up
+        mag = f32(scenes[0].gravityMagnitude)
+        g = g if np.linalg.norm(g) > 0 else -np.eye(3)[1 if up == "Y" else 2]  # unset: down the stage's up axis
         mag = mag * meters if math.isfinite(mag) and mag >= 0 else 9.81  # -inf: the earth's gravity
         robot.gravity = world[:3, :3] @ (g / np.linalg.norm(g)) * mag
     robot.layers = layers  # kept alive with the stage

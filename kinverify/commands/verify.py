@@ -218,8 +218,6 @@ def run(args) -> int:
                         if args.frames or args.joints or args.write_accepted:
                             raise InputError("--frames, --joints and --write-accepted pair two files: give two of --urdf, "
                                              "--mjcf, --sdf and --usd")
-                        if not args.mjcf:
-                            raise InputError("three files at once are the URDF against the MJCF and the others: give --mjcf")
                         result = verify_three(args.urdf, args.mjcf, args.sdf, options, command=command, accept=args.accept,
                                               usd=args.usd)
                     else:

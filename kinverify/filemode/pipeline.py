@@ -233,17 +233,19 @@ def relabel(result, kinds) -> None:
     result.notes = text(result.notes)
 
 
-def verify_three(urdf: str, mjcf: str, sdf: str | None, options=None, command: str = "", accept=None, usd: str | None = None):
-    """Three or four files at once (``--urdf`` with ``--mjcf`` and ``--sdf`` and/or ``--usd``): the URDF
-    against each other file, one result (each further pair's findings, checks and sections added, its
-    sections under ``sdf:`` / ``usd:`` keys). Without a URDF (``urdf`` None: ``--mjcf``, ``--sdf`` and
-    ``--usd``), the SDFormat file takes its place. Joint and frame pairs are found by name and
-    geometry (no ``--joints``)."""
-    others = [(k, p) for k, p in (("sdf", sdf), ("usd", usd)) if p]
-    anchor = ("urdf", urdf) if urdf else others.pop(0)
-    first = verify_files(anchor[1], mjcf, options, command=command, accept=accept, kinds=(anchor[0], "mjcf"))
-    for kind, path in others:
-        second = verify_files(anchor[1], path, options, command=command, accept=accept, kinds=(anchor[0], kind))
+def verify_three(urdf: str | None, mjcf: str | None, sdf: str | None, options=None, command: str = "", accept=None,
+                 usd: str | None = None):
+    """Three or four files at once (of ``--urdf``, ``--mjcf``, ``--sdf`` and ``--usd``): the first of
+    URDF, SDFormat and USD given against each other file, one result (each further pair's findings,
+    checks and sections added, its sections under ``sdf:`` / ``usd:`` keys; the MJCF's pair first).
+    Joint and frame pairs are found by name and geometry (no ``--joints``)."""
+    given = [(k, p) for k, p in (("urdf", urdf), ("sdf", sdf), ("usd", usd), ("mjcf", mjcf)) if p]
+    anchor, others = given[0], given[1:]
+    others = sorted(others, key=lambda o: o[0] != "mjcf")
+    results = [verify_files(anchor[1], path, options, command=command, accept=accept, kinds=(anchor[0], kind))
+               for kind, path in others]
+    first = results[0]
+    for (kind, _), second in zip(others[1:], results[1:], strict=True):
         first.findings += second.findings
         first.checks += second.checks
         first.backends += [b for b in second.backends if b not in first.backends]

@@ -77,6 +77,16 @@ def test_the_reading_honours_units_and_degrees(tmp_path):
     assert desc.body("iiwa_link_3").mass == pytest.approx(0.0035)
 
 
+def test_a_y_up_stage_is_turned_z_up(tmp_path):
+    """upAxis "Y": the stage's y is the world's z (a quarter turn about x), the gravity along -z."""
+    text = shared("iiwa14", "iiwa14_urdf-usd-converter.usda").read_text().replace('upAxis = "Z"', 'upAxis = "Y"')
+    (tmp_path / "y.usda").write_text(text)
+    desc = describe_usd(read_robot(str(tmp_path / "y.usda")))
+    j = desc.joint("iiwa_joint_1")  # along the stage's z, 0.1575 up it
+    assert j.axis == pytest.approx([0, -1, 0]) and j.anchor == pytest.approx([0, -0.1575, 0])
+    assert desc.gravity == pytest.approx([0, 0, -9.81])
+
+
 def test_a_converted_urdf_passes_naming_the_effort_kept_only_as_a_custom_attribute():
     usd = shared("iiwa14", "iiwa14_urdf-usd-converter.usda")
     result = verify_files(str(IIWA / "iiwa14_no_collision_drake.urdf"), str(usd), FAST, kinds=("urdf", "usd"))
