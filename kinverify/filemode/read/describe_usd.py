@@ -90,7 +90,7 @@ def joint_values(robot: UsdRobot, joint) -> dict:
                else f"USD PhysicsDriveAPI:{kind} without maxForce (unbounded)")
     else:
         lo, hi = _number(prim, "mjc:actuatorfrcrange:min"), _number(prim, "mjc:actuatorfrcrange:max")
-        if hi is not None and _get(prim, "mjc:actuatorfrclimited") is not False:
+        if hi is not None and str(_get(prim, "mjc:actuatorfrclimited")).lower() not in ("false", "0"):
             effort, how = max(abs(lo or 0.0), abs(hi)) * force, "USD mjc:actuatorfrcrange"
     if effort is None:
         how = (f"no drive: urdf:limit:effort = {out['custom_effort']:g} is a custom attribute no simulator reads"
@@ -153,14 +153,14 @@ def _inertial(robot: UsdRobot, body: str, pose: np.ndarray, owner) -> tuple[Body
     mass *= robot.kilograms
     com, diag = _get(prim, "physics:centerOfMass"), _get(prim, "physics:diagonalInertia")
     known = com is not None and diag is not None and np.all(np.isfinite(np.array(com, float))) and any(float(x) > 0 for x in diag)
-    com_l = np.array(com, dtype=float) * robot.meters if known else np.zeros(3)
+    com_l = np.array([f32(x) for x in com], dtype=float) * robot.meters if known else np.zeros(3)
     ine_l = np.zeros((3, 3))
     if known:
         axes = _get(prim, "physics:principalAxes")
         rot = np.eye(3)
         if axes is not None and (axes.GetReal() != 0 or any(axes.GetImaginary())):
             rot = frame_matrix((0, 0, 0), axes, 1.0)[:3, :3]
-        ine_l = rot @ np.diag(np.array(diag, dtype=float)) @ rot.T * robot.kilograms * robot.meters ** 2
+        ine_l = rot @ np.diag([f32(x) for x in diag]) @ rot.T * robot.kilograms * robot.meters ** 2
     com_w, ine_w = inertial_world(pose, com_l, ine_l)
     why = "" if known else f"{name}: mass {mass:g} kg with no centre of mass or inertia (derived from the colliders)"
     return BodyInertial(owner, mass, com_w, ine_w, name, com_l, ine_l, com_known=known), why
