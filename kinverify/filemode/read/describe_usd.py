@@ -231,7 +231,9 @@ def usd_precision(robot: UsdRobot) -> Precision:
     (four quaternion components per joint frame) and position its path from the root may be off
     by; limits, masses, inertias and centres of mass within one unit in the last place."""
     out = UsdPrecision("USD")
-    bound = {robot.root: (0.0, 0.0)}
+    held = next((j for j in robot.joints if robot.root in (j.body0, j.body1) and not (j.body0 and j.body1)), None)
+    bound = {robot.root: (0.0, 0.0) if held is None else  # a root held to the world by a joint: its two frames
+             (8 * F32, math.sqrt(3) * F32 * (np.linalg.norm(held.x0[:3, 3]) + np.linalg.norm(held.x1[:3, 3])))}
     for body in robot.bodies[1:]:
         j = robot.parent_joint[body]
         up = j.body0 if body == j.body1 else j.body1
