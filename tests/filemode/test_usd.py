@@ -7,6 +7,8 @@ one line (exit 2). Skipped without the ``usd`` extra; the shared-file tests with
 from __future__ import annotations
 
 import math
+import os
+import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
@@ -85,6 +87,30 @@ def test_a_y_up_stage_is_turned_z_up(tmp_path):
     j = desc.joint("iiwa_joint_1")  # along the stage's z, 0.1575 up it
     assert j.axis == pytest.approx([0, -1, 0]) and j.anchor == pytest.approx([0, -0.1575, 0])
     assert desc.gravity == pytest.approx([0, 0, -9.81])
+
+
+CONVERTED = {"a1": "a1_unitree_ros.urdf", "anymal_c": "anymal_c_anybotics.urdf", "go2": "go2_erd.urdf",
+             "iiwa14": "iiwa14_no_collision_drake.urdf", "leap_hand": "leap_hand_dexurdf.urdf", "panda": "panda_erd.urdf",
+             "ur5e": "ur5e_ur_description.urdf", "z1": "z1_erd.urdf"}
+
+
+@pytest.mark.parametrize("folder", sorted(CONVERTED))
+def test_each_conversion_keeps_the_urdf_effort_only_as_a_custom_attribute(folder):
+    """Every urdf-usd-converter output: no drive on any joint, each URDF effort kept (same value)
+    as urdf:limit:effort, and the same masses on the links both state (the rest is file mode's)."""
+    usd = shared(folder, f"{folder}_urdf-usd-converter.usda")
+    urdf = ET.parse(REAL_ROBOTS / folder / CONVERTED[folder]).getroot()
+    effort = {j.get("name"): float(j.find("limit").get("effort")) for j in urdf.findall("joint")
+              if j.get("type") in ("revolute", "continuous", "prismatic") and j.find("limit") is not None}
+    mass = {link.get("name"): float(link.find("inertial/mass").get("value")) for link in urdf.findall("link")
+            if link.find("inertial/mass") is not None}
+    desc = describe_usd(read_robot(str(usd)))
+    assert all(j.effort is None and "effort" not in j.stated for j in desc.joints)
+    custom = {j.name: desc.extensions[j.name]["custom_effort"] for j in desc.joints}
+    names = {j.name: j.name.replace("tn__", "").rstrip("_") for j in desc.joints}  # leap_hand: "1" is written tn__1_
+    assert {names[n]: v for n, v in custom.items()} == pytest.approx({n: effort[n] for n in names.values()}, rel=1e-7)
+    both = [b for b in desc.bodies if b.name in mass]
+    assert both and all(b.mass == pytest.approx(mass[b.name], rel=1e-7) for b in both)
 
 
 def test_a_converted_urdf_passes_naming_the_effort_kept_only_as_a_custom_attribute():
@@ -231,8 +257,6 @@ LOOP = 'def PhysicsRevoluteJoint "j2"\n    {\n        rel physics:body0 = </r/b0
     (dict(header="\n    subLayers = [@./huge.usda@]"), "MB, above the 8 MB"),
 ])
 def test_bad_usd_is_refused_naming_the_prim_or_layer(tmp_path, case, expected):
-    import os
-
     os.mkfifo(tmp_path / "pipe.usda")
     with open(tmp_path / "huge.usda", "wb") as f:
         f.truncate(9 * 2**20)
