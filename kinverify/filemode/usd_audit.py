@@ -35,7 +35,8 @@ def statements(desc, loaded) -> tuple[Section, list]:
         unit = "N·m" if j.type == "revolute" else "N"
         drive = ext.get("drive")
         rows.append([j.name, j.type, f"[{_value(j.lower)}, {_value(j.upper)}]", _value(j.effort, unit), j.effort_how,
-                     _value(j.damping), _value(j.friction), _value(j.armature), _value(j.velocity),
+                     *(_value(getattr(j, v)) if v in j.stated else "unset" for v in ("damping", "friction", "armature")),
+                     _value(j.velocity),
                      "none" if drive is None else ", ".join(f"{k} {_value(v) if not isinstance(v, str) else v}"
                                                             for k, v in drive.items() if v is not None),
                      _value(ext.get("initial"))])

@@ -172,7 +172,9 @@ def parameter_findings(info, tolerances: dict) -> list:
         ju, jm = info.u.joint(j.urdf), info.m.joint(j.mjcf)
         for prop, value, x, y in (("dynamics.damping", "damping", ju.damping, jm.damping),
                                   ("dynamics.friction", "friction", ju.friction, jm.friction),
-                                  ("dynamics.armature", "armature", ju.armature, jm.armature)):  # both: a USD side
+                                  ("dynamics.armature", "armature", ju.armature, jm.armature)):
+            if value == "armature" and "usd" not in (info.u.kind, info.m.kind):
+                continue  # a URDF has none; an MJCF's, against any file but a USD, is the finding below
             if x is None or y is None or abs(x - y) <= tolerances.get(prop, 1e-12):
                 continue
             silent = "URDF" if unset(ju.stated, value) else "MJCF" if unset(jm.stated, value) else ""
@@ -208,7 +210,7 @@ def parameter_findings(info, tolerances: dict) -> list:
             ("stiffness_inexpressible", "stiffness", "a spring (stiffness {})", "N·m/rad", "dynamics.stiffness",
              "springs are left out of the dynamics comparison")):
         given = [(j, getattr(info.m.joint(j.mjcf), field)) for j in info.alignment.joints if getattr(info.m.joint(j.mjcf), field)
-                 and getattr(info.u.joint(j.urdf), field) is None]  # a USD first side states armature: compared above
+                 and not (info.u.kind == "usd" and field == "armature")]  # a USD first side: compared above
         if given:
             values = ", ".join(f"{v:g}" for v in sorted({round(x, 12) for _, x in given}))
             out.append(finding(kind, f"the MJCF gives {len(given)} joints {what.format(values)}, which a URDF cannot express: "

@@ -192,7 +192,8 @@ def describe_usd(robot: UsdRobot) -> ModelDesc:
             stated.add("range")
         joints.append(JointDesc(
             j.name, j.kind, owner[up], robot.names[body], robot.names[up], axis / np.linalg.norm(axis), frame[:3, 3].copy(),
-            j.lower, j.upper, damping=v["damping"], friction=v["friction"], armature=v["armature"], stiffness=None,
+            j.lower, j.upper, damping=v["damping"] or 0.0, friction=v["friction"] or 0.0, armature=v["armature"] or 0.0,
+            stiffness=None,  # unset: the simulators' default, 0 (``stated`` says which are unset)
             effort=v["effort"], velocity=v["velocity"], effort_how=v["effort_how"], stated=frozenset(stated)))
         extensions[j.name] = {k: v[k] for k in ("drive", "custom_effort", "initial", "physx_friction", "velocity")
                               if v[k] is not None}
