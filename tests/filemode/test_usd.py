@@ -133,19 +133,21 @@ def test_the_panda_conversion_keeps_the_mimic_finger():
                                                                                   1.0, 0.0)]
 
 
-def test_the_anymal_c_triple_names_the_isaac_lab_usd_s_unlimited_joints():
+def test_the_anymal_c_triple_names_the_isaac_lab_usd_s_unlimited_and_faster_joints():
     """URDF, Menagerie MJCF and Isaac Lab USD at once: the USD's joints are unlimited (±inf) where
-    the URDF limits them; its drives' maxForce (80) agrees with the URDF's effort; two bodies'
-    xforms hold a quaternion off unit length."""
+    the URDF limits them, and allowed 20 rad/s where the URDF says 7.5; its drives' maxForce (80)
+    agrees with the URDF's effort; two bodies' xforms hold a quaternion off unit length."""
     usd = shared("anymal_c", "anymal_c_isaaclab.usda")
     folder = REAL_ROBOTS / "anymal_c"
     quick = VerifyOptions(samples=5, fd_samples=2, suites=["kinematics", "limits", "inertia"])  # no dynamics, no drawing
     result = verify_three(str(folder / "anymal_c_anybotics.urdf"), str(folder / "anymal_c_menagerie.xml"), None, quick,
                           usd=str(usd))
-    usd_errors = [f for f in result.findings if f.fails and "USD" in f.message]
-    assert [f.kind for f in usd_errors] == ["limit_difference"], [(f.kind, f.message) for f in usd_errors]
-    assert usd_errors[0].magnitude == math.inf and len(usd_errors[0].subject.split(", ")) == 12
-    assert "LF_HAA [-0.72, 0.49]" in usd_errors[0].message
+    usd_errors = {f.kind: f for f in result.findings if f.fails and "USD" in f.message}
+    assert sorted(usd_errors) == ["limit_difference", "velocity_difference"], [(f.kind, f.message) for f in usd_errors.values()]
+    limits, velocity = usd_errors["limit_difference"], usd_errors["velocity_difference"]
+    assert limits.magnitude == math.inf and len(limits.subject.split(", ")) == 12 and "LF_HAA [-0.72, 0.49]" in limits.message
+    assert (velocity.values["urdf"], velocity.values["mjcf"]) == pytest.approx((7.5, 20.0))  # maxJointVelocity 1145.9156 °/s
+    assert len(velocity.subject.split(", ")) == 12 and velocity.magnitude == pytest.approx(12.5)
     assert not [f for f in result.findings if f.kind == "effort_difference" and "USD" in f.message]
     pose = one(result, "usd_pose_mismatch")
     assert pose.subject == "LH_FOOT, RH_FOOT" and pose.magnitude == pytest.approx(0.0012, abs=1e-4)

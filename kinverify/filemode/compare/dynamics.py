@@ -204,6 +204,8 @@ def parameter_findings(info, tolerances: dict) -> list:
         out.append(finding(kind, message, {"urdf": x, "mjcf": y, "unset_in": silent or None, "checks": [[prop, "parameters"]]},
                            magnitude=abs(x - y), unit=units[prop], prop=prop, joint=[j.urdf for j in joints],
                            mjcf_joint=[j.mjcf for j in joints]))
+    if "usd" in (info.u.kind, info.m.kind):
+        out += velocity_findings(info)
     for kind, field, what, unit, prop, handled in (
             ("inexpressible", "armature", "armature (rotor inertia) {}", "kg·m²", "dynamics.armature",
              "the comparison gives Pinocchio the MJCF's"),
@@ -237,4 +239,25 @@ def parameter_findings(info, tolerances: dict) -> list:
                                f"{j} {v:.4g}" for j, v in reflected.items()) + " kg·m², not in the comparison",
                            {"reflected_inertia": reflected}, magnitude=max(reflected.values()), unit="kg·m²",
                            joint=list(reflected)))
+    return out
+
+
+def velocity_findings(info) -> list:
+    """Velocity limits that differ where both files state one (a USD's ``physxJoint:maxJointVelocity``
+    or ``newton:velocityLimit`` against a URDF's ``<limit velocity>``; an MJCF has none): one error
+    per pair of values, within a millionth of the value alike (a USD writes degrees per second in
+    single precision)."""
+    groups: dict[tuple, list] = {}
+    for j in info.alignment.joints:
+        x, y = info.u.joint(j.urdf).velocity, info.m.joint(j.mjcf).velocity
+        if x is None or y is None or abs(x - y) <= 1e-6 * max(abs(x), abs(y)):
+            continue
+        groups.setdefault((round(x, 9), round(y, 9), info.u.joint(j.urdf).type), []).append(j)
+    out = []
+    for (x, y, kind), joints in groups.items():
+        unit = "rad/s" if kind == "revolute" else "m/s"
+        out.append(finding("velocity_difference", f"velocity limit {x:g} {unit} in the URDF, {y:g} {unit} in the MJCF on "
+                           f"{len(joints)} joint{'s' if len(joints) > 1 else ''}: " + ", ".join(j.urdf for j in joints),
+                           {"urdf": x, "mjcf": y}, magnitude=abs(x - y), unit=unit, prop="limits.velocity",
+                           joint=[j.urdf for j in joints], mjcf_joint=[j.mjcf for j in joints]))
     return out

@@ -28,7 +28,7 @@ SEVERITY = {
     "limit_difference": "error", "limit_units": "error", "effort_difference": "error",
     "mass_difference": "error", "com_difference": "error", "inertia_difference": "error", "inertia_rotated": "error",
     "damping_difference": "error", "friction_difference": "error", "dynamics_difference": "error",
-    "armature_difference": "error",
+    "armature_difference": "error", "velocity_difference": "error",
     # worth knowing
     "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
     "stiffness_inexpressible": "warning",
