@@ -15,7 +15,8 @@ Which attributes count (docs/file-mode.md, "USD"), each in SI units and radians:
   ``newton:armature``, else ``mjc:armature``; velocity: ``physxJoint:maxJointVelocity``, else
   ``newton:velocityLimit`` (degrees per second for an angular joint);
 - couplings: ``NewtonMimicAPI`` (``follower = coef0 + coef1 · leader``, coef0 in degrees for an
-  angular joint) and ``PhysxMimicJointAPI`` (``follower + gearing · leader + offset = 0``);
+  angular joint) and ``PhysxMimicJointAPI`` (``follower + gearing · leader + offset = 0``, the
+  offset in degrees for an angular joint, as every USD angle);
 - inertials: ``physics:mass``, ``centerOfMass``, ``diagonalInertia`` and ``principalAxes``. A body
   with no ``MassAPI`` mass leaves it unset: the simulator derives it from the colliders' volume
   (compared as a link that states no inertial); a mass with no inertia or centre of mass: the mass
@@ -138,7 +139,8 @@ def _couplings(robot: UsdRobot, names: dict[str, str]) -> list[Coupling]:
                 leader = names.get(str(rel.GetTargets()[0])) if rel and rel.GetTargets() else None
                 if leader:
                     gearing = _number(prim, f"physxMimicJoint:{axis}:gearing") or 0.0
-                    offset = _number(prim, f"physxMimicJoint:{axis}:offset") or 0.0
+                    offset = (_number(prim, f"physxMimicJoint:{axis}:offset") or 0.0) * (DEG if j.kind == "revolute"
+                                                                                         else robot.meters)
                     out.append(Coupling(j.name, leader, -gearing, -offset, "PhysxMimicJointAPI"))
     return out
 
