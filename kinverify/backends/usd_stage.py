@@ -77,6 +77,14 @@ class UsdRobot:
         return next(j for j in self.joints if j.name == name)
 
 
+def applied_schemas(prim) -> list[str]:
+    """The API schemas a prim's ``apiSchemas`` metadata applies, registered or not (pxr's
+    ``GetAppliedSchemas`` leaves out schemas it has no definition of: ``MjcSiteAPI``, ``NewtonMimicAPI``,
+    ``PhysxMimicJointAPI:rotX`` without their plugins)."""
+    listop = prim.GetMetadata("apiSchemas")
+    return [str(s) for s in listop.GetAddedOrExplicitItems()] if listop else []
+
+
 def f32(x) -> float:
     """A single-precision value as the decimal it was written as (``0.1575``, not 0.15749999880790710):
     the shortest decimal that reads back as the same float32."""
@@ -153,6 +161,8 @@ def read_robot(path: str, label: str = "--usd") -> UsdRobot:
                          f"{MAX_JOINTS} movable joints and {MAX_LINKS} bodies kinverify compares (see docs/robustness.md)")
     robot = _tree(path, label, stage, art, bodies_all, [j for j in joints if j.kind != "distance"], world)
     robot.meters, robot.kilograms, robot.up, robot.absent = meters, kilograms, up, absent
+    robot.notes += [f"the stage states no {key}: USD's fallback, {value}, is used" for key, value in
+                    (("upAxis", up), ("metersPerUnit", meters)) if not stage.HasAuthoredMetadata(key)]
     robot.authored = {b: world @ frame_matrix(np.array(bodies_all[b].position), bodies_all[b].rotation, meters) for b in robot.bodies}
     scenes = objects["Scene"][1]
     if scenes:
@@ -250,7 +260,7 @@ def _sites(stage, robot: UsdRobot, world: np.ndarray) -> dict[str, tuple[str, np
     cache, out, seen = UsdGeom.XformCache(), {}, set()
     members = set(robot.bodies)
     for prim in stage.Traverse():
-        site = any("SiteAPI" in s for s in prim.GetAppliedSchemas())
+        site = any("SiteAPI" in s for s in applied_schemas(prim))
         if not site and (prim.GetTypeName() != "Xform" or str(prim.GetPath()) in members
                          or prim.HasAPI(UsdPhysics.RigidBodyAPI)):
             continue

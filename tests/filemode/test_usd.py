@@ -214,7 +214,8 @@ def _usda(tmp_path, name: str, header: str = "", body1: str = "/r/b1", pos0: str
           extra: str = "") -> str:
     api = '"PhysicsRigidBodyAPI", "PhysicsMassAPI"' + (', "PhysicsArticulationRootAPI"' if art else "")
     text = f'''#usda 1.0
-({header}
+(
+    upAxis = "Z"{header}
 )
 def Xform "r"
 {{
@@ -278,3 +279,41 @@ def test_bad_usd_exits_2_with_one_line(tmp_path, capsys):
 def test_a_small_usd_alone_passes_the_audit(tmp_path):
     result = audit_file(_usda(tmp_path, "ok"), "usd", FAST)
     assert result.verdict == "pass" and [r[0] for r in result.sections["usd"].tables[0].rows] == ["j1"]
+
+
+MIMIC = '''def Xform "b2" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
+    {
+        float physics:mass = 1
+    }
+    def Xform "b3" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
+    {
+        float physics:mass = 1
+    }
+    def PhysicsRevoluteJoint "newton" (apiSchemas = ["NewtonMimicAPI"])
+    {
+        uniform token physics:axis = "X"
+        rel physics:body0 = </r/b1>
+        rel physics:body1 = </r/b2>
+        rel newton:mimicJoint = </r/j1>
+        float newton:mimicCoef0 = 10
+        float newton:mimicCoef1 = -2
+    }
+    def PhysicsRevoluteJoint "physx" (apiSchemas = ["PhysxMimicJointAPI:rotX"])
+    {
+        uniform token physics:axis = "Y"
+        rel physics:body0 = </r/b2>
+        rel physics:body1 = </r/b3>
+        rel physxMimicJoint:rotX:referenceJoint = </r/j1>
+        float physxMimicJoint:rotX:gearing = -0.5
+        float physxMimicJoint:rotX:offset = 30
+    }'''
+
+
+def test_mimic_joints_are_read_with_their_offsets_in_degrees(tmp_path):
+    """NewtonMimicAPI: follower = coef0 + coef1 · leader; PhysxMimicJointAPI: follower + gearing ·
+    leader + offset = 0; offsets written in degrees."""
+    desc = describe_usd(read_robot(_usda(tmp_path, "mimic", extra=MIMIC)))
+    got = {c.follower: (c.leader, c.multiplier, c.offset, c.source) for c in desc.couplings}
+    assert got == {"newton": ("j1", -2.0, pytest.approx(math.radians(10)), "NewtonMimicAPI"),
+                   "physx": ("j1", 0.5, pytest.approx(-math.radians(30)), "PhysxMimicJointAPI")}
+    assert desc.joint("physx").axis == pytest.approx([0, 1, 0]) and desc.joint("newton").parent == "j1"

@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from kinverify.backends.usd_stage import MOVABLE, UsdRobot, f32, forward, frame_matrix
+from kinverify.backends.usd_stage import MOVABLE, UsdRobot, applied_schemas, f32, forward, frame_matrix
 from kinverify.filemode.read.model import BodyInertial, Coupling, JointDesc, ModelDesc, inertial_world
 from kinverify.filemode.read.precision import Precision
 
@@ -70,7 +70,7 @@ def joint_values(robot: UsdRobot, joint) -> dict:
     force = k * m * m if angular else k * m  # torque or force unit
     kind = "angular" if angular else "linear"
     out = {"drive": None, "custom_effort": _number(prim, "urdf:limit:effort"), "initial": None}
-    if prim.HasAPI("PhysicsDriveAPI", kind) or any(s == f"PhysicsDriveAPI:{kind}" for s in prim.GetAppliedSchemas()):
+    if f"PhysicsDriveAPI:{kind}" in applied_schemas(prim):
         pre = f"drive:{kind}:physics:"
         drive = {key: _number(prim, pre + key) for key in ("stiffness", "damping", "maxForce", "targetPosition",
                                                            "targetVelocity")}
@@ -132,7 +132,7 @@ def _couplings(robot: UsdRobot, names: dict[str, str]) -> list[Coupling]:
                 offset = coef0 * (DEG if j.kind == "revolute" else robot.meters)
                 out.append(Coupling(j.name, leader, 1.0 if coef1 is None else coef1, offset, "NewtonMimicAPI"))
                 continue
-        for schema in prim.GetAppliedSchemas():
+        for schema in applied_schemas(prim):
             if schema.startswith("PhysxMimicJointAPI:"):
                 axis = schema.split(":", 1)[1]
                 rel = prim.GetRelationship(f"physxMimicJoint:{axis}:referenceJoint")
