@@ -1,8 +1,9 @@
 """``kinverify verify``: cross-validate every backend, print a table, write HTML + JSON.
 
 Spec mode: ``kinverify verify MODEL.toml``. File mode: ``kinverify verify --urdf R.urdf --mjcf R.xml``
-(or an SDFormat file, ``--sdf R.sdf``, against either, or all three). One-file audit: ``kinverify
-verify --urdf R.urdf`` (or ``--mjcf R.xml``, ``--sdf R.sdf``) alone: every library that reads that
+(or an SDFormat file, ``--sdf R.sdf``, or an OpenUSD file, ``--usd R.usda``, against either, or
+several at once). One-file audit: ``kinverify
+verify --urdf R.urdf`` (or ``--mjcf R.xml``, ``--sdf R.sdf``, ``--usd R.usda``) alone: every library that reads that
 file, compared with each other. A ``.xacro`` URDF is compiled first (``--package``, ``--xacro-arg``).
 """
 
@@ -18,9 +19,10 @@ from kinverify.errors import InputError
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("verify", help="cross-validate all backends on a spec, a URDF against an MJCF, or one file's readers",
-                       description="Generate URDF and MJCF from MODEL (or read --urdf and --mjcf), load them in every "
-                       "available backend and compare every property against the analytic reference. With only --urdf "
-                       "or only --mjcf: a one-file audit, every library that reads that file compared with the others. "
+                       description="Generate URDF and MJCF from MODEL (or read two or more of --urdf, --mjcf, --sdf and "
+                       "--usd), load them in every available backend and compare every property against the analytic "
+                       "reference. With one file alone: a one-file audit, every library that reads that file compared "
+                       "with the others (a USD: what it states and leaves unset). "
                        "Exit 0 when all agree, 1 when a check fails, 2 on bad input.")
     p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf/--mjcf")
     p.add_argument("--urdf", help="file mode: an existing URDF (or .xacro); alone: audit it with every library reading URDF")
