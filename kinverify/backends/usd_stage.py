@@ -118,7 +118,8 @@ def read_robot(path: str, label: str = "--usd") -> UsdRobot:
         raise InputError(f"{label}: {path}: metersPerUnit {meters} / kilogramsPerUnit {kilograms} must be positive numbers")
     world = Y_UP if up == "Y" else np.eye(4)
     with quiet_stderr():
-        parsed = UsdPhysics.UsdPhysicsLoadStageFromPrimRange(stage, [Sdf.Path("/")])
+        load = getattr(UsdPhysics, "UsdPhysicsLoadStageFromPrimRange", None) or UsdPhysics.LoadUsdPhysicsFromRange  # < 26
+        parsed = load(stage, [Sdf.Path("/")])
     types = UsdPhysics.ObjectType
     objects = {name: parsed.get(getattr(types, name), ([], [])) for name in ("Articulation", "RigidBody", "Scene", *KINDS)}
     articulations = objects["Articulation"][1]
