@@ -8,7 +8,9 @@ Each folder holds one robot described twice (one ``*.urdf`` or ``*.urdf.xacro``,
 folder holding ``shared/real-robots``). For each pair it runs ``kinverify verify --urdf U --mjcf M``
 as a user would (a fresh process, default options but ``--samples``; pictures skipped), and writes a
 Markdown page: per pair the verdict and exit code, each error finding (kind, subject, magnitude),
-the number of warnings, and the seconds it took. Nothing is judged here: what is true is for the
+the number of warnings, and the seconds it took. Each OpenUSD file at a folder's top (``*.usda``)
+is one more pair: ``--urdf U --usd X`` (``--usd X --mjcf M`` without a URDF; needs the ``usd``
+extra). Nothing is judged here: what is true is for the
 tests of each pair (``tests/filemode/test_real_pairs.py``) to assert, by value.
 """
 
@@ -40,21 +42,33 @@ def pair_files(folder: Path) -> tuple[Path, Path] | None:
     return (urdfs[0], mjcfs[0]) if len(urdfs) >= 1 and len(mjcfs) == 1 else None
 
 
-def run_pair(folder: Path, samples: int) -> dict:
-    files = pair_files(folder)
+def usd_pairs(folder: Path) -> list[tuple[str, Path, str, Path]]:
+    """The folder's OpenUSD files (``*.usda`` at its top), each against the URDF (else the MJCF):
+    ``(flag, file, flag, file)`` in the order the command takes them."""
+    urdfs, mjcfs = sorted(folder.glob("*.urdf")), sorted(folder.glob("*.xml"))
+    other = ("--urdf", urdfs[0]) if urdfs else ("--mjcf", mjcfs[0]) if len(mjcfs) == 1 else None
+    if other is None:
+        return []
+    return [(*other, "--usd", usd) if other[0] == "--urdf" else ("--usd", usd, *other) for usd in sorted(folder.glob("*.usda"))]
+
+
+def run_pair(folder: Path, samples: int, usd: tuple | None = None) -> dict:
+    files = pair_files(folder) if usd is None else (usd[1], usd[3])
     if files is None:
         return {"name": folder.name, "skipped": "no single URDF and MJCF in the folder"}
     urdf, mjcf = files
+    flags = ("--urdf", "--mjcf") if usd is None else (usd[0], usd[2])
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "r.json"
-        argv = [sys.executable, "-m", "kinverify", "verify", "--urdf", str(urdf), "--mjcf", str(mjcf), "--samples",
+        argv = [sys.executable, "-m", "kinverify", "verify", flags[0], str(urdf), flags[1], str(mjcf), "--samples",
                 str(samples), "--skip", "pictures", "--quiet", "--json", str(out), "--report", str(Path(tmp) / "r.html")]
         t0 = time.perf_counter()
         proc = subprocess.run(argv, capture_output=True, text=True, cwd=tmp)
         seconds = time.perf_counter() - t0
         data = json.loads(out.read_text()) if out.exists() else {}
     findings = [f for f in data.get("findings", [])]
-    return {"name": folder.name, "urdf": urdf.name, "mjcf": mjcf.name, "exit": proc.returncode,
+    name = folder.name if usd is None else f"{folder.name} (USD: {(usd[1] if usd[0] == '--usd' else usd[3]).name})"
+    return {"name": name, "urdf": urdf.name, "mjcf": mjcf.name, "exit": proc.returncode,
             "verdict": data.get("verdict", "none"), "seconds": seconds,
             "errors": [f for f in findings if f["severity"] == "error"],
             "warnings": [f for f in findings if f["severity"] == "warning"],
@@ -79,7 +93,9 @@ def page(rows: list[dict], versions: str) -> str:
              "MuJoCo Menagerie and a URDF maintained elsewhere (sources in `../shared/real-robots/README.md`), "
              "meshes absent. Each error finding below is asserted by value in `tests/filemode/test_real_pairs.py`, "
              "with no other error finding; warnings (values one file leaves unset, libraries that ignore part "
-             "of a file) are counted. Exit 1 means the files differ.", "",
+             "of a file) are counted. Exit 1 means the files differ. Rows marked USD compare an OpenUSD file of the "
+             "folder with its URDF (`--urdf U --usd X`; without a URDF, `--usd X --mjcf M`), read by usd-core; "
+             "asserted in `tests/filemode/test_usd.py`.", "",
              f"Run with {versions}.", "",
              "| pair | verdict | exit | error findings | warnings | seconds |", "| --- | --- | --- | --- | --- | --- |"]
     for r in rows:
@@ -126,8 +142,10 @@ def main(argv=None) -> int:
             return 2
         folders = sorted(p for p in shared.iterdir() if p.is_dir())
     rows = []
-    for folder in folders:
-        row = run_pair(folder, args.samples)
+    for folder, usd in [(f, None) for f in folders] + [(f, u) for f in folders for u in usd_pairs(f)]:
+        row = run_pair(folder, args.samples, usd)
+        if "skipped" in row and usd_pairs(folder):
+            continue  # a folder with no URDF/MJCF pair but a USD one (apollo): its USD row says it all
         rows.append(row)
         print(f"{row['name']}: {row.get('verdict', row.get('skipped'))} "
               f"({len(row.get('errors', []))} errors, {len(row.get('warnings', []))} warnings, {row.get('seconds', 0):.1f} s)")

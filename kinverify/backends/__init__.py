@@ -66,7 +66,7 @@ _ENTRIES = (
     ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake"),
     ("usd", ".usd_", "UsdBackend", "usd", "usd"),
 )
-PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf"}  # the reference reader of each file in file mode
+PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf", "usd": "usd"}  # the reference reader of each file in file mode
 
 
 @lru_cache(maxsize=None)

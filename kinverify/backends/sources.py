@@ -33,7 +33,7 @@ class ModelSources:
     # File mode: the SDFormat file's own names (None: same as the URDF's).
     sdf_joint_names: tuple[str, ...] | None = None
     sdf_frames: tuple[str, ...] | None = None
-    usd: str | None = None  # .usda text; from a spec, only when usd-core (the ``usd`` extra) imports
+    usd: str | None = None  # usda text (from a spec, only when usd-core, the ``usd`` extra, imports) or a USD file's path
     # The USD's own prim names for the same joints and frames (None: same as the URDF's).
     usd_joint_names: tuple[str, ...] | None = None
     usd_frames: tuple[str, ...] | None = None

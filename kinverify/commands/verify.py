@@ -1,8 +1,9 @@
 """``kinverify verify``: cross-validate every backend, print a table, write HTML + JSON.
 
 Spec mode: ``kinverify verify MODEL.toml``. File mode: ``kinverify verify --urdf R.urdf --mjcf R.xml``
-(or an SDFormat file, ``--sdf R.sdf``, against either, or all three). One-file audit: ``kinverify
-verify --urdf R.urdf`` (or ``--mjcf R.xml``, ``--sdf R.sdf``) alone: every library that reads that
+(or an SDFormat file, ``--sdf R.sdf``, or an OpenUSD file, ``--usd R.usda``, against either, or
+several at once). One-file audit: ``kinverify
+verify --urdf R.urdf`` (or ``--mjcf R.xml``, ``--sdf R.sdf``, ``--usd R.usda``) alone: every library that reads that
 file, compared with each other. A ``.xacro`` URDF is compiled first (``--package``, ``--xacro-arg``).
 """
 
@@ -18,15 +19,18 @@ from kinverify.errors import InputError
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("verify", help="cross-validate all backends on a spec, a URDF against an MJCF, or one file's readers",
-                       description="Generate URDF and MJCF from MODEL (or read --urdf and --mjcf), load them in every "
-                       "available backend and compare every property against the analytic reference. With only --urdf "
-                       "or only --mjcf: a one-file audit, every library that reads that file compared with the others. "
+                       description="Generate URDF and MJCF from MODEL (or read two or more of --urdf, --mjcf, --sdf and "
+                       "--usd), load them in every available backend and compare every property against the analytic "
+                       "reference. With one file alone: a one-file audit, every library that reads that file compared "
+                       "with the others (a USD: what it states and leaves unset). "
                        "Exit 0 when all agree, 1 when a check fails, 2 on bad input.")
     p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf/--mjcf")
     p.add_argument("--urdf", help="file mode: an existing URDF (or .xacro); alone: audit it with every library reading URDF")
     p.add_argument("--mjcf", help="file mode: an existing MJCF; alone: audit it with MuJoCo, Pinocchio's and Drake's MJCF parsers")
     p.add_argument("--sdf", help="file mode: an existing SDFormat file, against --urdf or --mjcf or both (read by Drake: "
                    "needs kinverify[drake]); alone: Drake's reading of it")
+    p.add_argument("--usd", help="file mode: an existing OpenUSD robot (.usd, .usda, .usdc), against --urdf, --mjcf or --sdf, "
+                   "or several (read by usd-core: needs kinverify[usd]); alone: what the file states and leaves unset")
     p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
                    help="where ROS package NAME is (repeatable): resolves package://NAME and xacro's $(find NAME)")
     p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
@@ -141,12 +145,15 @@ def _audit(args, options, console, command: str, packages: dict, xacro_args: dic
     for flag, given in (("--frames", args.frames), ("--joints", args.joints), ("--accept", args.accept),
                         ("--write-accepted", args.write_accepted)):
         if given:
-            raise InputError(f"{flag} pairs two files: give two of --urdf, --mjcf and --sdf, or drop {flag} for a one-file audit")
+            raise InputError(f"{flag} pairs two files: give two of --urdf, --mjcf, --sdf and --usd, or drop {flag} for a "
+                             "one-file audit")
     if not args.urdf and (packages or xacro_args):
         raise InputError("--package and --xacro-arg go with --urdf")
-    kind, path = next((k, p) for k, p in (("urdf", args.urdf), ("mjcf", args.mjcf), ("sdf", args.sdf)) if p)
+    kind, path = next((k, p) for k, p in (("urdf", args.urdf), ("mjcf", args.mjcf), ("sdf", args.sdf), ("usd", args.usd)) if p)
     if kind == "sdf":
         _needs_drake()
+    if kind == "usd":
+        _needs_usd()
     with VerifyProgress(console, "audit") as bar:
         bar.suite("kinematics")
         options.on_progress = bar.advance
@@ -160,6 +167,15 @@ def _needs_drake() -> None:
     info = backend_info("drake-sdf")
     if not info.available:
         raise InputError(f"--sdf: SDFormat is read by Drake, which is not installed: pip install 'kinverify[drake]' ({info.reason})")
+
+
+def _needs_usd() -> None:
+    """A USD file is read by usd-core (pxr): without the extra, say how to install it (exit 2)."""
+    from kinverify.backends import backend_info
+
+    info = backend_info("usd")
+    if not info.available:
+        raise InputError(f"--usd: OpenUSD is read by usd-core, which is not installed: pip install 'kinverify[usd]' ({info.reason})")
 
 
 def run(args) -> int:
@@ -178,10 +194,10 @@ def run(args) -> int:
     options = options_from_args(args)
     command = "kinverify " + shlex.join(args.argv)
     console = text_console()  # the terminal's width (COLUMNS, or 80 when not a terminal); tables fit it
-    files = [f for f in (args.urdf, args.mjcf, args.sdf) if f]
+    files = [f for f in (args.urdf, args.mjcf, args.sdf, args.usd) if f]
     if files:
         if args.model:
-            raise InputError("give either a spec MODEL or --urdf/--mjcf/--sdf, not both")
+            raise InputError("give either a spec MODEL or --urdf/--mjcf/--sdf/--usd, not both")
         from kinverify.filemode.read.xacro import parse_pairs
         from kinverify.report.progress import VerifyProgress
 
@@ -195,24 +211,28 @@ def run(args) -> int:
 
             if args.sdf:
                 _needs_drake()
+            if args.usd:
+                _needs_usd()
             with given_packages(packages, xacro_args):
                 if args.urdf:
                     load_urdf(args.urdf, keep_meshes=False, packages=packages, xacro_args=xacro_args)  # bad input: exit 2 first
                 with VerifyProgress(console, "files") as bar:
                     bar.suite("kinematics")  # file mode: alignment, then the suites on the aligned files
                     options.on_progress = bar.advance
-                    if len(files) == 3:
+                    if len(files) >= 3:
                         if args.frames or args.joints or args.write_accepted:
                             raise InputError("--frames, --joints and --write-accepted pair two files: give two of --urdf, "
-                                             "--mjcf and --sdf")
-                        result = verify_three(args.urdf, args.mjcf, args.sdf, options, command=command, accept=args.accept)
+                                             "--mjcf, --sdf and --usd")
+                        result = verify_three(args.urdf, args.mjcf, args.sdf, options, command=command, accept=args.accept,
+                                              usd=args.usd)
                     else:
-                        (kind_a, a), (kind_b, b) = sides(args.urdf, args.mjcf, args.sdf)
+                        (kind_a, a), (kind_b, b) = sides(args.urdf, args.mjcf, args.sdf, args.usd)
                         result = verify_files(a, b, options, frames=args.frames, joints=args.joints, command=command,
                                               accept=args.accept, write_accepted=args.write_accepted, kinds=(kind_a, kind_b))
     else:
         if not args.model:
-            raise InputError("give a spec MODEL (models/*.toml), or --urdf, --mjcf, --sdf (one to audit, two or three to compare)")
+            raise InputError("give a spec MODEL (models/*.toml), or --urdf, --mjcf, --sdf, --usd (one to audit, two or more to "
+                             "compare)")
         if args.accept or args.write_accepted:
             raise InputError("--accept and --write-accepted are for file mode (--urdf and --mjcf)")
         if args.package or args.xacro_arg:

@@ -36,9 +36,11 @@ from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
 from kinverify.filemode.read.describe_sdf import describe_sdf
 from kinverify.filemode.read.describe_urdf import describe_urdf
-from kinverify.filemode.read.files import sdf_free_bodies
+from kinverify.filemode.read.describe_usd import describe_usd
+from kinverify.filemode.read.files import load_usd, sdf_free_bodies
 from kinverify.filemode.read.loading import load_mjcf, load_sdf, load_urdf
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
+from kinverify.filemode.usd_audit import ONLY_READER as USD_ONLY, statements
 from kinverify.pipeline.sampling import Samples, sample_configurations
 from kinverify.run import VerifyOptions, internal_error, verify
 from kinverify.suites.base import Section, VerifyContext, tolerance
@@ -48,15 +50,18 @@ __all__ = ["audit_file", "AUDIT_SUITES"]
 
 AUDIT_SUITES = ("kinematics", "dynamics")  # dynamics: Pinocchio against MuJoCo on the file (audit_dynamics)
 CHECK_SAMPLES = 64  # configurations (after the edges) each library is first compared on, to name elements
-SIDE = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF"}
-ELEMENT = {"urdf": "link", "mjcf": "body", "sdf": "link"}
-SLOTS = {"urdf": ("urdf", "mjcf"), "mjcf": ("urdf", "mjcf"), "sdf": ("sdf", "mjcf")}  # build_backends' sides
+SIDE = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF", "usd": "USD"}
+ELEMENT = {"urdf": "link", "mjcf": "body", "sdf": "link", "usd": "body"}
+SLOTS = {"urdf": ("urdf", "mjcf"), "mjcf": ("urdf", "mjcf"), "sdf": ("sdf", "mjcf"), "usd": ("usd", "mjcf")}  # build_backends' sides
 ONLY_READER = ("Drake is the only library here that reads SDFormat: this audit is Drake's reading alone, its FK and "
                "Jacobians checked against finite differences of its own FK; no other library's reading to compare it with")
 
 
 def _describe(kind: str, loaded, findings: list):
     """(the text the libraries load, the primary reader's description, the free bodies held fixed)."""
+    if kind == "usd":
+        desc = describe_usd(loaded.robot)
+        return loaded.text, desc, [loaded.robot.names[loaded.robot.root]] if loaded.robot.floating else []
     if kind == "sdf":
         try:
             return loaded.text, describe_sdf(loaded.text), sdf_free_bodies(loaded.text)
@@ -204,8 +209,13 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
         raise InputError(f"--backends: a one-file audit of a {SIDE[kind]} compares {', '.join(readers)}; got "
                          f"{', '.join(options.backends or [])}")
     findings: list = []
-    loaded = (load_urdf(path, keep_meshes=False, packages=packages, xacro_args=xacro_args) if kind == "urdf"
-              else load_sdf(path) if kind == "sdf" else load_mjcf(path, keep_meshes=False))
+    if kind == "usd":
+        loaded, robot = load_usd(path)
+        loaded = SimpleNamespace(**{f: getattr(loaded, f) for f in ("path", "kind", "original", "text", "name", "warnings")},
+                                 robot=robot)
+    else:
+        loaded = (load_urdf(path, keep_meshes=False, packages=packages, xacro_args=xacro_args) if kind == "urdf"
+                  else load_sdf(path) if kind == "sdf" else load_mjcf(path, keep_meshes=False))
     text, desc, free = _describe(kind, loaded, findings)
     if not desc.joints:
         raise InputError(f"--{kind}: {path} has no movable 1-DOF joints (hinge or slide) to compare")
@@ -234,22 +244,23 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
     if reference is None:
         raise InputError(f"--{kind}: no library can read {path}: "
                          + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
-    if kind == "sdf":
-        notes.insert(0, ONLY_READER)
+    if kind in ("sdf", "usd"):
+        notes.insert(0, ONLY_READER if kind == "sdf" else USD_ONLY)
     if free:
         findings.append(finding("floating_base", f"the {SIDE[kind]}'s free base ({', '.join(free)}) is held at the identity pose: "
-                                "the libraries' readings of everything below it are compared", {"file": "MJCF", "bodies": free}))
+                                "the libraries' readings of everything below it are compared", {"file": SIDE[kind], "bodies": free}))
     frames = tuple(a for a, _, _ in matching.frames)
     sources = ModelSources(loaded.name, tuple(al.independent), frames, tuple(lower), tuple(upper), tuple(revolute),
                            urdf=text if kind == "urdf" else None, mjcf=text if kind == "mjcf" else None,
-                           sdf=text if kind == "sdf" else None,
+                           sdf=text if kind == "sdf" else None, usd=text if kind == "usd" else None,
                            mjcf_joint_names=tuple(al.independent) if kind == "mjcf" else None,
                            mjcf_frames=frames if kind == "mjcf" else None)
     suites = [s for s in AUDIT_SUITES if options.suites is None or s in options.suites]
     opts = dataclasses.replace(options, reference=reference, backends=[reference], suites=[s for s in suites if s != "dynamics"])
     result = verify(sources, opts, extra_backends=list(kept.values()), source=str(path), command=command)
-    if "dynamics" in suites and kind == "sdf":
-        notes.append("dynamics not compared: Drake is the only reader of SDFormat")
+    if "dynamics" in suites and kind in ("sdf", "usd"):
+        notes.append("dynamics not compared: Drake is the only reader of SDFormat" if kind == "sdf" else
+                     "dynamics not compared: usd-core reads the USD's kinematics and inertials, no USD dynamics library is here")
     elif "dynamics" in suites:
         quirk = top if any(f.kind == "parser_quirk" for f in findings) else None
         _dynamics(result, kind, text, quirk, sources, al, opts, kept, notes, desc, scale)
@@ -257,6 +268,10 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
     result.notes += notes
     section = _section(kind, str(path), wanted, backends, kept, reference, rows, findings, notes)
     result.sections = {"audit": section, **result.sections}
+    if kind == "usd":
+        stated, found = statements(desc, loaded)
+        result.sections = {"audit": section, "usd": stated, **{k: v for k, v in result.sections.items() if k != "audit"}}
+        result.findings += found
     result.model_info["files"] = {kind: str(path)}
     result.model_info["audit"] = {"file": SIDE[kind], "libraries": list(kept), "reference": reference}
     result.duration_s = time.perf_counter() - t0

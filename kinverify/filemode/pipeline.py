@@ -39,7 +39,8 @@ from kinverify.filemode.findings.alignment import alignment_findings, convention
 from kinverify.filemode.findings.couplings import coupling_findings
 from kinverify.filemode.findings.finish import finish
 from kinverify.filemode.findings.table import finding
-from kinverify.filemode.read.files import LABELS, mjcf_angle_unit, read_mjcf, read_sdf, read_urdf
+from kinverify.filemode.read.describe_usd import usd_precision
+from kinverify.filemode.read.files import LABELS, mjcf_angle_unit, read_mjcf, read_sdf, read_urdf, read_usd
 from kinverify.filemode.read.precision import Precision, floors, mjcf_precision, urdf_precision
 from kinverify.filemode.read.validate import validate_inertials
 from kinverify.map.contract import map_files
@@ -65,13 +66,13 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     options = options or VerifyOptions()
     wanted = side_names(options, kinds)
     findings, internal = [], []
-    M, mjcf_text, m, free = (read_sdf if kinds[1] == "sdf" else read_mjcf)(mjcf, findings)
-    U, urdf_text, u, library, base = (read_sdf if kinds[0] == "sdf" else read_urdf)(urdf, findings, free)
+    readers = {"sdf": read_sdf, "usd": read_usd}
+    M, mjcf_text, m, free = readers.get(kinds[1], read_mjcf)(mjcf, findings)
+    U, urdf_text, u, library, base = readers.get(kinds[0], read_urdf)(urdf, findings, free)
     matching = match(u, m, joints, frames)
     if base.floating:  # the URDF's link above its floating root stays in the world: not the robot's
         matching.frames = [p for p in matching.frames if not (base.urdf.kind == "floating" and p[0] == base.urdf.root)]
-    precision = (urdf_precision(U.text) if kinds[0] == "urdf" else Precision(LABELS[kinds[0]]),
-                 mjcf_precision(M.original) if kinds[1] == "mjcf" else Precision(LABELS[kinds[1]]))
+    precision = tuple(_precision(kind, loaded, desc) for kind, loaded, desc in ((kinds[0], U, u), (kinds[1], M, m)))
     fl = floors(*precision, matching.frames, reach(u), len(matching.independent))
     lower, upper, revolute = sample_ranges(u, matching.independent)
     q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)
@@ -131,6 +132,17 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
                 internal=internal, lower=lower, upper=upper, revolute=revolute)
 
 
+def _precision(kind: str, loaded, desc) -> Precision:
+    """The written precision of one side (a USD's: single precision, :func:`usd_precision`)."""
+    if kind == "urdf":
+        return urdf_precision(loaded.text)
+    if kind == "mjcf":
+        return mjcf_precision(loaded.original)
+    if kind == "usd":
+        return usd_precision(desc.native)
+    return Precision(LABELS[kind])
+
+
 def _readers(kind: str) -> list[str]:
     """The libraries reading ``kind``, the primary first and yourdfpy (finite-difference Jacobians) last."""
     return sorted(names_reading(kind), key=lambda n: n == "yourdfpy")
@@ -166,11 +178,12 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     al, matching = info.alignment, info.matching
     name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
     base = BASE_COORDINATES if info.base_coordinates else ()
-    texts = {"urdf": None, "mjcf": None, "sdf": None, kinds[0]: diag["urdf_text"], kinds[1]: diag["mjcf_text"]}
+    texts = {"urdf": None, "mjcf": None, "sdf": None, "usd": None, kinds[0]: diag["urdf_text"], kinds[1]: diag["mjcf_text"]}
     second = dict(joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
                   frames=tuple(b for _, b, _ in matching.frames))  # the second file's own names
     sources = ModelSources(name, base + tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
                            tuple(diag["upper"]), tuple(diag["revolute"]), urdf=texts["urdf"], mjcf=texts["mjcf"], sdf=texts["sdf"],
+                           usd=texts["usd"],
                            **{f"{kinds[1]}_{k}": v for k, v in second.items()})
     suites = FILE_SUITES if kinds == URDF_MJCF else SDF_SUITES
     selected = [s for s in suites if options.suites is None or s in options.suites]
@@ -184,8 +197,10 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     if kinds != URDF_MJCF:
         relabel(result, kinds)
         result.model_info["files"] = {kinds[0]: urdf, kinds[1]: mjcf}
-        result.notes.append(f"{LABELS['sdf']}: read by Drake, its only reader here; compared: kinematics, limits and "
-                            "inertials (dynamics and the drawings need Pinocchio and MuJoCo on both files)")
+        for kind in [k for k in kinds if k in ("sdf", "usd")]:
+            reader = "Drake" if kind == "sdf" else "usd-core (pxr)"
+            result.notes.append(f"{LABELS[kind]}: read by {reader}, its only reader here; compared: kinematics, limits and "
+                                "inertials (dynamics and the drawings need Pinocchio and MuJoCo on both files)")
     add_map(result, [urdf, mjcf])  # after relabel: the map names each file's format itself
     result.duration_s = time.perf_counter() - t0
     return result
@@ -213,7 +228,12 @@ def relabel(result, kinds) -> None:
 
     def text(value):
         if isinstance(value, str):
-            return pattern.sub(lambda m: words[m[0]], value)
+            value = pattern.sub(lambda m: words[m[0]], value)
+            if "usd" in kinds:  # a USD side floats with no joint to the world, not with a free joint
+                value = re.sub(r"(the USD's body \S+) has a free joint", r"\1 has no joint to the world", value)
+                value = value.replace("the USD's free joint says", "the USD's root body with no joint to the world says")
+                value = value.replace("its free body's pos/quat", "its root body's xform")
+            return value
         if isinstance(value, list):
             return [text(v) for v in value]
         if isinstance(value, dict):
@@ -230,21 +250,29 @@ def relabel(result, kinds) -> None:
     result.notes = text(result.notes)
 
 
-def verify_three(urdf: str, mjcf: str, sdf: str, options=None, command: str = "", accept=None):
-    """``--urdf``, ``--mjcf`` and ``--sdf`` at once: the URDF against the MJCF and the URDF against the
-    SDFormat file, one result (the second pair's findings, checks and sections added, its sections
-    under ``sdf:`` keys). Joint and frame pairs are found by name and geometry (no ``--joints``)."""
-    first = verify_files(urdf, mjcf, options, command=command, accept=accept)
-    second = verify_files(urdf, sdf, options, command=command, accept=accept, kinds=("urdf", "sdf"))
-    first.findings += second.findings
-    first.checks += second.checks
-    first.backends += [b for b in second.backends if b not in first.backends]
-    first.sections.update({f"sdf:{k}": v for k, v in second.sections.items()})
-    first.internal_errors += second.internal_errors
-    first.notes += [n for n in second.notes if n not in first.notes]
-    first.source = f"{urdf} + {mjcf} + {sdf}"
-    first.model_info["files"] = {"urdf": urdf, "mjcf": mjcf, "sdf": sdf}
-    first.duration_s += second.duration_s
+def verify_three(urdf: str | None, mjcf: str | None, sdf: str | None, options=None, command: str = "", accept=None,
+                 usd: str | None = None):
+    """Three or four files at once (of ``--urdf``, ``--mjcf``, ``--sdf`` and ``--usd``): the first of
+    URDF, SDFormat and USD given against each other file, one result (each further pair's findings,
+    checks and sections added, its sections under ``sdf:`` / ``usd:`` keys; the MJCF's pair first).
+    Joint and frame pairs are found by name and geometry (no ``--joints``)."""
+    given = [(k, p) for k, p in (("urdf", urdf), ("sdf", sdf), ("usd", usd), ("mjcf", mjcf)) if p]
+    anchor, others = given[0], given[1:]
+    others = sorted(others, key=lambda o: o[0] != "mjcf")
+    results = [verify_files(anchor[1], path, options, command=command, accept=accept, kinds=(anchor[0], kind))
+               for kind, path in others]
+    first = results[0]
+    for (kind, _), second in zip(others[1:], results[1:], strict=True):
+        first.findings += second.findings
+        first.checks += second.checks
+        first.backends += [b for b in second.backends if b not in first.backends]
+        first.sections.update({f"{kind}:{k}": v for k, v in second.sections.items()})
+        first.internal_errors += second.internal_errors
+        first.notes += [n for n in second.notes if n not in first.notes]
+        first.duration_s += second.duration_s
+    files = {k: p for k, p in (("urdf", urdf), ("mjcf", mjcf), ("sdf", sdf), ("usd", usd)) if p}
+    first.source = " + ".join(files.values())
+    first.model_info["files"] = files
     return first
 
 

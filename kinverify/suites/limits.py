@@ -255,6 +255,12 @@ def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list
         if silent:
             unit = _force_unit(silent)
             how = "no <limit effort>" if side == "URDF" else "no actuator on them"
+            custom = [r["effort_how"] for r in silent if r["effort_how"].startswith("no drive: urdf:limit:effort")]
+            if side == "MJCF" and len(custom) == len(silent):  # a USD side: the converter kept the effort as a custom attribute
+                how = ("no drive; the effort survives only as the custom attribute urdf:limit:effort ("
+                       + ", ".join(c.split(" = ")[1].split(" ")[0] for c in custom) + "), which no simulator reads")
+            elif side == "MJCF" and all(r["effort_how"].startswith("no drive") for r in silent):  # a USD side
+                how = "no drive and no mjc:actuatorfrcrange"
             out.append(finding("effort_unset", f"the {side} states no force bound on {len(silent)} joints ({how}); the "
                                f"{other} bounds them: " + ", ".join(f"{r['label']} {r['effort'][1 - k]:g}" for r in silent)
                                + f" {unit}", {"unset_in": side, "urdf": [r["effort"][0] for r in silent],

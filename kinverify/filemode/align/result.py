@@ -103,13 +103,17 @@ class PairPoses:
         self.ujoints = [a for a, _, _ in matching.joints]
         self.mjoints = [b for _, b, _ in matching.joints]
         self.uframes, self.mframes = list(u.frames), list(m.frames)
-        if u.kind == "sdf" or urdf_library == "drake":  # an SDFormat side, or a URDF only Drake reads
+        if u.kind == "usd":
+            self.ub = build_backend("usd", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (), usd=urdf_text))
+        elif u.kind == "sdf" or urdf_library == "drake":  # an SDFormat side, or a URDF only Drake reads
             self.ub = build_backend(f"drake-{u.kind}", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (),
                                                                     **{u.kind: urdf_text}))
         else:
             reader = PinocchioBackend if urdf_library == "pinocchio" else MujocoBackend
             self.ub = reader.from_urdf(urdf_text, self.ujoints, self.uframes)
-        if m.kind == "sdf":
+        if m.kind == "usd":
+            self.mb = build_backend("usd", ModelSources("", tuple(self.mjoints), tuple(self.mframes), (), (), (), usd=mjcf_text))
+        elif m.kind == "sdf":
             self.mb = build_backend("drake-sdf", ModelSources("", tuple(self.mjoints), tuple(self.mframes), (), (), (), sdf=mjcf_text))
         else:
             self.mb = MujocoBackend.from_mjcf(mjcf_text, self.mjoints, self.mframes)

@@ -24,7 +24,7 @@ from kinverify.model.transforms import geodesic_distance, invert_transform
 
 URDF_SIDE = names_reading("urdf")  # every library that reads each file, the primary reader first
 MJCF_SIDE = names_reading("mjcf")
-SIDES = (("URDF", URDF_SIDE), ("MJCF", MJCF_SIDE), ("SDF", names_reading("sdf")))
+SIDES = (("URDF", URDF_SIDE), ("MJCF", MJCF_SIDE), ("SDF", names_reading("sdf")), ("USD", names_reading("usd")))
 QUIRK_ISSUE = "https://github.com/stack-of-tasks/pinocchio/issues/2782"
 
 

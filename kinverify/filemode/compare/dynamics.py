@@ -171,15 +171,24 @@ def parameter_findings(info, tolerances: dict) -> list:
     for j in info.alignment.joints:
         ju, jm = info.u.joint(j.urdf), info.m.joint(j.mjcf)
         for prop, value, x, y in (("dynamics.damping", "damping", ju.damping, jm.damping),
-                                  ("dynamics.friction", "friction", ju.friction, jm.friction)):
+                                  ("dynamics.friction", "friction", ju.friction, jm.friction),
+                                  ("dynamics.armature", "armature", ju.armature, jm.armature)):
+            if value == "armature" and "usd" not in (info.u.kind, info.m.kind):
+                continue  # a URDF has none; an MJCF's, against any file but a USD, is the finding below
             if x is None or y is None or abs(x - y) <= tolerances.get(prop, 1e-12):
                 continue
             silent = "URDF" if unset(ju.stated, value) else "MJCF" if unset(jm.stated, value) else ""
             groups.setdefault((value, prop, silent, round(x, 12), round(y, 12)), []).append(j)
-    units = {"dynamics.damping": "N·m·s/rad", "dynamics.friction": "N·m"}
+    units = {"dynamics.damping": "N·m·s/rad", "dynamics.friction": "N·m", "dynamics.armature": "kg·m²"}
+    usd = {"damping": "no newton:damping or mjc:damping on the joint", "friction": "no newton:friction or mjc:frictionloss "
+           "on the joint", "armature": "no physxJoint:armature, newton:armature or mjc:armature on the joint"}
     how = {"URDF": {"damping": "no <dynamics damping>", "friction": "no <dynamics friction>"},
            "MJCF": {"damping": "no damping on the joint or its default class",
-                    "friction": "no frictionloss on the joint or its default class"}}
+                    "friction": "no frictionloss on the joint or its default class",
+                    "armature": "no armature on the joint or its default class"}}
+    for side, desc in (("URDF", info.u), ("MJCF", info.m)):
+        if desc.kind == "usd":  # a USD side takes the URDF's or the MJCF's place
+            how[side] = usd
     for (value, prop, silent, x, y), joints in groups.items():
         label = {"dynamics.friction": "friction (URDF friction, MJCF frictionloss)"}.get(prop, "damping")
         names = ", ".join(j.urdf for j in joints)
@@ -195,12 +204,15 @@ def parameter_findings(info, tolerances: dict) -> list:
         out.append(finding(kind, message, {"urdf": x, "mjcf": y, "unset_in": silent or None, "checks": [[prop, "parameters"]]},
                            magnitude=abs(x - y), unit=units[prop], prop=prop, joint=[j.urdf for j in joints],
                            mjcf_joint=[j.mjcf for j in joints]))
+    if "usd" in (info.u.kind, info.m.kind):
+        out += velocity_findings(info)
     for kind, field, what, unit, prop, handled in (
             ("inexpressible", "armature", "armature (rotor inertia) {}", "kg·m²", "dynamics.armature",
              "the comparison gives Pinocchio the MJCF's"),
             ("stiffness_inexpressible", "stiffness", "a spring (stiffness {})", "N·m/rad", "dynamics.stiffness",
              "springs are left out of the dynamics comparison")):
-        given = [(j, getattr(info.m.joint(j.mjcf), field)) for j in info.alignment.joints if getattr(info.m.joint(j.mjcf), field)]
+        given = [(j, getattr(info.m.joint(j.mjcf), field)) for j in info.alignment.joints if getattr(info.m.joint(j.mjcf), field)
+                 and not (info.u.kind == "usd" and field == "armature")]  # a USD first side: compared above
         if given:
             values = ", ".join(f"{v:g}" for v in sorted({round(x, 12) for _, x in given}))
             out.append(finding(kind, f"the MJCF gives {len(given)} joints {what.format(values)}, which a URDF cannot express: "
@@ -227,4 +239,25 @@ def parameter_findings(info, tolerances: dict) -> list:
                                f"{j} {v:.4g}" for j, v in reflected.items()) + " kg·m², not in the comparison",
                            {"reflected_inertia": reflected}, magnitude=max(reflected.values()), unit="kg·m²",
                            joint=list(reflected)))
+    return out
+
+
+def velocity_findings(info) -> list:
+    """Velocity limits that differ where both files state one (a USD's ``physxJoint:maxJointVelocity``
+    or ``newton:velocityLimit`` against a URDF's ``<limit velocity>``; an MJCF has none): one error
+    per pair of values, within a millionth of the value alike (a USD writes degrees per second in
+    single precision)."""
+    groups: dict[tuple, list] = {}
+    for j in info.alignment.joints:
+        x, y = info.u.joint(j.urdf).velocity, info.m.joint(j.mjcf).velocity
+        if x is None or y is None or abs(x - y) <= 1e-6 * max(abs(x), abs(y)):
+            continue
+        groups.setdefault((round(x, 9), round(y, 9), info.u.joint(j.urdf).type), []).append(j)
+    out = []
+    for (x, y, kind), joints in groups.items():
+        unit = "rad/s" if kind == "revolute" else "m/s"
+        out.append(finding("velocity_difference", f"velocity limit {x:g} {unit} in the URDF, {y:g} {unit} in the MJCF on "
+                           f"{len(joints)} joint{'s' if len(joints) > 1 else ''}: " + ", ".join(j.urdf for j in joints),
+                           {"urdf": x, "mjcf": y}, magnitude=abs(x - y), unit=unit, prop="limits.velocity",
+                           joint=[j.urdf for j in joints], mjcf_joint=[j.mjcf for j in joints]))
     return out

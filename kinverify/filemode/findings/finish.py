@@ -76,7 +76,9 @@ def finish(result, diag, sources, opts, dynamics: bool, entries, write_accepted,
     checks, raised = apply_floors(result.checks, info)
     checks = dynamics_floors(checks, info, {p: _tol(opts, p) for p in ("dynamics.mass_matrix", "dynamics.gravity",
                                                                           "dynamics.bias", "dynamics.inverse", "dynamics.forward")})
-    culprits = [c for c in rounded_constants(diag["urdf"].text, diag["mjcf"].original)]
+    xml = {"usd": "<robot/>"}  # a USD side is no XML: no rounded constant written as text to find
+    culprits = [c for c in rounded_constants(xml.get(diag["urdf"].kind, diag["urdf"].text), xml.get(diag["mjcf"].kind,
+                                                                                                   diag["mjcf"].original))]
     culprits = [(side, where, written, exact[1], decimals) for side, where, written, exact, decimals in culprits]
     rounding = rounding_finding(raised, info, culprits)
     findings += [rounding] if rounding else []

@@ -28,14 +28,16 @@ SEVERITY = {
     "limit_difference": "error", "limit_units": "error", "effort_difference": "error",
     "mass_difference": "error", "com_difference": "error", "inertia_difference": "error", "inertia_rotated": "error",
     "damping_difference": "error", "friction_difference": "error", "dynamics_difference": "error",
+    "armature_difference": "error", "velocity_difference": "error",
     # worth knowing
     "parser_refused": "warning", "parser_disagreement": "warning", "inexpressible": "warning",
     "stiffness_inexpressible": "warning",
     "coupling_one_file": "warning", "base_inertial_difference": "warning", "base_frame_offset": "warning",
-    "actuator_alternatives": "warning",
+    "actuator_alternatives": "warning", "usd_pose_mismatch": "warning",
     # one file leaves a value unset (the format's default), the other states one
     "damping_unset": "warning", "friction_unset": "warning", "limit_unset": "warning", "effort_unset": "warning",
     "inertial_unset": "warning", "mass_unknown": "warning",
+    "armature_unset": "warning",
     # choices and artefacts
     "frame_convention": "info", "rounding": "info", "parser_quirk": "info", "joint_names": "info",
     "lumped_links": "info", "frame_twin": "info", "total_mass": "info", "floating_base": "info",

@@ -20,21 +20,24 @@ from kinverify.filemode.align.floating import UrdfBase, decide, fixed_urdf, floa
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf, free_joint_values
 from kinverify.filemode.read.describe_sdf import describe_sdf
+from kinverify.filemode.read.describe_usd import describe_usd, pose_mismatches
 from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.backends.usd_stage import read_robot
 from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_sdf, load_urdf
 from kinverify.filemode.read.model import ModelDesc
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
 from kinverify.filemode.read.stated import mjcf_joint_values, urdf_joint_values, urdf_links_without_inertial
 
-LABELS = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF"}
+LABELS = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF", "usd": "USD"}
 
 
-def sides(urdf: str | None, mjcf: str | None, sdf: str | None) -> tuple[tuple[str, str], tuple[str, str]]:
+def sides(urdf: str | None, mjcf: str | None, sdf: str | None, usd: str | None = None
+          ) -> tuple[tuple[str, str], tuple[str, str]]:
     """The two sides ``((kind, path), (kind, path))`` of a pair of files: URDF before MJCF, an
-    SDFormat file after a URDF or before an MJCF."""
-    given = [(k, p) for k, p in (("urdf", urdf), ("sdf", sdf), ("mjcf", mjcf)) if p]
+    SDFormat or USD file after a URDF or before an MJCF (SDFormat before USD)."""
+    given = [(k, p) for k, p in (("urdf", urdf), ("sdf", sdf), ("usd", usd), ("mjcf", mjcf)) if p]
     if len(given) != 2:
-        raise InputError("file mode compares two files: give two of --urdf, --mjcf and --sdf")
+        raise InputError("file mode compares two files: give two of --urdf, --mjcf, --sdf and --usd")
     return given[0], given[1]
 
 
@@ -141,6 +144,42 @@ def read_sdf(path: str, findings: list, free=None):
     message = message.replace("the URDF's root joint (free body) is floating", f"the SDF's link {root} is a free body")
     return loaded, loaded.text, desc, "drake", BaseDecision(floating, kind, message, base, list(free),
                                                              loaded.text if floating else "")
+
+
+def load_usd(path: str) -> tuple[LoadedFile, object]:
+    """The USD file read by pxr (every layer checked first: :mod:`kinverify.backends.usd_stage`) as a
+    :class:`LoadedFile` whose text is the path (pxr resolves its layers from there), and its articulation."""
+    robot = read_robot(path)
+    warnings = tuple(f"USD: layer {a} is absent (its prims are read without it: meshes are not needed for kinematics "
+                     "and dynamics)" for a in robot.absent)
+    name = robot.names[robot.root] if not robot.stage.GetDefaultPrim() else robot.stage.GetDefaultPrim().GetName()
+    return LoadedFile(str(path), "usd", str(path), str(path), name, warnings), robot
+
+
+def read_usd(path: str, findings: list, free=None):
+    """The USD file read by pxr, shaped as the side it takes (as :func:`read_sdf`): ``free`` None, the
+    second side (after a URDF or SDFormat file); else the first (before an MJCF). An articulation with
+    no joint to the world floats: its root body is held at the identity, as an MJCF's free joint is."""
+    loaded, robot = load_usd(path)
+    desc = describe_usd(robot)
+    mismatched = pose_mismatches(robot)
+    if mismatched:
+        findings.append(finding("usd_pose_mismatch", f"the USD places {len(mismatched)} bodies (their xformOps, where a "
+                                "simulator starts them) elsewhere than their joint frames do (compared: the joint frames): "
+                                + ", ".join(f"{b} {p:.3g} m, {r:.3g} rad" for b, p, r in mismatched),
+                                {"file": "USD", "bodies": {b: [p, r] for b, p, r in mismatched}},
+                                magnitude=max(max(p, r) for _, p, r in mismatched), unit="m|rad",
+                                link=[b.split(" (")[0] for b, _, _ in mismatched]))
+    roots = [robot.names[robot.root]] if robot.floating else []
+    if free is None:
+        return loaded, loaded.text, desc, roots
+    root = robot.names[robot.root]
+    base = UrdfBase("floating" if roots else "fixed", root, "(free body)" if roots else None, root)
+    floating, kind, message = decide(base, list(free))
+    message = message.replace("the URDF's root joint (free body) is floating", f"the USD's root body {root} has no joint "
+                              "to the world")
+    return loaded, loaded.text, desc, "usd", BaseDecision(floating, kind, message, base, list(free),
+                                                           loaded.text if floating else "")
 
 
 def sdf_free_bodies(sdf_text: str) -> list[str]:

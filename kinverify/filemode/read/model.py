@@ -65,7 +65,7 @@ class Coupling:
 
 @dataclass
 class ModelDesc:
-    kind: str  # "urdf" or "mjcf"
+    kind: str  # "urdf", "mjcf", "sdf" or "usd"
     library: str
     joints: list[JointDesc]
     frames: dict[str, np.ndarray]  # name -> world pose at q = 0
@@ -81,6 +81,7 @@ class ModelDesc:
     no_inertial: set[str] = field(default_factory=set)  # links/bodies that state no inertial (massless by default)
     gravcomp: dict[str, float] = field(default_factory=dict)  # MJCF body -> share of its weight compensated (gravcomp)
     free_joint: dict[str, float] = field(default_factory=dict)  # MJCF free joints' armature, damping (read.files)
+    native: object = None  # the reader's own model, where file mode needs more of it (USD: the articulation, for its precision)
 
     def joint(self, name: str) -> JointDesc:
         return next(j for j in self.joints if j.name == name)
