@@ -137,6 +137,17 @@ class _Site:
     rigid: ET.Element | None = None  # the moving body this one is welded to, when it has no joint
 
 
+def _bodies(parent: ET.Element) -> list[ET.Element]:
+    """The bodies ``parent`` holds, through any ``<frame>`` (MuJoCo writes a fused link as one)."""
+    out = []
+    for child in parent:
+        if child.tag == "body":
+            out.append(child)
+        elif child.tag == "frame":
+            out += _bodies(child)
+    return out
+
+
 def _sites(root: ET.Element) -> list[_Site]:
     """Every moving body (under a hinge, slide or free joint), with its own hinge or slide joint
     (None when it has none or several) and the nearest moving body above that has one."""
@@ -150,10 +161,10 @@ def _sites(root: ET.Element) -> list[_Site]:
         site = _Site(body, joints[0] if len(joints) == 1 else None, above, None if own else rigid)
         if moving:
             out.append(site)
-        for child in body.findall("body"):
+        for child in _bodies(body):
             walk(child, moving, site if site.joint is not None else above, body if own else rigid)
 
-    for body in root.find("worldbody").findall("body"):
+    for body in _bodies(root.find("worldbody")):
         walk(body, False, None, None)
     return out
 
