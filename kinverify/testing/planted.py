@@ -9,7 +9,8 @@ two things in it as a person editing it by hand would, each change recorded with
 
 A :class:`Planted` names the joint or body it was planted on (MuJoCo keeps the URDF's names) and
 its size in SI units, as file mode reports it: a turn or tilt in rad (the angle), an offset in m
-(the vector's length), a mass in kg, a centre of mass in m, a principal moment in kg·m², a range
+(the vector's length), a mass in kg, a centre of mass in m (how far the rigid body's moved: a
+body and those welded to it are one), a principal moment in kg·m², a range
 end in rad (m for a slide), damping in N·m·s/rad (N·s/m). :func:`equivalent_rewrites` draws
 rewrites of the same robot that must give no error.
 """
@@ -189,9 +190,23 @@ def _applicable(kind: str, site: _Site) -> bool:
     inertial = _inertial(site.body)
     if inertial is None or site.rigid is not None:  # a body welded to another is one rigid body with it: its own
         return False                                 # centre of mass and mass are not what is compared
-    if kind == "inertia":
-        return bool(np.all(_vec(inertial, "diaginertia", [0, 0, 0]) > 0))
-    return True
+    share = float(inertial.get("mass")) / _group_mass(site.body)
+    if kind == "inertia":  # alone in its rigid body: the moment planted is one of the rigid body's
+        return share == 1.0 and bool(np.all(_vec(inertial, "diaginertia", [0, 0, 0]) > 0))
+    return kind == "mass" or share >= 0.25  # its centre of mass moves the rigid body's by its share of the mass
+
+
+def _welded(body: ET.Element) -> list[ET.Element]:
+    """``body`` and the bodies welded to it (no joint between): one rigid body, as file mode compares it."""
+    out = [body]
+    for child in _bodies(body):
+        if not any(j.tag == "freejoint" or j.tag == "joint" for j in child):
+            out += _welded(child)
+    return out
+
+
+def _group_mass(body: ET.Element) -> float:
+    return sum(float(b.find("inertial").get("mass", "0")) for b in _welded(body) if b.find("inertial") is not None)
 
 
 # --- the changes --------------------------------------------------------------------------------
@@ -204,8 +219,11 @@ def _plant(draw, kind: str, site: _Site) -> Planted:
         axis = _vec(joint, "axis", [0, 0, 1])
         axis = axis / np.linalg.norm(axis)
         slide = joint.get("type") == "slide"
-        if kind == "axis_flip":
+        if kind == "axis_flip":  # its range reversed with it: the same physical limits, only the sign differs
             _put(joint, "axis", -axis)
+            if joint.get("range") is not None:
+                lo, hi = _vec(joint, "range", [0, 0])
+                _put(joint, "range", [-hi, -lo])
             return Planted(kind, jname, None, math.pi, "rad")
         if kind == "axis_tilt":
             angle = draw(st.floats(1.0, 5.0)) * DEG
@@ -243,11 +261,11 @@ def _plant(draw, kind: str, site: _Site) -> Planted:
         factor = 1 + draw(st.floats(0.05, 0.3)) * draw(st.sampled_from([1, -1]))
         inertial.set("mass", repr(mass * factor))
         return Planted(kind, None, bname, abs(mass * factor - mass), "kg")
-    if kind == "com":
+    if kind == "com":  # the rigid body's centre of mass moves by the body's share of that
         length = draw(st.floats(1.0, 20.0)) * 1e-3
         direction = np.array([draw(st.floats(-1, 1)) for _ in range(3)]) + np.array([0, 0, 1e-3])
         _put(inertial, "pos", _vec(inertial, "pos", [0, 0, 0]) + direction / np.linalg.norm(direction) * length)
-        return Planted(kind, None, bname, length, "m")
+        return Planted(kind, None, bname, length * float(inertial.get("mass")) / _group_mass(body), "m")
     moments = _vec(inertial, "diaginertia", [0, 0, 0])
     which = draw(st.sampled_from([0, 1, 2]))
     others = np.delete(moments, which)

@@ -16,7 +16,7 @@ import os
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 from kinverify.filemode.pipeline import verify_files
@@ -41,8 +41,11 @@ OPTIONS = VerifyOptions(samples=4, fd_samples=1, backends=BACKENDS, suites=["kin
 # the written precision: MuJoCo writes 6 significant digits, so a planted size differs from the
 # files' difference by up to that much of the value it was planted on (a range end of 3.14159 rad)
 ABSOLUTE = {"m": 1e-6, "rad": 1e-5, "kg": 1e-5, "kg·m²": 1e-9, "N·m·s/rad": 1e-5, "N·s/m": 1e-5}
-SETTINGS = settings(max_examples=1, deadline=None, database=None, derandomize=False,
-                    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+# a pair takes file mode a second or more (up to 20 s where a floating robot's frame moved): two
+# examples a test, failures replayed from the example database and not shrunk (CI: derandomized,
+# tests/conftest.py)
+SETTINGS = settings(max_examples=2, deadline=None, phases=(Phase.explicit, Phase.reuse, Phase.generate),
+                    suppress_health_check=[HealthCheck.too_slow])
 
 
 @pytest.fixture(scope="module")
