@@ -280,34 +280,43 @@ def _plant(draw, kind: str, site: _Site) -> Planted:
     return Planted(kind, None, bname, abs(new - old), "kg·m²")
 
 
+def plantable_kinds(mjcf_text: str) -> tuple[str, ...]:
+    """The kinds of :data:`KINDS` that can be planted in this MJCF (``damping`` only where a joint
+    states it, ``range`` where one is limited...)."""
+    sites = _sites(ET.fromstring(mjcf_text))
+    return tuple(k for k in KINDS if any(_applicable(k, s) for s in sites))
+
+
 def _slot(kind: str) -> str:
     """Changes of one slot on one element would merge into one: never two of them there."""
     return "frame" if kind in FRAME_KINDS else kind
 
 
 @st.composite
-def planted_changes(draw, mjcf_text: str, kinds=KINDS, max_changes: int = 2) -> tuple[str, tuple[Planted, ...]]:
-    """The MJCF with one to ``max_changes`` random changes of ``kinds`` planted, and what was
-    planted. Where two are planted, sometimes the second is on the joint above the first (a change
-    stacked on its parent's)."""
+def planted_changes(draw, mjcf_text: str, kinds=KINDS, max_changes: int = 2, min_changes: int = 1,
+                    stacked: bool | None = None) -> tuple[str, tuple[Planted, ...]]:
+    """The MJCF with ``min_changes`` to ``max_changes`` (at most 2) random changes of ``kinds``
+    planted, and what was planted. Of two, the second is sometimes on the joint above the first's
+    (a change stacked on its parent's); ``stacked=True``: always (``False``: never)."""
     root = ET.fromstring(mjcf_text)
-    sites = _sites(root)
-    options = [(k, s) for k in kinds for s in sites if _applicable(k, s)]
+    options = [(k, s) for k in kinds for s in _sites(root) if _applicable(k, s)]
     if not options:
         raise ValueError(f"none of {kinds} can be planted in this MJCF")
-    count = draw(st.integers(1, max(1, max_changes)))
-    planted, used = [], set()
-    kind, site = draw(st.sampled_from(options))
-    for i in range(count):
-        if i:
-            stacked = site.parent is not None and draw(st.booleans())
-            pool = [(k, s) for k, s in options if (s is site.parent if stacked else True)]
-            pool = [(k, s) for k, s in pool if (_slot(k), id(s.body)) not in used] or None
-            if pool is None:
-                break
-            kind, site = draw(st.sampled_from(pool))
-        used.add((_slot(kind), id(site.body)))
-        planted.append(_plant(draw, kind, site))
+    count = draw(st.integers(min(min_changes, 2), max(1, min(max_changes, 2))))
+
+    def above(kind, site) -> list:  # what can be planted on the joint above, of another slot
+        return [(k, s) for k, s in options if s is site.parent and (_slot(k), id(s.body)) != (_slot(kind), id(site.body))]
+
+    first = [o for o in options if above(*o)] if count == 2 and stacked else options
+    if not first:
+        raise ValueError(f"no joint in this MJCF has one above it where one of {kinds} can be planted")
+    kind, site = draw(st.sampled_from(first))
+    planted = [_plant(draw, kind, site)]
+    if count == 2:
+        on_parent = bool(above(kind, site)) and (stacked if stacked is not None else draw(st.booleans()))
+        pool = above(kind, site) if on_parent else [(k, s) for k, s in options if (_slot(k), id(s.body)) != (_slot(kind), id(site.body))]
+        if pool:
+            planted.append(_plant(draw, *draw(st.sampled_from(pool))))
     return ET.tostring(root, encoding="unicode"), tuple(planted)
 
 

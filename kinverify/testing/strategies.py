@@ -27,7 +27,7 @@ from kinverify.model.specfile import spec_from_dict
 from kinverify.model.spec import ArmSpec
 from kinverify.testing.planted import KINDS as PLANTED_KINDS  # noqa: F401 (public, re-exported)
 from kinverify.testing.planted import (Planted, equivalent_rewrites, mesh_free_urdf, mujoco_mjcf,  # noqa: F401
-                                       planted_changes)
+                                       plantable_kinds, planted_changes)
 
 data = st.data
 

@@ -5,8 +5,9 @@ once, naming its joint or body, with its size within 2 % (or the written precisi
 else as an error; rewrites that change nothing give no error at all.
 
 Fixed bases: panda, iiwa14, ur5e, z1, leap_hand; floating (a free joint on the MJCF's root body):
-go2, a1, anymal_c. Each test draws its robot from one group, and the changes, afresh every run
-(file mode takes seconds a pair: a few pairs a run keep the suite inside CI's time).
+go2, a1, anymal_c. Each kind is planted alone on a robot drawn among all; two changes, on a joint
+and the joint above it, on a robot of each group; and the changes afresh every run (file mode
+takes a second or more a pair: a few pairs a run keep the suite inside CI's time).
 ``KINVERIFY_REAL_ROBOTS`` points elsewhere when ../shared/real-robots is not beside the project;
 robots whose folder is absent are not drawn, and a group with none is skipped."""
 
@@ -22,7 +23,8 @@ from hypothesis import strategies as st
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 from kinverify.testing.assertions import assert_files_agree
-from kinverify.testing.planted import FRAME_KINDS, KINDS, equivalent_rewrites, mesh_free_urdf, mujoco_mjcf, planted_changes
+from kinverify.testing.planted import (KINDS, equivalent_rewrites, mesh_free_urdf, mujoco_mjcf, plantable_kinds,
+                                       planted_changes)
 from tests.paths import REAL_ROBOTS
 
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
@@ -31,7 +33,6 @@ URDFS = {"panda": "panda/panda_erd.urdf", "iiwa14": "iiwa14/iiwa14_no_collision_
          "go2": "go2/go2_erd.urdf", "a1": "a1/a1_unitree_ros.urdf", "anymal_c": "anymal_c/anymal_c_anybotics.urdf"}
 FLOATING = ("go2", "a1", "anymal_c")
 GROUPS = {"fixed": tuple(r for r in URDFS if r not in FLOATING), "floating": FLOATING}
-VALUE_KINDS = tuple(k for k in KINDS if k not in FRAME_KINDS)  # mass, com, inertia, range, damping
 # Drake's MJCF parser aborts the process on the mass="0" inertials MuJoCo writes for panda and go2:
 # until Drake reads in a process of its own, the pairs are read by the other libraries. Once it does,
 # make this line `BACKENDS = None` (every library, Drake too).
@@ -41,10 +42,13 @@ OPTIONS = VerifyOptions(samples=4, fd_samples=1, backends=BACKENDS, suites=["kin
 # the written precision: MuJoCo writes 6 significant digits, so a planted size differs from the
 # files' difference by up to that much of the value it was planted on (a range end of 3.14159 rad)
 ABSOLUTE = {"m": 1e-6, "rad": 1e-5, "kg": 1e-5, "kg·m²": 1e-9, "N·m·s/rad": 1e-5, "N·s/m": 1e-5}
-# a pair takes file mode a second or more (up to 20 s where a floating robot's frame moved): two
+
+
+# a pair takes file mode 0.3-3 s of CPU (up to 20 s where a floating robot's frame moved): a few
 # examples a test, failures replayed from the example database and not shrunk (CI: derandomized,
 # tests/conftest.py)
-SETTINGS = settings(max_examples=2, deadline=None, phases=(Phase.explicit, Phase.reuse, Phase.generate),
+def examples(n: int) -> settings:
+    return settings(max_examples=n, deadline=None, phases=(Phase.explicit, Phase.reuse, Phase.generate),
                     suppress_health_check=[HealthCheck.too_slow])
 
 
@@ -64,11 +68,15 @@ def pairs(tmp_path_factory):
     return pair
 
 
+def present(robot: str) -> bool:
+    return (REAL / URDFS[robot]).is_file()
+
+
 def robots(group: str) -> list[str]:
-    present = [r for r in GROUPS[group] if (REAL / URDFS[r]).is_file()]
-    if not present:
+    found = [r for r in GROUPS[group] if present(r)]
+    if not found:
         pytest.skip(f"none of {', '.join(GROUPS[group])} in {REAL}")
-    return present
+    return found
 
 
 def run(urdf: Path, mjcf_text: str):
@@ -107,26 +115,33 @@ def assert_one_finding_each(result, planted) -> None:
                                     *(f"  {f.kind} {f.subject}: {f.message}" for f in errors)])
 
 
-@pytest.mark.parametrize("group", list(GROUPS))
-@SETTINGS
+@pytest.mark.parametrize("kind", KINDS)
+@examples(1)
 @given(data=st.data())
-def test_a_planted_frame_or_axis_change_is_one_finding_of_its_size(pairs, group, data):
-    urdf, mjcf = pairs(data.draw(st.sampled_from(robots(group)), label="robot"))
-    text, planted = data.draw(planted_changes(mjcf, kinds=FRAME_KINDS, max_changes=2), label="planted")
+def test_a_planted_change_is_one_error_finding_naming_it_with_its_size(pairs, kind, data):
+    """Each kind on a robot drawn among those it can be planted on (the first drawn differs from
+    kind to kind, so a derandomized run still sees every robot)."""
+    turn = KINDS.index(kind) % len(URDFS)
+    able = [r for r in [*URDFS][turn:] + [*URDFS][:turn] if present(r) and kind in plantable_kinds(pairs(r)[1])]
+    if not able:
+        pytest.skip(f"no shared robot takes {kind}")
+    urdf, mjcf = pairs(data.draw(st.sampled_from(able), label="robot"))
+    text, planted = data.draw(planted_changes(mjcf, kinds=(kind,), max_changes=1), label="planted")
     assert_one_finding_each(run(urdf, text), planted)
 
 
 @pytest.mark.parametrize("group", list(GROUPS))
-@SETTINGS
+@examples(1)
 @given(data=st.data())
-def test_a_planted_mass_com_inertia_range_or_damping_change_is_one_finding_of_its_size(pairs, group, data):
+def test_two_changes_on_a_joint_and_the_joint_above_are_two_findings_each_of_its_size(pairs, group, data):
     urdf, mjcf = pairs(data.draw(st.sampled_from(robots(group)), label="robot"))
-    text, planted = data.draw(planted_changes(mjcf, kinds=VALUE_KINDS, max_changes=2), label="planted")
+    text, planted = data.draw(planted_changes(mjcf, min_changes=2, stacked=True), label="planted")
+    assert len(planted) == 2
     assert_one_finding_each(run(urdf, text), planted)
 
 
 @pytest.mark.parametrize("group", list(GROUPS))
-@SETTINGS
+@examples(2)
 @given(data=st.data())
 def test_an_equivalent_rewrite_gives_no_error(pairs, group, data):
     urdf, mjcf = pairs(data.draw(st.sampled_from(robots(group)), label="robot"))
