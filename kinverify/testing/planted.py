@@ -1,7 +1,7 @@
 """Planted changes: a URDF's MJCF as MuJoCo writes it, and hypothesis strategies that change one or
 two things in it as a person editing it by hand would, each change recorded with its size.
 
-    urdf = mesh_free_urdf(Path("robot.urdf").read_text())
+    urdf = mesh_free_urdf(Path("robot.urdf").read_text())   # kinverify.testing.mjcf_pair
     mjcf = mujoco_mjcf(urdf)                       # MuJoCo's own conversion: the two files agree
     @given(planted_changes(mjcf))
     def test_one_finding_per_change(change):
@@ -11,19 +11,16 @@ A :class:`Planted` names the joint or body it was planted on (MuJoCo keeps the U
 its size in SI units, as file mode reports it: a turn or tilt in rad (the angle), an offset in m
 (the vector's length), a mass in kg, a centre of mass in m (how far the rigid body's moved: a
 body and those welded to it are one), a principal moment in kg·m², a range
-end in rad (m for a slide), damping in N·m·s/rad (N·s/m). :func:`equivalent_rewrites` draws
-rewrites of the same robot that must give no error.
+end in rad (m for a slide), damping in N·m·s/rad (N·s/m). :mod:`kinverify.testing.rewrites`
+draws rewrites of the same robot that must give no error.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-import tempfile
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
-import mujoco
 import numpy as np
 from hypothesis import strategies as st
 
@@ -54,50 +51,6 @@ class Planted:
 
     def __str__(self) -> str:
         return f"{self.kind} on {' / '.join(self.names)}: {self.size:.6g} {self.unit}"
-
-
-# --- the pair: a mesh-free URDF and the MJCF MuJoCo writes from it ---------------------------------
-
-def mesh_free_urdf(urdf_text: str) -> str:
-    """The URDF without its mesh visuals and collisions (their files are not needed to compare
-    kinematics and dynamics), and with any inertia MuJoCo refuses (the triangle inequality broken)
-    made what MuJoCo's ``balanceinertia`` makes of it: the mean of its principal moments, about
-    every axis."""
-    root = ET.fromstring(urdf_text)
-    for link in root.iter("link"):
-        for tag in ("visual", "collision"):
-            for el in link.findall(tag):
-                if el.find("geometry/mesh") is not None:
-                    link.remove(el)
-        inertia = link.find("inertial/inertia")
-        if inertia is not None:
-            names = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
-            xx, yy, zz, xy, xz, yz = (float(inertia.get(n, "0")) for n in names)
-            moments = np.linalg.eigvalsh(np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
-            if moments[0] + moments[1] < moments[2] * (1 - 1e-9):
-                mean = float(np.mean(moments))
-                inertia.attrib.update({n: repr(mean) if n in ("ixx", "iyy", "izz") else "0" for n in names})
-    return ET.tostring(root, encoding="unicode")
-
-
-def mujoco_mjcf(urdf_text: str, *, free: bool = False) -> str:
-    """The MJCF MuJoCo writes from a mesh-free URDF (``MjModel.from_xml_string`` then
-    ``mj_saveLastXML``), every link kept as a body (``fusestatic="false"``); with ``free``, the
-    robot's root body gets a free joint (``root``), as a floating robot's MJCF has."""
-    root = ET.fromstring(urdf_text)
-    hints = ET.SubElement(root, "mujoco")
-    ET.SubElement(hints, "compiler", fusestatic="false", discardvisual="false")
-    model = mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "robot.xml"
-        mujoco.mj_saveLastXML(str(path), model)
-        text = path.read_text()
-    if not free:
-        return text
-    tree = ET.fromstring(text)
-    body = tree.find("worldbody/body")
-    body.insert(0, ET.Element("freejoint", name="root"))
-    return ET.tostring(tree, encoding="unicode")
 
 
 # --- reading and writing numbers ------------------------------------------------------------------
@@ -318,71 +271,3 @@ def planted_changes(draw, mjcf_text: str, kinds=KINDS, max_changes: int = 2, min
         if pool:
             planted.append(_plant(draw, *draw(st.sampled_from(pool))))
     return ET.tostring(root, encoding="unicode"), tuple(planted)
-
-
-# --- rewrites that change nothing -------------------------------------------------------------------
-
-HELD = ("inertial", "geom", "site", "body", "joint", "camera", "light", "frame")
-
-
-def _turn_back(el: ET.Element, back: np.ndarray) -> None:
-    """``el`` (held by a body whose frame turned by ``backᵀ``) put back where it was."""
-    if el.get("pos") is not None:
-        _put(el, "pos", back @ _vec(el, "pos", [0, 0, 0]))
-    if el.get("fromto") is not None:
-        ends = _vec(el, "fromto", [0] * 6).reshape(2, 3)
-        _put(el, "fromto", (back @ ends.T).T)
-    if el.tag == "joint":
-        if el.get("axis") is not None or el.get("type", "hinge") in ("hinge", "slide"):
-            _put(el, "axis", back @ _vec(el, "axis", [0, 0, 1]))
-        return
-    if el.get("fullinertia") is not None:
-        xx, yy, zz, xy, xz, yz = _vec(el, "fullinertia", [0] * 6)
-        full = back @ np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]) @ back.T
-        _put(el, "fullinertia", [full[0, 0], full[1, 1], full[2, 2], full[0, 1], full[0, 2], full[1, 2]])
-    elif el.tag in ("inertial", "geom", "site", "body", "camera", "frame"):
-        _put(el, "quat", matrix_to_quat(back @ _body_rotation(el)))
-
-
-def _turnable(site: _Site) -> bool:
-    """A body whose frame can be turned about its hinge with all it holds turned back: every
-    orientation it holds is a ``quat`` (or none)."""
-    if site.joint is None or site.joint.get("type", "hinge") != "hinge" or site.body.get("quat") is None and \
-            any(site.body.get(a) is not None for a in ("euler", "axisangle", "xyaxes", "zaxis")):
-        return False
-    return not any(c.get(a) is not None for c in site.body if c.tag in HELD
-                   for a in ("euler", "axisangle", "xyaxes", "zaxis"))
-
-
-@st.composite
-def equivalent_rewrites(draw, mjcf_text: str) -> tuple[str, str]:
-    """The MJCF rewritten without changing the robot, and what was done: a body's frame turned
-    about its own hinge's axis with everything it holds turned back, or an inertial's
-    ``diaginertia`` + ``quat`` written as the same ``fullinertia``."""
-    root = ET.fromstring(mjcf_text)
-    sites = _sites(root)
-    turnable = [s for s in sites if _turnable(s)]
-    inertials = [s for s in sites if _inertial(s.body) is not None]
-    choices = (["turn"] if turnable else []) + (["fullinertia"] if inertials else [])
-    if not choices:
-        raise ValueError("nothing in this MJCF can be rewritten")
-    if draw(st.sampled_from(choices)) == "turn":
-        site = draw(st.sampled_from(turnable))
-        axis = _vec(site.joint, "axis", [0, 0, 1])
-        angle = draw(st.floats(5.0, 175.0)) * DEG * draw(st.sampled_from([1, -1]))
-        turn = _rotation(axis, angle)
-        _put(site.body, "quat", matrix_to_quat(_body_rotation(site.body) @ turn))
-        for child in site.body:
-            if child.tag in HELD:
-                _turn_back(child, turn.T)
-        what = f"body {site.body.get('name')} turned {math.degrees(angle):.4g}° about joint {site.joint.get('name')}'s axis, all it holds turned back"
-    else:
-        site = draw(st.sampled_from(inertials))
-        inertial = _inertial(site.body)
-        rot = _body_rotation(inertial)
-        full = rot @ np.diag(_vec(inertial, "diaginertia", [0, 0, 0])) @ rot.T
-        for attr in ("diaginertia", "quat"):
-            inertial.attrib.pop(attr, None)
-        _put(inertial, "fullinertia", [full[0, 0], full[1, 1], full[2, 2], full[0, 1], full[0, 2], full[1, 2]])
-        what = f"body {site.body.get('name')}'s inertia written as fullinertia"
-    return ET.tostring(root, encoding="unicode"), what

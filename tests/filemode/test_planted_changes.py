@@ -23,8 +23,8 @@ from hypothesis import strategies as st
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 from kinverify.testing.assertions import assert_files_agree
-from kinverify.testing.planted import (KINDS, equivalent_rewrites, mesh_free_urdf, mujoco_mjcf, plantable_kinds,
-                                       planted_changes)
+from kinverify.testing.strategies import (PLANTED_KINDS, equivalent_rewrites, mesh_free_urdf, mujoco_mjcf,
+                                          plantable_kinds, planted_changes)
 from tests.paths import REAL_ROBOTS
 
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
@@ -115,13 +115,13 @@ def assert_one_finding_each(result, planted) -> None:
                                     *(f"  {f.kind} {f.subject}: {f.message}" for f in errors)])
 
 
-@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("kind", PLANTED_KINDS)
 @examples(1)
 @given(data=st.data())
 def test_a_planted_change_is_one_error_finding_naming_it_with_its_size(pairs, kind, data):
     """Each kind on a robot drawn among those it can be planted on (the first drawn differs from
     kind to kind, so a derandomized run still sees every robot)."""
-    turn = KINDS.index(kind) % len(URDFS)
+    turn = PLANTED_KINDS.index(kind) % len(URDFS)
     able = [r for r in [*URDFS][turn:] + [*URDFS][:turn] if present(r) and kind in plantable_kinds(pairs(r)[1])]
     if not able:
         pytest.skip(f"no shared robot takes {kind}")
