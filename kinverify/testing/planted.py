@@ -1,5 +1,6 @@
-"""Planted changes: a URDF's MJCF as MuJoCo writes it, and hypothesis strategies that change one or
-two things in it as a person editing it by hand would, each change recorded with its size.
+"""Planted changes: hypothesis strategies that change one or two things in an MJCF (the one MuJoCo
+writes from a URDF, :mod:`kinverify.testing.mjcf_pair`) as a person editing it by hand would, each
+change recorded with its size.
 
     urdf = mesh_free_urdf(Path("robot.urdf").read_text())   # kinverify.testing.mjcf_pair
     mjcf = mujoco_mjcf(urdf)                       # MuJoCo's own conversion: the two files agree
@@ -10,8 +11,9 @@ two things in it as a person editing it by hand would, each change recorded with
 A :class:`Planted` names the joint or body it was planted on (MuJoCo keeps the URDF's names) and
 its size in SI units, as file mode reports it: a turn or tilt in rad (the angle), an offset in m
 (the vector's length), a mass in kg, a centre of mass in m (how far the rigid body's moved: a
-body and those welded to it are one), a principal moment in kg·m², a range
-end in rad (m for a slide), damping in N·m·s/rad (N·s/m). :mod:`kinverify.testing.rewrites`
+body and those welded to it are one), a principal moment in kg·m², a range end in rad (m for a
+slide), damping in N·m·s/rad (N·s/m). An axis flip reverses the range with it (the same physical
+limits), and its size is the flip itself (π). :mod:`kinverify.testing.rewrites`
 draws rewrites of the same robot that must give no error.
 """
 
