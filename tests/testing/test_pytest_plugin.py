@@ -11,6 +11,9 @@ import sys
 from pathlib import Path
 
 import pytest
+
+from kinverify import load_spec
+from kinverify.generate import generate_urdf
 from tests.paths import ROOT
 
 REPO = ROOT
@@ -126,10 +129,7 @@ def test_the_readme_example_passes_then_reports_a_1mm_change(project):
 def test_the_readme_files_example_checks_a_converter_and_finds_every_edit(project):
     """The README's second file: a converter of the project's own, its URDF and MJCF agree, and an
     edit planted in the converted MJCF is found; a converter that gets a mass wrong fails, the
-    failure naming the finding."""
-    from kinverify import load_spec
-    from kinverify.generate import generate_urdf
-
+    failure naming the finding. (Imports at the top: pytester drops the modules a test imports.)"""
     example = readme_example(1)
     assert "assert_files_agree" in example and "planted_changes" in example
     project.makepyfile(test_my_files=example, my_converter=CONVERTER)
