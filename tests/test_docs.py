@@ -107,6 +107,8 @@ def test_readme_pytest_example_is_the_file_the_plugin_test_runs():
 
     (block,) = [b for b in PYTHON if b[0] == "README.md" and "kinverify_baseline" in b[3]]
     assert "test_pytest_plugin.py" in block[2] and readme_example() == block[3]
+    (files,) = [b for b in PYTHON if b[0] == "README.md" and "assert_files_agree" in b[3]]
+    assert "test_pytest_plugin.py" in files[2] and readme_example(1) == files[3]
 
 
 def test_adding_a_suite_is_one_module_and_one_registry_line(monkeypatch):

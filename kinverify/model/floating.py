@@ -18,6 +18,8 @@ import math
 
 import numpy as np
 
+from kinverify.model.transforms import matrix_to_rpy
+
 BASE_COORDINATES = ("base:x", "base:y", "base:z", "base:roll", "base:pitch", "base:yaw")
 BASE_REVOLUTE = (False, False, False, True, True, True)
 BASE_TRAVEL = 1.0  # m: sampled base positions lie within this of the home position, per axis
@@ -90,14 +92,4 @@ def velocity_map(b, linear_in_body: bool) -> np.ndarray:
 def base_coordinates(transforms) -> np.ndarray:
     """The base coordinates ``(N, 6)`` of world poses ``(N, 4, 4)`` (pitch in [−π/2, π/2])."""
     t = np.asarray(transforms, dtype=float)
-    r = t[..., :3, :3]
-    cp = np.hypot(r[..., 0, 0], r[..., 1, 0])  # |cos(pitch)|
-    pitch = np.arctan2(-r[..., 2, 0], cp)
-    # near pitch ±π/2 yaw is ill-defined (only roll ∓ yaw is): take yaw 0 there, and in every case
-    # read roll off Rx(roll) = Ry(pitch)ᵀ·Rz(yaw)ᵀ·R, so the three always make R back
-    yaw = np.where(cp < 1e-12, 0.0, np.arctan2(r[..., 1, 0], r[..., 0, 0]))
-    zero = np.zeros_like(yaw)
-    undone = _rotations(np.stack([zero, pitch, yaw], axis=-1))
-    rx = np.swapaxes(undone, -1, -2) @ r
-    roll = np.arctan2(rx[..., 2, 1], rx[..., 1, 1])
-    return np.concatenate([t[..., :3, 3], np.stack([roll, pitch, yaw], axis=-1)], axis=-1)
+    return np.concatenate([t[..., :3, 3], matrix_to_rpy(t[..., :3, :3])], axis=-1)

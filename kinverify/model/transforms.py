@@ -29,11 +29,17 @@ def rpy_to_matrix(rpy) -> np.ndarray:
 
 
 def matrix_to_rpy(m) -> np.ndarray:
-    """Roll, pitch, yaw [rad] of a rotation matrix (inverse of :func:`rpy_to_matrix`)."""
+    """Roll, pitch, yaw [rad] of a rotation matrix (inverse of :func:`rpy_to_matrix`; pitch in
+    [−π/2, π/2]). At pitch ±π/2 (gimbal lock) only roll ∓ yaw is defined: yaw is taken 0 there, and
+    in every case roll is read off ``Rx(roll) = Ry(pitch)ᵀ·Rz(yaw)ᵀ·R``, so the three always make
+    the matrix back."""
     m = np.asarray(m, dtype=float)
-    pitch = np.arctan2(-m[..., 2, 0], np.hypot(m[..., 0, 0], m[..., 1, 0]))
-    roll = np.arctan2(m[..., 2, 1], m[..., 2, 2])
-    yaw = np.arctan2(m[..., 1, 0], m[..., 0, 0])
+    cp = np.hypot(m[..., 0, 0], m[..., 1, 0])  # |cos(pitch)|
+    pitch = np.arctan2(-m[..., 2, 0], cp)
+    yaw = np.where(cp < 1e-12, 0.0, np.arctan2(m[..., 1, 0], m[..., 0, 0]))
+    undone = rpy_to_matrix(np.stack([np.zeros_like(yaw), pitch, yaw], axis=-1))
+    rx = np.swapaxes(undone, -1, -2) @ m
+    roll = np.arctan2(rx[..., 2, 1], rx[..., 1, 1])
     return np.stack([roll, pitch, yaw], axis=-1)
 
 

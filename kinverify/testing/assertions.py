@@ -21,6 +21,8 @@ from typing import Sequence
 import numpy as np
 
 from kinverify.backends import Backend, ModelSources, build_backends
+from kinverify.filemode.pipeline import verify_files
+from kinverify.run import VerifyOptions
 from kinverify.suites.measures import fk_errors
 from kinverify.suites.measures import jacobian_errors
 from kinverify.suites.kinematics import KinematicsSuite
@@ -28,6 +30,7 @@ from kinverify.model.spec import ArmSpec
 from kinverify.model.transforms import geodesic_distance
 
 FD_TOLERANCE = KinematicsSuite.property("jacobian.fd").tolerance
+FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics")  # file mode without its drawings
 
 @lru_cache(maxsize=32)
 def _cached_backends(sources: ModelSources, names: tuple[str, ...] | None) -> tuple[Backend, ...]:
@@ -206,4 +209,33 @@ def assert_matches_baseline(spec: ArmSpec, path, *, update: bool = False, tolera
         lines.append(format_q(result.moved[0].q, spec.joint_names))
     lines += [f"  why: {e}" for e in result.explanations]
     lines.append("  if the change is intended, rewrite the baseline: pytest --kinverify-update-baselines")
+    raise AssertionError("\n".join(lines))
+
+
+def assert_files_agree(urdf, mjcf, *, accept=None, backends: Sequence[str] | None = None, samples: int = 50,
+                       seed: int = 0):
+    """File mode's verdict on a URDF/MJCF pair (``kinverify verify --urdf URDF --mjcf MJCF``) as an
+    assertion: the failure message lists every error finding (kind, subject, size, message).
+    ``accept``: an accepted-differences TOML file (default: ``kinverify-accepted.toml`` beside the
+    URDF, when there is one); ``backends``: the libraries that read the files (default: every one
+    installed); ``samples``: configurations the suites check. Returns the
+    :class:`~kinverify.results.VerifyResult` when the files agree; a file that cannot be read
+    raises :class:`~kinverify.errors.InputError` as the command exits 2."""
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
+    options = VerifyOptions(samples=samples, fd_samples=min(samples, 10), seed=seed, backends=list(backends) if backends else None,
+                            suites=list(FILE_SUITES), extra={"dynamics_samples": min(samples, 20)})
+    result = verify_files(str(urdf), str(mjcf), options, accept=str(accept) if accept else None)
+    if result.passed:
+        return result
+    lines = [f"kinverify: {urdf} and {mjcf} disagree ({result.verdict})"]
+    if result.internal_errors:
+        lines += [f"  kinverify's own error: {e}" for e in result.internal_errors]
+    failing = result.failing_findings
+    lines.append(f"  {len(failing)} error finding{'s' * (len(failing) != 1)}:")
+    for f in failing:
+        size = "" if f.magnitude is None else f" ({f.magnitude:.6g} {f.unit})".replace(" )", ")")
+        lines.append(f"    {f.kind} {f.subject}{size}: {f.message}")
+    if not failing and result.failed:
+        lines += [f"    check {c.property} at {c.frame!r} ({' vs '.join(c.backends)}) failed" for c in result.first_failures()]
+    lines.append("  accept a reviewed difference in kinverify-accepted.toml (kinverify verify --write-accepted FILE)")
     raise AssertionError("\n".join(lines))

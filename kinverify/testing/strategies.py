@@ -9,6 +9,12 @@
 
 Specs are built through :func:`kinverify.spec_from_dict`, so every drawn spec is one a user could
 write as TOML (see :func:`spec_dicts`).
+
+Planted changes (:mod:`kinverify.testing.planted`, :mod:`~kinverify.testing.rewrites` and
+:mod:`~kinverify.testing.mjcf_pair`, re-exported here) property-test a pair of files:
+:func:`planted_changes` draws an MJCF with one or two changes and what was planted,
+:func:`equivalent_rewrites` one rewritten without changing the robot; :func:`mesh_free_urdf` and
+:func:`mujoco_mjcf` make the pair to plant them in from a URDF.
 """
 
 from __future__ import annotations
@@ -20,6 +26,10 @@ from hypothesis import strategies as st
 
 from kinverify.model.specfile import spec_from_dict
 from kinverify.model.spec import ArmSpec
+from kinverify.testing.planted import KINDS as PLANTED_KINDS  # noqa: F401 (public, re-exported)
+from kinverify.testing.mjcf_pair import mesh_free_urdf, mujoco_mjcf  # noqa: F401 (public, re-exported)
+from kinverify.testing.planted import Planted, plantable_kinds, planted_changes  # noqa: F401
+from kinverify.testing.rewrites import equivalent_rewrites  # noqa: F401
 
 data = st.data
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import re
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,9 +12,10 @@ from hypothesis import given, settings
 
 from kinverify import load_spec
 from kinverify.testing import strategies as kst
-from kinverify.testing.assertions import (assert_fk_agree, assert_ik_valid, assert_jacobians_agree, assert_matches_baseline,
+from kinverify.testing.assertions import (assert_files_agree, assert_fk_agree, assert_ik_valid, assert_jacobians_agree, assert_matches_baseline,
                                   resolve_backends)
 from kinverify.backends import ModelSources, build_backend
+from kinverify.generate import generate_urdf
 from kinverify.model.kinematics import frame_poses
 from kinverify.model.spec import Origin
 from kinverify.model.transforms import geodesic_distance
@@ -159,3 +159,24 @@ def test_each_fk_tolerance_governs_its_own_measure(position, rotation):
         assert_fk_agree(backends, q, position_tol=loose, rotation_tol=tight)
     else:
         assert_fk_agree(backends, q, position_tol=tight, rotation_tol=loose)
+
+
+def test_files_agree_fails_listing_each_error_finding_and_passes_once_it_is_accepted(tmp_path):
+    """A URDF and the MJCF MuJoCo writes from it, one mass then edited in the MJCF: the assertion
+    lists that finding with its size; accepted in kinverify-accepted.toml beside the URDF, it passes."""
+    urdf = kst.mesh_free_urdf(generate_urdf(load_spec(MODELS / "arm3.toml")))
+    (tmp_path / "arm.urdf").write_text(urdf)
+    mjcf = kst.mujoco_mjcf(urdf).replace('mass="0.763407"', 'mass="0.8"')
+    (tmp_path / "arm.xml").write_text(mjcf)
+    fast = dict(backends=["pinocchio-urdf", "mujoco"], samples=4)
+    with pytest.raises(AssertionError) as failed:
+        assert_files_agree(tmp_path / "arm.urdf", tmp_path / "arm.xml", **fast)
+    lines = str(failed.value).splitlines()
+    assert lines[0].endswith("arm.urdf and " + str(tmp_path / "arm.xml") + " disagree (fail)")
+    assert lines[1:3] == ["  1 error finding:",
+                          "    mass_difference link2 (0.036593 kg): link2: mass 0.763407 kg (URDF) vs 0.8 kg (MJCF)"]
+    (tmp_path / "kinverify-accepted.toml").write_text(
+        '[[accepted]]\nkind = "mass_difference"\nsubject = "link2"\nmagnitude = 0.036593\nunit = "kg"\n'
+        'reason = "the MJCF\'s link2 carries a cable"\n')
+    result = assert_files_agree(tmp_path / "arm.urdf", tmp_path / "arm.xml", **fast)
+    assert [(f.kind, f.accepted) for f in result.findings if f.severity == "error"] == [("mass_difference", True)]

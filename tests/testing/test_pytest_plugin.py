@@ -11,6 +11,9 @@ import sys
 from pathlib import Path
 
 import pytest
+
+from kinverify import load_spec
+from kinverify.generate import generate_urdf
 from tests.paths import ROOT
 
 REPO = ROOT
@@ -43,11 +46,30 @@ def project(pytester, fresh_install, monkeypatch):
     return pytester
 
 
-def readme_example() -> str:
-    """The complete test file shown in the README's pytest section."""
+def readme_example(index: int = 0) -> str:
+    """A complete test file shown in the README's pytest section: its first (a spec's) or its
+    second (a URDF/MJCF pair's)."""
     text = (REPO / "README.md").read_text()
     section = text[text.index("## In your own pytest suite"):]
-    return re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    return re.findall(r"```python\n(.*?)```", section, re.S)[index]
+
+
+CONVERTER = '''
+"""A team's own URDF -> MJCF converter: MuJoCo's reading of the URDF, written out."""
+import pathlib
+import tempfile
+
+import mujoco
+
+
+def urdf_to_mjcf(urdf: str, scale_mass: float = 1.0) -> str:
+    model = mujoco.MjModel.from_xml_string(urdf)
+    model.body_mass[2] *= scale_mass  # a converter bug, when asked for one
+    with tempfile.TemporaryDirectory() as folder:
+        path = pathlib.Path(folder) / "robot.xml"
+        mujoco.mj_saveLastXML(str(path), model)
+        return path.read_text()
+'''
 
 
 def test_the_plugin_loads_from_its_entry_point(project, fresh_install):
@@ -102,3 +124,20 @@ def test_the_readme_example_passes_then_reports_a_1mm_change(project):
         "*why: the spec changed: joint joint3: origin.xyz [[]0, 0, 0.25[]] -> [[]0, 0, 0.251[]] (Δ 0.001)",
         "*rewrite the baseline: pytest --kinverify-update-baselines",
     ])
+
+
+def test_the_readme_files_example_checks_a_converter_and_finds_every_edit(project):
+    """The README's second file: a converter of the project's own, its URDF and MJCF agree, and an
+    edit planted in the converted MJCF is found; a converter that gets a mass wrong fails, the
+    failure naming the finding. (Imports at the top: pytester drops the modules a test imports.)"""
+    example = readme_example(1)
+    assert "assert_files_agree" in example and "planted_changes" in example
+    project.makepyfile(test_my_files=example, my_converter=CONVERTER)
+    (project.path / "my_arm.urdf").write_text(generate_urdf(load_spec(REPO / "models" / "arm3.toml")))
+    project.runpytest_subprocess("-p", "no:cacheprovider").assert_outcomes(passed=2)
+
+    (project.path / "my_converter.py").write_text(CONVERTER.replace("scale_mass: float = 1.0", "scale_mass: float = 1.1"))
+    wrong = project.runpytest_subprocess("-p", "no:cacheprovider", "-k", "same_robot")
+    wrong.assert_outcomes(failed=1, deselected=1)
+    wrong.stdout.fnmatch_lines(["*kinverify: *my_arm.urdf and *my_arm.xml disagree (fail)", "*1 error finding:",
+                                "*mass_difference link2 (0.0763* kg): link2: mass 0.763407 kg (URDF) vs 0.839748 kg (MJCF)"])

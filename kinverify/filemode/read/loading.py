@@ -5,7 +5,7 @@ is refused before any library sees the file. Mesh references are resolved where 
 (``package://pkg/...`` looked up beside or above the model's folder, ROS style; ``file://``,
 relative and absolute paths) and rewritten as absolute paths; meshes whose files are absent (real
 files are usually copied without them) are dropped: URDF ``<visual>``/``<collision>`` elements
-with such a ``<mesh>``, MJCF geoms using such a mesh asset, and the asset. File textures are
+with such a ``<mesh>``, MJCF geoms using such a mesh asset (primitives fitted to one too), and the asset. File textures are
 always dropped (they are visual only).
 """
 
@@ -240,10 +240,11 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     name = root.get("model") or Path(path).stem
     found = mjcf_files(root, path)  # every file MuJoCo would open, checked, an input of the run
     kept, present = _resolve_mesh_assets(root, found, keep_meshes)
-    dropped, massless, approximate = _drop_meshes(root, kept)
-    warnings = [f"MJCF: {dropped} mesh geoms and their assets skipped, their files are absent" if not present else
-                f"MJCF: {dropped} mesh geoms and their assets skipped ({present} of their files present, not loaded: meshes "
-                "are not needed for kinematics and dynamics)"] if dropped else []
+    dropped, fitted, massless, approximate = _drop_meshes(root, kept)
+    fits = f" ({fitted} of them primitives fitted to a mesh, whose size came from it)" if fitted else ""
+    warnings = [f"MJCF: {dropped} mesh geoms{fits} and their assets skipped, their files are absent" if not present else
+                f"MJCF: {dropped} mesh geoms{fits} and their assets skipped ({present} of their files present, not loaded: "
+                "meshes are not needed for kinematics and dynamics)"] if dropped else []
     if kept:
         warnings.append(f"MJCF: {len(kept)} mesh assets resolved to existing files and kept")
     if massless:
@@ -293,12 +294,12 @@ def _resolve_mesh_assets(root: ET.Element, found: dict, keep: bool = True) -> tu
 PLACEHOLDER_MASS, PLACEHOLDER_INERTIA = 1e-6, 1e-12  # kg, kg·m²: a body whose mass was all in absent meshes
 
 
-def _mesh_of(geom: ET.Element, parents: dict, defaults: dict) -> str | None:
-    """The mesh a geom uses: its own ``mesh`` or its default class's (none when it is of another type)."""
+def _mesh_of(geom: ET.Element, parents: dict, defaults: dict) -> tuple[str | None, bool]:
+    """The mesh a geom uses (its own ``mesh`` or its default class's), and whether the geom is a
+    primitive fitted to that mesh (``type="capsule" mesh="..."``: MuJoCo sizes it from the mesh)."""
+    mesh = attribute(geom, "mesh", parents, defaults)
     kind = attribute(geom, "type", parents, defaults)
-    if kind is not None and kind != "mesh":
-        return None
-    return attribute(geom, "mesh", parents, defaults)
+    return mesh, mesh is not None and kind is not None and kind != "mesh"
 
 
 def _weighs(geom: ET.Element, parents: dict, defaults: dict) -> bool:
@@ -311,24 +312,26 @@ def _weighs(geom: ET.Element, parents: dict, defaults: dict) -> bool:
         return True
 
 
-def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, list[str], list[str]]:
-    """Remove geoms using a mesh not in ``kept`` (named on the geom or given by its default class),
-    those mesh assets and the default classes' references to them, skin/hfield assets and file
+def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, int, list[str], list[str]]:
+    """Remove geoms using a mesh not in ``kept`` (named on the geom or given by its default class;
+    a primitive fitted to such a mesh too: its size came from the mesh), those mesh assets and the default classes' references to them, skin/hfield assets and file
     textures (and references to them). Also returns the bodies whose mass came in part from a
     dropped mesh (no ``<inertial>``, or ``inertiafromgeom="true"``): their mass is not known; and
     those whose dropped meshes all state their ``mass``: kept as points, so the body's mass is known,
-    not its centre of mass and inertia."""
+    not its centre of mass and inertia. Returns (geoms dropped, of which fitted primitives, the
+    bodies whose mass is not known, those whose mass is known but not where)."""
     parents = {child: parent for parent in root.iter() for child in parent}
     defaults = class_defaults(root, "geom")
     compiler = root.find("compiler")
     from_geoms = compiler is not None and compiler.get("inertiafromgeom") == "true"
     never = compiler is not None and compiler.get("inertiafromgeom") == "false"  # geoms give no body its mass
-    dropped, massless, approximate, gone_geoms, gone_tex = 0, [], [], set(), set()
+    dropped, fitted, massless, approximate, gone_geoms, gone_tex = 0, 0, [], [], set(), set()
     for geom in list(root.iter("geom")):
         if parents[geom].tag == "default":
             continue
-        mesh = _mesh_of(geom, parents, defaults)
+        mesh, primitive = _mesh_of(geom, parents, defaults)
         if mesh is not None and mesh not in kept:
+            fitted += primitive
             body = parents[geom]
             weighs = _weighs(geom, parents, defaults)
             mass = attribute(geom, "mass", parents, defaults)
@@ -370,6 +373,6 @@ def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, l
         for pair in list(contact):
             if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
                 contact.remove(pair)
-    return dropped, massless, [b for b in dict.fromkeys(approximate) if b not in massless]
+    return dropped, fitted, massless, [b for b in dict.fromkeys(approximate) if b not in massless]
 
 

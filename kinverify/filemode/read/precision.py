@@ -198,7 +198,7 @@ def mjcf_precision(mjcf_text: str) -> Precision:
         rot, pos = rot + r, pos + p
         if word:
             out.note("angle" if r >= p else "length", max(r, p), word)
-        if body.get("name"):
+        if body.get("name") and body.tag == "body":
             out.frames[body.get("name")] = (rot, pos)
         for site in body.findall("site"):
             sr, sp, _ = element(site)
@@ -214,12 +214,14 @@ def mjcf_precision(mjcf_text: str) -> Precision:
                 out.note("inertial_angle", rounding_of(w, deg, angle=True), w)
             for w in _words(inertial.get("mass")) + _words(inertial.get("diaginertia")) + _words(inertial.get("fullinertia")):
                 _relative(out, w)
-        for child in body.findall("body"):
-            walk(child, rot, pos)
+        for child in body:
+            if child.tag in ("body", "frame"):  # a <frame> places what it holds (MuJoCo writes one for a fused link)
+                walk(child, rot, pos)
 
     for world in root.findall("worldbody"):
-        for body in world.findall("body"):
-            walk(body, 0.0, 0.0)
+        for body in world:
+            if body.tag in ("body", "frame"):
+                walk(body, 0.0, 0.0)
         for site in world.findall("site"):
             sr, sp, _ = element(site)
             if site.get("name"):

@@ -15,7 +15,6 @@ from kinverify.filemode.pipeline import verify_files
 from kinverify.filemode.read.loading import load_mjcf, load_urdf, resolve_asset
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.run import VerifyOptions
-from kinverify.filemode.read.loading import load_mjcf
 from tests.filemode.pairs import generated_pair, sub_once, write_pair
 
 FAST = VerifyOptions(samples=20, fd_samples=5)
@@ -113,3 +112,48 @@ def test_a_mesh_geom_given_its_mesh_by_a_default_class_is_dropped_with_it(tmp_pa
     loaded = load_mjcf(path)
     assert 'name="tip"' not in loaded.text.split("<worldbody>")[1] and 'mesh="tip"' not in loaded.text
     assert not [w for w in loaded.warnings if "cannot compile" in w]
+
+
+FITTED_URDF = """<robot name="two">
+  <link name="base_link"><inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="link1"><inertial><origin xyz="0 0 0.1"/><mass value="1"/>
+    <inertia ixx="0.002" iyy="0.002" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="joint1" type="revolute"><parent link="base_link"/><child link="link1"/><origin xyz="0 0 0.2"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
+</robot>
+"""
+FITTED_MJCF = """<mujoco model="two">
+  <compiler angle="radian" meshdir="assets"/>
+  <default><default class="collision"><geom type="capsule" group="3"/></default></default>
+  <asset><mesh name="base_link" file="base_link.stl"/><mesh name="link1" file="link1.stl"/></asset>
+  <worldbody>
+    <body name="base_link">
+      <inertial pos="0 0 0" mass="2" diaginertia="0.01 0.01 0.01"/>
+      <geom class="collision" mesh="base_link"/>
+      <body name="link1" pos="0 0 0.2">
+        <inertial pos="0 0 0.1" mass="1" diaginertia="0.002 0.002 0.001"/>
+        <joint name="joint1" axis="0 0 1" range="-2 2"/>
+        <geom class="collision" mesh="link1"/>
+        <geom type="box" size="0.01 0.01 0.01"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_primitives_fitted_to_absent_meshes_are_dropped_like_mesh_geoms(tmp_path):
+    """Menagerie's collision capsules are fitted to a mesh (``<geom class="collision" mesh="link1"/>``
+    whose class gives ``type="capsule"``): with the mesh absent their size is not known, so they go
+    like mesh geoms, and the note says so; the robot is read and agrees."""
+    (tmp_path / "two.urdf").write_text(FITTED_URDF)
+    (tmp_path / "two.xml").write_text(FITTED_MJCF)
+    loaded = load_mjcf(str(tmp_path / "two.xml"))
+    assert 'mesh="' not in loaded.text and "<mesh " not in loaded.text and 'type="box"' in loaded.text
+    assert loaded.warnings[0] == ("MJCF: 2 mesh geoms (2 of them primitives fitted to a mesh, whose size came from it) "
+                                  "and their assets skipped, their files are absent")
+    mujoco.MjModel.from_xml_string(loaded.text)
+    result = verify_files(str(tmp_path / "two.urdf"), str(tmp_path / "two.xml"),
+                          VerifyOptions(samples=8, fd_samples=2, backends=["pinocchio-urdf", "mujoco"]))
+    assert result.verdict == "pass", [(f.kind, f.message) for f in result.findings if f.severity == "error"]
+    assert loaded.warnings[0] in result.notes
