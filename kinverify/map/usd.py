@@ -1,0 +1,92 @@
+"""A USD robot (``.usd``, ``.usda``, ``.usdc``) as pxr reads it, as a :class:`~kinverify.map.side.Side`.
+
+Order: breadth-first from the articulation's root body (the tree UsdPhysics' parse gives,
+:func:`kinverify.backends.usd_stage.read_robot`), a body's children in prim (stage traversal)
+order. Breadth-first is PhysX's articulation order: Isaac Lab's ``ordering_resolvers`` emulates it
+with a breadth-first walk ("breadth-first reproduces PhysX order and depth-first reproduces MJWarp
+order"); the order among siblings is the prims' here, which is not established to be PhysX's.
+
+Per joint, what :func:`kinverify.filemode.read.describe_usd.joint_values` reads, per radian: the
+default position from ``PhysicsJointStateAPI`` (``state:angular:physics:position``, degrees), the
+PD gains from ``PhysicsDriveAPI`` (``stiffness``/``damping``, per degree for an angular drive,
+converted: k per degree is k·180/π per radian; an ``acceleration`` drive's gains are per unit of
+inertia: not compared), its ``maxForce`` as the effort, the velocity limit
+(``physxJoint:maxJointVelocity``, else ``newton:velocityLimit``, degrees per second), armature
+(``physxJoint:armature``, ``newton:armature``, ``mjc:armature``), friction (``newton:friction``,
+``mjc:frictionloss``) and passive damping (``newton:damping``, ``mjc:damping``). A joint with a
+drive is driven. Mimic followers: ``NewtonMimicAPI`` and ``PhysxMimicJointAPI``. USD states no
+actuator (control) order: the drives act on the joints, in the joint order."""
+
+from __future__ import annotations
+
+import math
+
+from kinverify.backends.usd_stage import MOVABLE, read_robot
+from kinverify.filemode.read.describe_usd import describe_usd, joint_values
+from kinverify.map.side import Follows, MapJoint, Side
+
+EXPRESSES = frozenset({"default", "stiffness", "damping", "effort", "velocity", "armature", "friction", "joint_damping"})
+ORDER = "breadth-first articulation order (PhysX's, per Isaac Lab; siblings in prim order)"
+
+
+def articulation_order(robot) -> list:
+    """The articulation's joints breadth-first from the root body, siblings in prim order."""
+    rank = {str(p.GetPath()): i for i, p in enumerate(robot.stage.Traverse())}
+    children: dict[str, list] = {}
+    for body in robot.bodies[1:]:
+        j = robot.parent_joint[body]
+        up = j.body0 if body == j.body1 else j.body1
+        children.setdefault(up, []).append((rank.get(j.path, math.inf), body, j))
+    order, queue = [], [robot.root]
+    while queue:
+        body = queue.pop(0)
+        for _, child, j in sorted(children.get(body, []), key=lambda c: (c[0], c[2].path)):
+            order.append(j)
+            queue.append(child)
+    return order
+
+
+def read_usd(path: str, options) -> Side:
+    robot = read_robot(path, "USD")
+    desc = describe_usd(robot)
+    joints = []
+    for uj in articulation_order(robot):
+        if uj.kind not in MOVABLE:
+            continue
+        v = joint_values(robot, uj)
+        kind = "angular" if uj.kind == "revolute" else "linear"
+        j = MapJoint(uj.name, uj.kind, driven=v["drive"] is not None)
+        if v["initial"] is not None:
+            j.default, j.how["default"] = v["initial"], f"state:{kind}:physics:position"
+        for ours, key, attribute in (("velocity", "velocity", "physxJoint:maxJointVelocity / newton:velocityLimit"),
+                                     ("armature", "armature", "physxJoint:armature / newton:armature / mjc:armature"),
+                                     ("friction", "friction", "newton:friction / mjc:frictionloss"),
+                                     ("joint_damping", "damping", "newton:damping / mjc:damping")):
+            if v[key] is not None:
+                setattr(j, ours, v[key])
+                j.how[ours] = attribute
+        if v["effort"] is not None and math.isfinite(v["effort"]):
+            j.effort, j.how["effort"] = v["effort"], v["effort_how"]
+        drive = v["drive"]
+        if drive is not None:
+            pre = f"drive:{kind}:physics:"
+            if drive["type"] == "acceleration":
+                j.apart["stiffness"] = j.apart["damping"] = f"{pre}type = acceleration: gains per unit of inertia"
+                j.mode = "acceleration drive"
+            else:
+                j.stiffness, j.damping = drive["stiffness"] or 0.0, drive["damping"] or 0.0
+                j.how["stiffness"], j.how["damping"] = (f"{pre}stiffness" + (" (per degree, ×180/π)" if kind == "angular" else ""),
+                                                        f"{pre}damping" + (" (per degree, ×180/π)" if kind == "angular" else ""))
+                j.mode = "position drive" if j.stiffness else "velocity drive" if j.damping else "force drive"
+            if drive.get("targetPosition"):
+                j.how["target"] = f"{pre}targetPosition = {drive['targetPosition']:.6g} {'rad' if kind == 'angular' else 'm'}"
+        joints.append(j)
+    for c in desc.couplings:
+        follower = next((j for j in joints if j.name == c.follower), None)
+        if follower is not None:
+            follower.follows = Follows(c.leader, c.multiplier, c.offset, c.source)
+    notes = [f"layer {a} is absent" for a in robot.absent] + list(robot.notes)
+    notes.append("USD states no actuator (control) order: its drives act on the joints, in the joint order")
+    if robot.floating:
+        notes.append("floating base: the root body's 6 coordinates come before the joints in the simulator's state")
+    return Side(path, path, "usd", ORDER, joints, None, EXPRESSES, desc, notes)
