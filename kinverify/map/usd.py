@@ -10,7 +10,8 @@ Per joint, what :func:`kinverify.filemode.read.describe_usd.joint_values` reads,
 default position from ``PhysicsJointStateAPI`` (``state:angular:physics:position``, degrees), the
 PD gains from ``PhysicsDriveAPI`` (``stiffness``/``damping``, per degree for an angular drive,
 converted: k per degree is k·180/π per radian; an ``acceleration`` drive's gains are per unit of
-inertia: not compared), its ``maxForce`` as the effort, the velocity limit
+inertia: not compared; a drive with stiffness and damping 0 is torque control, its gains live in the
+controller, as an MJCF ``motor``'s: not compared), its ``maxForce`` as the effort, the velocity limit
 (``physxJoint:maxJointVelocity``, else ``newton:velocityLimit``, degrees per second), armature
 (``physxJoint:armature``, ``newton:armature``, ``mjc:armature``), friction (``newton:friction``,
 ``mjc:frictionloss``) and passive damping (``newton:damping``, ``mjc:damping``). A joint with a
@@ -73,11 +74,15 @@ def read_usd(path: str, options) -> Side:
             if drive["type"] == "acceleration":
                 j.apart["stiffness"] = j.apart["damping"] = f"{pre}type = acceleration: gains per unit of inertia"
                 j.mode = "acceleration drive"
+            elif not drive["stiffness"] and not drive["damping"]:  # torque control, as an MJCF motor
+                j.apart["stiffness"] = j.apart["damping"] = (f"{pre}stiffness and damping 0: a force (torque) drive, the "
+                                                             "gains live in the controller (Isaac Lab's actuator model)")
+                j.mode = "force drive (torque)"
             else:
                 j.stiffness, j.damping = drive["stiffness"] or 0.0, drive["damping"] or 0.0
                 j.how["stiffness"], j.how["damping"] = (f"{pre}stiffness" + (" (per degree, ×180/π)" if kind == "angular" else ""),
                                                         f"{pre}damping" + (" (per degree, ×180/π)" if kind == "angular" else ""))
-                j.mode = "position drive" if j.stiffness else "velocity drive" if j.damping else "force drive"
+                j.mode = "position drive" if j.stiffness else "velocity drive"
             if drive.get("targetPosition"):
                 j.how["target"] = f"{pre}targetPosition = {drive['targetPosition']:.6g} {'rad' if kind == 'angular' else 'm'}"
         joints.append(j)

@@ -8,11 +8,13 @@ import json
 import math
 import os
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
 from kinverify.cli import main
 from kinverify.map.contract import MapOptions, map_files
+from kinverify.filemode.pipeline import add_map
 from tests.paths import REAL_ROBOTS
 
 pytest.importorskip("pxr")
@@ -26,7 +28,7 @@ ARMATURE = 0.05
 DEG = 180.0 / math.pi
 
 
-def usda(k_scale: float = 1.0, armature: bool = True) -> str:
+def usda(k_scale: float = 1.0, armature: bool = True, d_scale: float = 1.0) -> str:
     bodies = "".join(f'def Xform "l{i}" (prepend apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n'
                      f'{{ double3 xformOp:translate = (0, 0, {0.3 * i})\nuniform token[] xformOpOrder = ["xformOp:translate"]\n'
                      'float physics:mass = 1\nfloat3 physics:diagonalInertia = (0.01, 0.01, 0.01)\n'
@@ -38,7 +40,7 @@ def usda(k_scale: float = 1.0, armature: bool = True) -> str:
         'point3f physics:localPos0 = (0, 0, 0.3)\npoint3f physics:localPos1 = (0, 0, 0)\n'
         'float physics:lowerLimit = -114.59156\nfloat physics:upperLimit = 114.59156\n'
         f'float drive:angular:physics:stiffness = {K_PER_DEGREE[n] * k_scale!r}\n'
-        f'float drive:angular:physics:damping = {D_PER_RADIAN[n] / DEG!r}\n'
+        f'float drive:angular:physics:damping = {D_PER_RADIAN[n] / DEG * d_scale!r}\n'
         f'float drive:angular:physics:maxForce = {EFFORT[n]}\n'
         + (f'float physxJoint:armature = {ARMATURE}\n' if armature else "") + '}\n'
         for i, n in enumerate(ARM))
@@ -91,6 +93,23 @@ def test_a_dropped_armature_on_the_usd_side_is_one_finding(tmp_path):
     (f,) = result.findings
     assert (f.kind, f.severity, f.magnitude) == ("armature_unset", "warning", pytest.approx(ARMATURE))
     assert "arm.usda leaves it unset" in f.message and len(f.subject.split(", ")) == 3
+
+
+def test_a_drive_with_zero_gains_is_torque_control_and_its_gains_are_not_compared(tmp_path):
+    result = run(tmp_path, usda(k_scale=0.0, d_scale=0.0))  # Isaac Lab's explicit actuators: the gains in the controller
+    assert serious(result) == [] and result.exit_code == 0
+    shoulder = result.sides[1].joint("shoulder")
+    assert shoulder.driven and shoulder.stiffness is None and "force (torque) drive" in shoulder.apart["stiffness"]
+    assert shoulder.effort == 80.0  # maxForce still bounds the torque
+
+
+def test_file_mode_map_section_reads_a_usd_side(tmp_path):
+    result = run(tmp_path, usda(k_scale=DEG))
+    report = SimpleNamespace(sections={}, notes=[], internal_errors=[])
+    add_map(report, [side.path for side in result.sides])
+    section = report.sections["map"]
+    assert section.data["maps"]["joints"][0]["index"] == [0, 1, 2] and not report.internal_errors
+    assert [n.split(":")[0] for n in section.notes] == ["error stiffness_units"]
 
 
 def test_a_shared_urdf_and_its_converted_usd_print_both_orders_and_the_maps(tmp_path, capsys):
