@@ -15,8 +15,12 @@ controller, as an MJCF ``motor``'s: not compared), its ``maxForce`` as the effor
 (``physxJoint:maxJointVelocity``, else ``newton:velocityLimit``, degrees per second), armature
 (``physxJoint:armature``, ``newton:armature``, ``mjc:armature``), friction (``newton:friction``,
 ``mjc:frictionloss``) and passive damping (``newton:damping``, ``mjc:damping``). A joint with a
-drive is driven. Mimic followers: ``NewtonMimicAPI`` and ``PhysxMimicJointAPI``. USD states no
-actuator (control) order: the drives act on the joints, in the joint order."""
+drive or an ``MjcActuator`` prim (MuJoCo's USD schema, read in MuJoCo's units, per radian, as an
+MJCF actuator: kp = −biasPrm[1]·gear², kd = −biasPrm[2]·gear², ``forceRange`` the effort where the
+joint states none) is driven (when no joint has one, which joints are driven is left to the simulator's
+configuration, as a URDF without transmissions leaves it: not compared). Mimic followers: ``NewtonMimicAPI`` and ``PhysxMimicJointAPI``. USD states no
+actuator (control) order for PhysX: the drives act on the joints, in the joint order (the
+``MjcActuator`` prims' order is not read)."""
 
 from __future__ import annotations
 
@@ -86,12 +90,58 @@ def read_usd(path: str, options) -> Side:
             if drive.get("targetPosition"):
                 j.how["target"] = f"{pre}targetPosition = {drive['targetPosition']:.6g} {'rad' if kind == 'angular' else 'm'}"
         joints.append(j)
+    _mjc_actuators(robot, {uj.path: j for uj in robot.joints for j in joints if j.name == uj.name})
     for c in desc.couplings:
         follower = next((j for j in joints if j.name == c.follower), None)
         if follower is not None:
             follower.follows = Follows(c.leader, c.multiplier, c.offset, c.source)
     notes = [f"layer {a} is absent" for a in robot.absent] + list(robot.notes)
-    notes.append("USD states no actuator (control) order: its drives act on the joints, in the joint order")
+    if joints and not any(j.driven for j in joints):  # as a URDF without transmissions
+        for j in joints:
+            j.driven = None
+        notes.append("no joint has a PhysicsDriveAPI: which joints are driven is the simulator's configuration "
+                     "(Isaac Lab's actuators), not compared")
+    notes.append("no actuator (control) order is read: PhysX's drives act on the joints, in the joint order "
+                 "(MjcActuator prims are read for their gains, not their order)")
     if robot.floating:
         notes.append("floating base: the root body's 6 coordinates come before the joints in the simulator's state")
     return Side(path, path, "usd", ORDER, joints, None, EXPRESSES, desc, notes)
+
+
+def _values(prim, name: str, size: int) -> list[float]:
+    value = prim.GetAttribute(name).Get() if prim.GetAttribute(name) else None
+    out = [float(x) for x in (value or [])][:size]
+    return out + [0.0] * (size - len(out))
+
+
+def _mjc_actuators(robot, by_path: dict) -> None:
+    """``MjcActuator`` prims (MuJoCo's USD schema, what ``mujoco-usd-converter`` writes and Newton's
+    MuJoCo solver reads), in MuJoCo's units (per radian): an affine-bias actuator on a joint
+    drives it with kp = −biasPrm[1]·gear², kd = −biasPrm[2]·gear², as in an MJCF (several add)."""
+    for prim in robot.stage.Traverse():
+        if prim.GetTypeName() != "MjcActuator":
+            continue
+        rel = prim.GetRelationship("mjc:target")
+        j = by_path.get(str(rel.GetTargets()[0])) if rel and rel.GetTargets() else None
+        if j is None:
+            continue
+        name = prim.GetName()
+        bias = str(prim.GetAttribute("mjc:biasType").Get() or "none") if prim.GetAttribute("mjc:biasType") else "none"
+        gain = str(prim.GetAttribute("mjc:gainType").Get() or "fixed") if prim.GetAttribute("mjc:gainType") else "fixed"
+        gear = _values(prim, "mjc:gear", 1)[0] if prim.GetAttribute("mjc:gear").HasAuthoredValue() else 1.0
+        j.driven = True
+        if bias == "affine" and gain == "fixed":
+            b1, b2 = _values(prim, "mjc:biasPrm", 3)[1:]
+            kind = "position" if b1 else "velocity" if b2 else "general"
+            j.stiffness, j.damping = (j.stiffness or 0.0) - b1 * gear**2, (j.damping or 0.0) - b2 * gear**2
+            j.how["stiffness"] = j.how["damping"] = f"MjcActuator {name}: −mjc:biasPrm[1:3] × gear²"
+        else:
+            kind = "motor (torque)" if bias == "none" and gain == "fixed" else "general"
+            j.apart.setdefault("stiffness", f"MjcActuator {name} is a {kind}: the gains live in the controller")
+            j.apart.setdefault("damping", j.apart["stiffness"])
+        j.mode = "+".join(x for x in (j.mode, f"MjcActuator {kind}") if x)
+        high = prim.GetAttribute("mjc:forceRange:max")
+        if j.effort is None and high and high.HasAuthoredValue():
+            low = prim.GetAttribute("mjc:forceRange:min").Get() or 0.0
+            j.effort = max(abs(float(low)), abs(float(high.Get()))) * abs(gear)
+            j.how["effort"] = f"MjcActuator {name}: mjc:forceRange × gear"

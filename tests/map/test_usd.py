@@ -127,3 +127,16 @@ def test_a_shared_urdf_and_its_converted_usd_print_both_orders_and_the_maps(tmp_
     (to_usd,) = [m for m in data["maps"]["joints"] if m["from"] == "go2_erd.urdf"]
     assert to_usd["index"] == [0, 3, 6, 9, 1, 4, 7, 10, 2, 5, 8, 11]
     assert [f["kind"] for f in data["findings"] if f["severity"] == "error"] == ["joint_order"] and code == 1
+
+
+def test_mjc_actuator_prims_of_a_converted_mjcf_give_its_gains():
+    """Apollo's USD (mujoco-usd-converter) keeps Menagerie's actuators as MjcActuator prims: the same
+    kp per radian on all 32 joints; only the order differs (breadth-first against MuJoCo's depth-first)."""
+    folder = REAL / "apollo"
+    if not (folder / "apptronik_apollo.usda").is_file():
+        pytest.skip(f"{folder} absent")
+    result = map_files([str(folder / "apollo_menagerie.xml"), str(folder / "apptronik_apollo.usda")], MapOptions())
+    assert [f.kind for f in serious(result)] == ["joint_order"]
+    usd = result.sides[1]
+    assert all(j.driven and j.stiffness > 0 for j in usd.joints) and len(usd.joints) == 32
+    assert usd.joint("torso_roll").stiffness == pytest.approx(result.sides[0].joint("torso_roll").stiffness)
