@@ -28,7 +28,6 @@ POSITION_TOL = 1e-4  # rad or m: a default pose written to 4 decimals agrees
 RTOL = 1e-3  # relative: gains, limits, inertias written to 3-4 significant digits agree
 DEGREE = 180.0 / math.pi
 DRIVE_VALUES = ("stiffness", "damping", "effort")
-COUPLED_FORMATS = ("urdf", "mjcf")
 
 
 def map_finding(kind: str, severity: str, message: str, joints=(), values=None, magnitude=None, unit="", prop="") -> Finding:

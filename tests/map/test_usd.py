@@ -28,21 +28,27 @@ ARMATURE = 0.05
 DEG = 180.0 / math.pi
 
 
-def usda(k_scale: float = 1.0, armature: bool = True, d_scale: float = 1.0) -> str:
+def usda(k_scale: float = 1.0, armature: bool = True, d_scale: float = 1.0, wrist_mimics: bool = False) -> str:
     bodies = "".join(f'def Xform "l{i}" (prepend apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n'
                      f'{{ double3 xformOp:translate = (0, 0, {0.3 * i})\nuniform token[] xformOpOrder = ["xformOp:translate"]\n'
                      'float physics:mass = 1\nfloat3 physics:diagonalInertia = (0.01, 0.01, 0.01)\n'
                      'point3f physics:centerOfMass = (0, 0, 0)\n}\n' for i in range(4))
     physx = ', "PhysxJointAPI"' if armature else ""
+    mimic = {n: "" for n in ARM}
+    if wrist_mimics:  # PhysX: wrist + gearing·elbow + offset = 0, so gearing −1 is wrist = elbow
+        physx_mimic = ', "PhysxMimicJointAPI:rotY"'
+        mimic["wrist"] = 'rel physxMimicJoint:rotY:referenceJoint = </arm/elbow>\nfloat physxMimicJoint:rotY:gearing = -1\n'
+    else:
+        physx_mimic = ""
     joints = "".join(
-        f'def PhysicsRevoluteJoint "{n}" (prepend apiSchemas = ["PhysicsDriveAPI:angular"{physx}])\n'
+        f'def PhysicsRevoluteJoint "{n}" (prepend apiSchemas = ["PhysicsDriveAPI:angular"{physx}{physx_mimic if n == "wrist" else ""}])\n'
         f'{{ rel physics:body0 = </arm/l{i}>\nrel physics:body1 = </arm/l{i + 1}>\nuniform token physics:axis = "Y"\n'
         'point3f physics:localPos0 = (0, 0, 0.3)\npoint3f physics:localPos1 = (0, 0, 0)\n'
         'float physics:lowerLimit = -114.59156\nfloat physics:upperLimit = 114.59156\n'
         f'float drive:angular:physics:stiffness = {K_PER_DEGREE[n] * k_scale!r}\n'
         f'float drive:angular:physics:damping = {D_PER_RADIAN[n] / DEG * d_scale!r}\n'
         f'float drive:angular:physics:maxForce = {EFFORT[n]}\n'
-        + (f'float physxJoint:armature = {ARMATURE}\n' if armature else "") + '}\n'
+        + (f'float physxJoint:armature = {ARMATURE}\n' if armature else "") + mimic[n] + '}\n'
         for i, n in enumerate(ARM))
     return ('#usda 1.0\n(\n upAxis = "Z"\n metersPerUnit = 1\n kilogramsPerUnit = 1\n)\n'
             'def Xform "arm" (prepend apiSchemas = ["PhysicsArticulationRootAPI"]) {\n'
@@ -93,6 +99,15 @@ def test_a_dropped_armature_on_the_usd_side_is_one_finding(tmp_path):
     (f,) = result.findings
     assert (f.kind, f.severity, f.magnitude) == ("armature_unset", "warning", pytest.approx(ARMATURE))
     assert "arm.usda leaves it unset" in f.message and len(f.subject.split(", ")) == 3
+
+
+def test_a_driven_physx_mimic_follower_is_one_finding(tmp_path):
+    result = run(tmp_path, usda(wrist_mimics=True))  # the wrist follows the elbow and keeps its own drive
+    wrist = result.sides[1].joint("wrist")
+    assert (wrist.follows.leader, wrist.follows.multiplier, wrist.follows.source) == ("elbow", 1.0, "PhysxMimicJointAPI")
+    errors = [f for f in result.findings if f.severity == "error"]
+    assert [(f.kind, f.subject) for f in errors] == [("driven_follower", "wrist")] and "arm.usda drives 1" in errors[0].message
+    assert [f.kind for f in result.findings if f.severity == "warning"] == ["coupling_one_file"]  # the MJCF has no coupling
 
 
 def test_a_drive_with_zero_gains_is_torque_control_and_its_gains_are_not_compared(tmp_path):
