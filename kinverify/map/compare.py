@@ -11,8 +11,8 @@
   another states it (the simulator then uses its default, MuJoCo 0); ``<value>_inexpressible``
   (info): its format cannot state it;
 - ``drive_difference`` (error): joints one side drives and another leaves passive;
-  ``driven_follower`` (error): a side drives a joint that follows another (a ``<mimic>`` or an
-  active ``<equality joint>``) through an actuator of its own: the drive fights the coupling;
+  ``driven_follower`` (error): a side drives a joint that follows another (a ``<mimic>``, an
+  active ``<equality joint>``, a USD mimic joint) through an actuator of its own: the drive fights the coupling;
   ``coupling_difference`` (error) / ``coupling_one_file`` (warning).
 Gains and efforts are compared only on joints both sides drive."""
 
