@@ -1,8 +1,8 @@
 """``kinverify map FILE...``: the sim-to-sim contract between two or more robot files (URDF or
-xacro, MJCF, SDFormat), and an Isaac Lab-style actuator table (``--actuators``).
+xacro, MJCF, SDFormat, OpenUSD), and an Isaac Lab-style actuator table (``--actuators``).
 
 Prints each file's joint order (URDF declaration order, MuJoCo's ``qpos`` order, Drake's plant
-order) and actuator order, the index maps between every two files, and side by side, per radian,
+order, a USD articulation breadth-first as PhysX orders it) and actuator order, the index maps between every two files, and side by side, per radian,
 the default pose, PD gains, effort and velocity limits, armature, friction, drives and couplings;
 what differs is a finding with its size. ``--json OUT`` writes the maps ready for deployment code.
 Exit 0 the files agree on the contract, 1 they differ (an error finding), 2 bad input, 3 a
@@ -26,11 +26,12 @@ def _positive(text: str) -> float:
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser("map", help="the sim-to-sim contract: joint and actuator orders, index maps, gains per radian",
-                       description="Read two or more robot files (URDF/xacro, MJCF, SDFormat) and print the order each "
+                       description="Read two or more robot files (URDF/xacro, MJCF, SDFormat, OpenUSD) and print the order each "
                        "file's simulator gives the joints and actuators, the index maps between every two files "
                        "(to = from[index]) and, side by side per radian, the default pose, PD gains, effort and velocity "
                        "limits, armature, friction, drives and couplings. Exit 0 they agree, 1 they differ, 2 bad input.")
-    p.add_argument("files", nargs="+", metavar="FILE", help="URDF (.urdf, .xacro), MJCF (.xml, .mjcf) or SDFormat (.sdf) files")
+    p.add_argument("files", nargs="+", metavar="FILE", help="URDF (.urdf, .xacro), MJCF (.xml, .mjcf), "
+                   "SDFormat (.sdf) or OpenUSD (.usd, .usda, .usdc) files")
     p.add_argument("--keyframe", metavar="NAME", help="the MJCF keyframe that is the default pose, in every MJCF given "
                    "(default: qpos0, the joints' ref)")
     p.add_argument("--actuators", metavar="TABLE", help="an Isaac Lab-style actuator table (YAML or TOML: joint-name regex -> "

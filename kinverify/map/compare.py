@@ -11,8 +11,8 @@
   another states it (the simulator then uses its default, MuJoCo 0); ``<value>_inexpressible``
   (info): its format cannot state it;
 - ``drive_difference`` (error): joints one side drives and another leaves passive;
-  ``driven_follower`` (error): a side drives a joint that follows another (a ``<mimic>`` or an
-  active ``<equality joint>``) through an actuator of its own: the drive fights the coupling;
+  ``driven_follower`` (error): a side drives a joint that follows another (a ``<mimic>``, an
+  active ``<equality joint>``, a USD mimic joint) through an actuator of its own: the drive fights the coupling;
   ``coupling_difference`` (error) / ``coupling_one_file`` (warning).
 Gains and efforts are compared only on joints both sides drive."""
 
@@ -28,7 +28,6 @@ POSITION_TOL = 1e-4  # rad or m: a default pose written to 4 decimals agrees
 RTOL = 1e-3  # relative: gains, limits, inertias written to 3-4 significant digits agree
 DEGREE = 180.0 / math.pi
 DRIVE_VALUES = ("stiffness", "damping", "effort")
-COUPLED_FORMATS = ("urdf", "mjcf")
 
 
 def map_finding(kind: str, severity: str, message: str, joints=(), values=None, magnitude=None, unit="", prop="") -> Finding:

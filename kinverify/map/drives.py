@@ -2,8 +2,8 @@
 :mod:`kinverify.map.compare` for the findings' meaning).
 
 A side drives a joint *directly* when one of its actuators acts on that joint alone (an MJCF
-joint transmission, a URDF ``<transmission>`` naming one joint, a Drake joint actuator, an
-actuator table's group). A tendon through a leader and its follower drives the pair together and
+joint transmission, a URDF ``<transmission>`` naming one joint, a Drake joint actuator, a USD
+joint's drive, an actuator table's group). A tendon through a leader and its follower drives the pair together and
 fights nothing; a direct drive on a follower fights the coupling (Isaac Lab's mimic-joint
 reports). A side without couplings of its own (an actuator table, an SDFormat file) is checked
 against the couplings the files state."""
@@ -14,14 +14,14 @@ from kinverify.map.compare import listed, map_finding
 from kinverify.map.rows import Rows
 from kinverify.map.side import Follows, value
 
-COUPLED_FORMATS = ("urdf", "mjcf")
+COUPLED_FORMATS = ("urdf", "mjcf", "usd")
 RTOL = 1e-6
 
 
 def direct(rows: Rows, s: int) -> set[int]:
     """Rows side ``s`` drives directly."""
     side = rows.sides[s]
-    if side.format == "table":
+    if side.format in ("table", "usd"):  # a group's joints; a USD drive (or MjcActuator) acts on its joint alone
         return {r for r in range(len(rows.names)) if (j := rows.joint(r, s)) is not None and j.driven}
     return {r for act in side.actuators or [] if act.direct for n in act.joints if (r := rows.row_of(s, n)) is not None}
 
