@@ -15,7 +15,6 @@ from kinverify.filemode.pipeline import verify_files
 from kinverify.filemode.read.loading import load_mjcf, load_urdf, resolve_asset
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.run import VerifyOptions
-from kinverify.filemode.read.loading import load_mjcf
 from tests.filemode.pairs import generated_pair, sub_once, write_pair
 
 FAST = VerifyOptions(samples=20, fd_samples=5)
