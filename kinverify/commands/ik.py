@@ -119,7 +119,6 @@ def _batch(args) -> int:
     import numpy as np
 
     from kinverify import __version__
-    from kinverify.errors import InputError
     from kinverify.ik import IKOptions, solve_lm
     from kinverify.ik.files import load_initial, load_targets, results_json
 
