@@ -79,7 +79,7 @@ def compare_peers(args) -> int:
             print(f"skipped {name}: {type(err).__name__}: {str(err).strip().splitlines()[0] if str(err).strip() else ''}"
                   " (pip install -e .[bench])", flush=True)
     load = [os.getloadavg()[0]]
-    for label, run, _ in solvers:
+    for _label, run, _ in solvers:
         run(warm.targets, warm.q0)
     acc = {label: {"ok": [], "tight": [], "t": [], "cpu": [], "wall": [], "outside": 0, "none": 0} for label, _, _ in solvers}
     for r in range(args.rounds):
@@ -181,6 +181,8 @@ def models_mode(args) -> int:
 
 def _line(label, sol, ok, targets, backends, frame, position_only) -> None:
     """One solver's figures; 'confirmed': solved and within 1e-6 through every other backend's FK."""
+    from kinverify.ik import residuals
+
     confirmed = ok.copy()
     for other in backends.values():
         if other.name != sol.backend and ok.any():

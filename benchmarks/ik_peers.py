@@ -69,7 +69,7 @@ class Judge:
         if given.any():
             poses = self.backend.poses(q[given])[:, 0]
             pe[given] = np.linalg.norm(poses[:, :3, 3] - targets[given, :3, 3], axis=1)
-            re[given] = [np.linalg.norm(self.pin.log3(p[:3, :3].T @ t[:3, :3])) for p, t in zip(poses, targets[given])]
+            re[given] = [np.linalg.norm(self.pin.log3(p[:3, :3].T @ t[:3, :3])) for p, t in zip(poses, targets[given], strict=True)]
             inside[given] = np.all((q[given] >= lower - 1e-9) & (q[given] <= upper + 1e-9), axis=1)
         return pe, re, inside
 

@@ -72,10 +72,11 @@ def cross_validation(sources, backends: dict, n: int, repeats: int) -> dict:
     for name, b in backends.items():
         raw = raw_for(b)
         fk_only = b.jacobian_method != "analytic"
-        adapt = (lambda b=b: b.evaluate(q, with_jacobians=not fk_only))
+        def adapt(b=b, fk_only=fk_only):
+            return b.evaluate(q, with_jacobians=not fk_only)
         raw_t[name], adapt_t[name] = 1e30, 1e30
         for _ in range(repeats):  # interleaved: the machine's load hits both alike
-            raw_t[name] = min(raw_t[name], best(lambda: raw(b, q), 1))
+            raw_t[name] = min(raw_t[name], best(lambda raw=raw, b=b: raw(b, q), 1))
             adapt_t[name] = min(adapt_t[name], best(adapt, 1))
         out[f"raw_cps.{name}"] = len(q) / raw_t[name]
         out[f"cps.{name}"] = len(q) / adapt_t[name]
@@ -105,7 +106,7 @@ def analytic_vs_numpy(spec, n: int, chunk: int = 4096, repeats: int = 3) -> floa
     def products():
         for _ in range(reps):
             t = base
-            for o, m in zip(origins, motions):
+            for o, m in zip(origins, motions, strict=True):
                 t = (t @ o) @ m
 
     def ours():

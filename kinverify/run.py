@@ -33,13 +33,14 @@ def model_info(sources: ModelSources) -> dict[str, Any]:
     info: dict[str, Any] = {"urdf": sources.urdf or "", "mjcf": sources.mjcf or ""}
     info["joints"] = [
         {"name": n, "type": "revolute" if r else "prismatic", "lower": lo, "upper": up}
-        for n, r, lo, up in zip(sources.joint_names, sources.revolute, sources.lower, sources.upper)
+        for n, r, lo, up in zip(sources.joint_names, sources.revolute, sources.lower, sources.upper, strict=True)
     ]
     if sources.spec is not None:
-        for row, joint in zip(info["joints"], sources.spec.joints):
+        rows = info["joints"][len(info["joints"]) - len(sources.spec.joints):]  # after a floating base's six coordinates
+        for row, joint in zip(rows, sources.spec.joints, strict=True):
             row["axis"] = list(joint.axis)
         links = [sources.spec.base_link] + [j.link for j in sources.spec.joints]
-        info["links"] = [{"name": l.name, "mass": l.inertial.mass, "com": list(l.inertial.com)} for l in links]
+        info["links"] = [{"name": link.name, "mass": link.inertial.mass, "com": list(link.inertial.com)} for link in links]
     return info
 
 

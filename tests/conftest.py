@@ -3,15 +3,14 @@ own plugin, the same one users get. The plugin normally arrives through its ``py
 point; it is loaded here only when the installed metadata does not have that entry point yet
 (an install made before the plugin existed: re-run ``pip install -e .``)."""
 
+import os
 from importlib.metadata import entry_points
+
+from hypothesis import settings
 
 pytest_plugins = ["pytester"]
 if not any(ep.value == "kinverify.testing.pytest_plugin" for ep in entry_points(group="pytest11")):
     pytest_plugins.append("kinverify.testing.pytest_plugin")
-
-import os
-
-from hypothesis import settings
 
 # CI runs the same examples every time (a red CI must be reproducible); locally hypothesis explores.
 settings.register_profile("ci", derandomize=True, print_blob=True)

@@ -15,7 +15,7 @@ from kinverify.testing import strategies as kst
 from kinverify.backends import ModelSources
 from kinverify.backends.mujoco_ import MujocoBackend
 from kinverify.backends.pinocchio_ import PinocchioBackend
-from kinverify.run import VerifyOptions, verify, verify_spec
+from kinverify.run import VerifyOptions, model_info, verify, verify_spec
 
 
 @pytest.mark.parametrize("path", ["models/arm3.toml", "models/ur5e.toml", "models/panda.toml", "models/scara.toml"])
@@ -99,3 +99,13 @@ def test_result_round_trips_through_its_dict():
     again = VerifyResult.from_dict(result.to_dict())
     assert again.to_dict() == result.to_dict()
     assert again.verdict == "pass"
+
+
+def test_the_joint_table_of_a_floating_base_puts_each_axis_on_its_joint():
+    """The six base coordinates come first in the table and have no axis; each joint's row has its own."""
+    spec = load_spec("models/space_arm.toml")
+    rows = model_info(ModelSources.from_spec(spec))["joints"]
+    assert [r["name"] for r in rows] == list(spec.coordinate_names)
+    assert [r.get("axis") for r in rows[:6]] == [None] * 6
+    assert {r["name"]: r["axis"] for r in rows[6:]} == {j.name: list(j.axis) for j in spec.joints}
+    assert len({tuple(j.axis) for j in spec.joints}) > 1  # a misplaced axis would show

@@ -77,7 +77,7 @@ def run(args) -> int:
     if args.to is not None:
         q1 = np.array(args.to, dtype=float)
         if args.deg and q1.shape == (spec.dof,):
-            q1 = np.array([math.radians(v) if j.type == "revolute" else v for v, j in zip(q1, spec.joints)])
+            q1 = np.array([math.radians(v) if j.type == "revolute" else v for v, j in zip(q1, spec.joints, strict=True)])
     duration = default.duration if args.duration is None else args.duration
     q1 = validate_target(spec, q1, duration)
     trajectory = Trajectory(default.q0, q1, duration, default.hold if args.hold is None else args.hold)
@@ -182,7 +182,8 @@ def _ee_errors(console, spec, result, cplan) -> None:
     for run in result.runs:
         at_end = end_effector_errors(spec, cplan.frame, run.q[end_of_motion_index(run)], target, cplan.position_only)
         after = end_effector_errors(spec, cplan.frame, run.q[-1], target, cplan.position_only)
-        rot = lambda e: "" if cplan.position_only else f", {e[1]:.3e} rad"
+        def rot(e):
+            return "" if cplan.position_only else f", {e[1]:.3e} rad"
         line = (f"{run.controller}: final end-effector error against the Cartesian target {at_end[0]:.3e} m{rot(at_end)} "
                 f"at the end of the motion, {after[0]:.3e} m{rot(after)} at the end of the hold")
         console.print(line, markup=False, highlight=False)

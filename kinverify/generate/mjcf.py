@@ -69,7 +69,7 @@ def _actuator(joint, kind: str, gains: dict | None) -> str:
 def _child_bodies(spec: ArmSpec, link: int, indent: str) -> list[str]:
     """The bodies of the joints hanging from link ``link`` (0 = base), nested as the tree is."""
     out = []
-    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices, strict=True)):
         if parent != link:
             continue
         kind = "hinge" if joint.type == "revolute" else "slide"

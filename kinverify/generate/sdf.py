@@ -80,7 +80,7 @@ def generate_sdf(spec: ArmSpec) -> str:
         out += [f'    <joint name="{BASE_JOINT}" type="fixed">', "      <parent>world</parent>",
                 f"      <child>{spec.base_link.name}</child>", f"      {_pose(spec.base_origin, '__model__')}", "    </joint>"]
         out += _link(spec.base_link, 0, BASE_JOINT)
-    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices, strict=True)):
         lim = joint.limits
         out += [
             f"    <joint name={attr(joint.name)} type={attr(joint.type)}>",

@@ -58,7 +58,7 @@ def generate_urdf(spec: ArmSpec) -> str:
         out += ['  <joint name="world_to_base" type="fixed">', '    <parent link="world"/>',
                 f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(spec.base_origin)}", "  </joint>"]
     out += _link(spec.base_link, 0)
-    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices, strict=True)):
         parent = spec.link_names[parent]
         lim = joint.limits
         out += [

@@ -41,7 +41,7 @@ def success_figure(solvers: list[dict], tol_pos: float, tol_rot: float) -> dict:
         own = [100.0 * d["solved_own"] / d["targets"] if d["targets"] else 0.0 for d in solvers]
         ax.barh(y + 0.2, rate, height=0.38, color="#1565c0", label=f"within {tol_pos:g} m / {tol_rot:g} rad (checked)")
         ax.barh(y - 0.2, own, height=0.38, color="#90a4ae", label="within the solver's own tolerance")
-        for yy, r, o, d in zip(y, rate, own, solvers):
+        for yy, r, o, d in zip(y, rate, own, solvers, strict=True):
             ax.text(min(r, 100) + 1, yy + 0.2, f"{r:.0f} % ({d['solved']}/{d['targets']})", va="center", fontsize=7)
             ax.text(min(o, 100) + 1, yy - 0.2, f"{o:.0f} %", va="center", fontsize=7, color="#546e7a")
         ax.set_yticks(y, [_label(d) for d in solvers])
@@ -67,7 +67,7 @@ def time_figure(solvers: list[dict]) -> dict:
     with matplotlib.rc_context(RC):
         fig = new_figure(figsize=(7.0, 0.42 * n + 1.0))
         ax = fig.add_subplot(1, 1, 1)
-        for yy, d in zip(y, solvers):
+        for yy, d in zip(y, solvers, strict=True):
             t = np.maximum(np.asarray(d["time_ms"], dtype=float), MIN_MS)
             t = t[np.isfinite(t)]
             if not len(t):

@@ -92,7 +92,7 @@ def link_poses(spec: ArmSpec, q, out: np.ndarray | None = None) -> np.ndarray:
         out[:, 0] = spec.base_origin.transform
     basis = np.empty((n_cfg, 3))
     basis[:, 0] = 1.0
-    for i, (joint, coef, parent) in enumerate(zip(spec.joints, _coefficients(spec), spec.parent_indices)):
+    for i, (joint, coef, parent) in enumerate(zip(spec.joints, _coefficients(spec), spec.parent_indices, strict=True)):
         if joint.type == "revolute":
             np.sin(q[:, i], out=basis[:, 1])
             np.cos(q[:, i], out=basis[:, 2])

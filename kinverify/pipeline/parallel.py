@@ -99,7 +99,7 @@ def run_chunks(ctx, fn: Callable, chunks: list[tuple[int, int]]) -> Iterator:
         results = _dask_results(fn, payload, chunks, opts)
     else:
         results = _process_results(fn, payload, chunks, opts.jobs)
-    for (start, stop), result in zip(chunks, results):
+    for (start, stop), result in zip(chunks, results, strict=True):
         interrupts.check()
         yield result
         done += stop - start

@@ -69,7 +69,7 @@ def _compare(out: list[ParamChange], where: str, field: str, old, new, atol: flo
         a = [float(old)] if isinstance(old, (int, float)) else [float(x) for x in old]
         b = [float(new)] if isinstance(new, (int, float)) else [float(x) for x in new]
         if len(a) == len(b):
-            delta = math.sqrt(sum((x - y) ** 2 for x, y in zip(a, b)))
+            delta = math.sqrt(sum((x - y) ** 2 for x, y in zip(a, b, strict=True)))
             if delta > atol:
                 out.append(ParamChange(where, field, "changed", old, new, delta))
             return
@@ -116,8 +116,8 @@ def diff_specs(old: ArmSpec, new: ArmSpec, atol: float = ATOL) -> list[ParamChan
     common = _names(out, "joint", list(old_joints), list(new_joints))
     if [n for n in old_joints if n in common] != common:
         out.append(ParamChange("arm", "joint order", "changed", [n for n in old_joints if n in common], common))
-    old_parent = dict(zip(old.joint_names, (old.link_names[p] for p in old.parent_indices)))
-    new_parent = dict(zip(new.joint_names, (new.link_names[p] for p in new.parent_indices)))
+    old_parent = dict(zip(old.joint_names, (old.link_names[p] for p in old.parent_indices), strict=True))
+    new_parent = dict(zip(new.joint_names, (new.link_names[p] for p in new.parent_indices), strict=True))
     for name in common:
         a, b = old_joints[name], new_joints[name]
         where = f"joint {name}"
@@ -129,8 +129,8 @@ def diff_specs(old: ArmSpec, new: ArmSpec, atol: float = ATOL) -> list[ParamChan
             _compare(out, where, f"limits.{attr}", getattr(a.limits, attr), getattr(b.limits, attr), atol)
         for attr in ("damping", "friction", "armature"):
             _compare(out, where, attr, getattr(a, attr), getattr(b, attr), atol)
-    old_links = {l.name: l for l in (old.base_link, *(j.link for j in old.joints))}
-    new_links = {l.name: l for l in (new.base_link, *(j.link for j in new.joints))}
+    old_links = {link.name: link for link in (old.base_link, *(j.link for j in old.joints))}
+    new_links = {link.name: link for link in (new.base_link, *(j.link for j in new.joints))}
     for name in _names(out, "link", list(old_links), list(new_links)):
         _link_changes(out, old_links[name], new_links[name], atol)
     old_tools, new_tools = {t.name: t for t in old.tools}, {t.name: t for t in new.tools}
@@ -150,6 +150,6 @@ def _dh_changes(out, old: ArmSpec, new: ArmSpec, atol: float) -> None:
     if old.dh is None:
         return
     _compare(out, "dh", "convention", old.dh.convention, new.dh.convention, atol)
-    for i, (a, b) in enumerate(zip(old.dh.rows, new.dh.rows)):
+    for i, (a, b) in enumerate(zip(old.dh.rows, new.dh.rows, strict=False)):
         for attr in ("a", "alpha", "d", "theta"):
             _compare(out, f"dh row {i}", attr, getattr(a, attr), getattr(b, attr), atol)

@@ -44,7 +44,7 @@ def _vector(values, fmt: str) -> str:
 
 def configuration(q, revolute: list[bool]) -> dict[str, str]:
     """A configuration as copyable vectors: radians (metres for prismatic joints) and degrees."""
-    deg = [math.degrees(v) if r else v for v, r in zip(q, revolute)]
+    deg = [math.degrees(v) if r else v for v, r in zip(q, revolute, strict=False)]
     return {"rad": _vector([v + 0.0 for v in q], ".10g"), "deg": _vector([round(v, 6) + 0.0 for v in deg], ".10g")}
 
 
@@ -172,7 +172,8 @@ def finding_groups(result: VerifyResult, errors: bool | None = None) -> list[dic
     an error first; accepted findings count as their own kind, after infos. ``errors``: only the
     findings that fail the verdict (True), only the others (False), or all (None)."""
     order = {s: i for i, s in enumerate(SEVERITIES)}
-    level = lambda f: len(SEVERITIES) if f.accepted else order[f.severity]
+    def level(f):
+        return len(SEVERITIES) if f.accepted else order[f.severity]
     groups: dict[tuple[str, str], dict[str, Any]] = {}
     for f in result.findings:
         if errors is not None and f.fails != errors:

@@ -26,7 +26,7 @@ from kinverify.report.plots import error_distributions_svg, workspace_svg
 from kinverify.report.units import display_unit, revolute
 from kinverify.io.write import write_atomic
 from kinverify.results import VerifyResult
-from kinverify.suites.base import Check, Section, Table
+from kinverify.suites.base import Section, Table
 
 IMAGE_MIMES = {"image/svg+xml", "image/png", "image/gif", "image/jpeg", "image/webp"}
 SPECIAL_SECTIONS = {"diagnosis", "pictures", "filemode"}  # drawn in their own places, not as a generic section

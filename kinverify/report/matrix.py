@@ -70,10 +70,10 @@ EXPLAINED_COLOUR = (225, 190, 231)  # a difference a finding reports (the findin
 def _interp(stops, x: float) -> tuple[int, int, int]:
     if x <= stops[0][0]:
         return stops[0][1]
-    for (x0, c0), (x1, c1) in zip(stops, stops[1:]):
+    for (x0, c0), (x1, c1) in zip(stops, stops[1:], strict=False):
         if x <= x1:
             t = (x - x0) / (x1 - x0)
-            return tuple(round(u + t * (v - u)) for u, v in zip(c0, c1))
+            return tuple(round(u + t * (v - u)) for u, v in zip(c0, c1, strict=True))
     return stops[-1][1]
 
 

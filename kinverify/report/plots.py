@@ -120,7 +120,7 @@ def workspace_svg(section: dict) -> str | None:
         ax3.set_zlabel("z [m]")
         ax3.set_title("workspace (3D)")
         mid, half = (points.max(0) + points.min(0)) / 2, np.ptp(points, axis=0).max() / 2
-        for setter, m in zip((ax3.set_xlim, ax3.set_ylim, ax3.set_zlim), mid):
+        for setter, m in zip((ax3.set_xlim, ax3.set_ylim, ax3.set_zlim), mid, strict=True):
             setter(m - half, m + half)
         for k, (i, j, name) in enumerate(((0, 1, "top view (x-y)"), (0, 2, "side view (x-z)"), (1, 2, "front view (y-z)"))):
             ax = fig.add_subplot(2, 2, k + 2)

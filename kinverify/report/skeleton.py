@@ -101,7 +101,7 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
                                 ls="-" if not ghost else (0, (4, 2)))
                     for axis in range(3):
                         tip = p[:3, 3] + triad * p[:3, axis]
-                        ax.plot(*zip(p[:3, 3], tip), color=AXES[axis], alpha=1.0 if not ghost else 0.45, lw=1.3 if not ghost else 1.0)
+                        ax.plot(*zip(p[:3, 3], tip, strict=True), color=AXES[axis], alpha=1.0 if not ghost else 0.45, lw=1.3 if not ghost else 1.0)
                 origins = np.array([p[:3, 3] for p in poses if p is not None])
                 ax.scatter(*origins.T, color=colour, alpha=alpha, s=10 if not ghost else 8, depthshade=False)
                 if not ghost:
@@ -115,7 +115,7 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
             ax.set_box_aspect(hi - lo)
             ax.view_init(elev=22, azim=azim)
             ax.set_title(literal(title), pad=0)
-            for name, axis in (("x", ax.xaxis), ("y", ax.yaxis), ("z", ax.zaxis)):
+            for _name, axis in (("x", ax.xaxis), ("y", ax.yaxis), ("z", ax.zaxis)):
                 axis.set_major_locator(matplotlib.ticker.MaxNLocator(3))
                 axis.set_tick_params(labelsize=5.5, pad=0)
                 axis.pane.set_alpha(0.15)
@@ -125,7 +125,7 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
         handles = [Line2D([], [], color=REF_COLOUR, lw=2.4, label=f"{literal(ref)} (solid)")]
         if other and any(other in drawn for _, drawn in todo):
             handles.append(Line2D([], [], color=OTHER_COLOUR, lw=2.0, ls=(0, (4, 2)), alpha=0.6, label=f"{literal(other)} (ghosted)"))
-        handles += [Line2D([], [], color=c, lw=1.3, label=f"frame {a}") for c, a in zip(AXES, "xyz")]
+        handles += [Line2D([], [], color=c, lw=1.3, label=f"frame {a}") for c, a in zip(AXES, "xyz", strict=True)]
         fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=6.5, frameon=False)
         fig.subplots_adjust(left=0.0, right=1.0, top=0.93, bottom=0.1, wspace=0.05)
         return _svg(fig)

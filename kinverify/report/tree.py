@@ -82,7 +82,8 @@ def tree_svg(tree: dict, marks: dict[str, str] | None = None) -> Markup | None:
         x0.append(x0[-1] + box_w[d] + gap[d])
     rows = max(r for _, r in place.values()) + 1
     width, height = x0[-1] + box_w[-1] + 8, rows * ROW_H + 10
-    centre = lambda link: (x0[place[link][0]], 8 + place[link][1] * ROW_H + BOX_H / 2)
+    def centre(link):
+        return (x0[place[link][0]], 8 + place[link][1] * ROW_H + BOX_H / 2)
     parts = []
     for j in joints:
         (xa, ya), (xb, yb) = centre(j["parent"]), centre(j["child"])

@@ -89,7 +89,8 @@ def find_hint(ref, other_poses: np.ndarray, q: np.ndarray, frame: int, frames, j
                     "text": f"sign flip on the world {label} axis: at frame {name} this backend's positions are the "
                             f"reference's with {label} negated"}
     d = p_oth - p_ref
-    spread = lambda v: np.linalg.norm(v - v.mean(axis=0), axis=-1).max()
+    def spread(v):
+        return np.linalg.norm(v - v.mean(axis=0), axis=-1).max()
     tol_c = max(1e-3 * np.linalg.norm(d, axis=-1).max(), tol_pos)
     rot_ok = rot[:, frame].max() <= tol_rot
     if pos[:, frame].max() > tol_pos and spread(d) <= tol_c and rot_ok:

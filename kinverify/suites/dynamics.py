@@ -47,7 +47,8 @@ STATE_PROPERTIES = ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias",
 def _units(revolute) -> dict[str, str]:
     """Units of each property for this model's joints (N·m for revolute, N for prismatic)."""
     rev = list(revolute)
-    pick = (lambda r, p: r if all(rev) else p if not any(rev) else f"{r}|{p}")
+    def pick(r, p):
+        return r if all(rev) else p if not any(rev) else f"{r}|{p}"
     return {"dynamics.mass_matrix": pick("kg·m²", "kg"), "dynamics.gravity": pick("N·m", "N"),
             "dynamics.bias": pick("N·m", "N"), "dynamics.inverse": pick("N·m", "N"),
             "dynamics.forward": pick("N·m", "N"), "dynamics.damping": pick("N·m·s/rad", "N·s/m"),
@@ -183,15 +184,16 @@ class DynamicsSuite(Suite):
             a = rng.uniform(-ACCELERATION, ACCELERATION, n)
             tau = rng.uniform(-1.0, 1.0, n) * effort
             mass = pin.mass(qk)
-            terms = {
-                "dynamics.mass_matrix": lambda: (mass, mj.mass(qk)),
-                "dynamics.gravity": lambda: (pin.gravity(qk), mj.gravity(qk)),
-                "dynamics.bias": lambda: (pin.bias(qk, v), mj.bias(qk, v)),
-                "dynamics.inverse": lambda: (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),
-                # force residual of MuJoCo's acceleration in Pinocchio's equations: M·(a_mj − a_pin)
-                "dynamics.forward": lambda: (tau, tau + mass @ (accel[0] - pin.forward(qk, v, tau))),
-            }
             accel = [mj.forward(qk, v, tau)] if "dynamics.forward" in compared else [None]
+            terms = {  # evaluated below, for the compared properties only; each binds this configuration's values
+                "dynamics.mass_matrix": lambda qk=qk, mass=mass: (mass, mj.mass(qk)),
+                "dynamics.gravity": lambda qk=qk: (pin.gravity(qk), mj.gravity(qk)),
+                "dynamics.bias": lambda qk=qk, v=v: (pin.bias(qk, v), mj.bias(qk, v)),
+                "dynamics.inverse": lambda qk=qk, v=v, a=a: (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),
+                # force residual of MuJoCo's acceleration in Pinocchio's equations: M·(a_mj − a_pin)
+                "dynamics.forward": lambda qk=qk, v=v, tau=tau, mass=mass, accel=accel:
+                    (tau, tau + mass @ (accel[0] - pin.forward(qk, v, tau))),
+            }
             pairs = {p: terms[p]() for p in compared}
             if not all(np.isfinite(x).all() and np.isfinite(y).all() for x, y in pairs.values()):
                 breakdown = qk if breakdown is None else breakdown

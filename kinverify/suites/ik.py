@@ -239,7 +239,7 @@ def _closed_form_check(ctx, sol, ok, targets, closed, frame, model) -> Check:
                                    note="no solution to compare")
     sigma = np.linalg.svd(model(q)[1][:, :3], compute_uv=False)[:, -1]
     ratio = []
-    for qk, tk, res, sk in zip(q, targets[ok], sol.pos_error[ok], sigma):
+    for qk, tk, res, sk in zip(q, targets[ok], sol.pos_error[ok], sigma, strict=True):
         branches = closed.all_branches(tk[:3, 3])
         d = np.abs(np.angle(np.exp(1j * (branches - qk)))).max(axis=1).min() if len(branches) else np.inf
         ratio.append(d / (TOL_JOINT + res / max(sk, 1e-300)))

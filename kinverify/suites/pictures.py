@@ -159,10 +159,10 @@ def kinematic_tree(urdf: str | None, frames, joint_names) -> dict:
                        "parent": (j.find("parent").get("link", "") if j.find("parent") is not None else ""),
                        "child": (j.find("child").get("link", "") if j.find("child") is not None else "")}
                       for j in root.iter("joint") if j.find("parent") is not None and j.find("child") is not None]
-            return {"links": [l.get("name", "") for l in root.iter("link")], "joints": joints}
+            return {"links": [el.get("name", "") for el in root.iter("link")], "joints": joints}
     names = list(joint_names) + [""] * len(frames)
     return {"links": list(frames), "joints": [{"name": names[i] or f"{a}-{b}", "type": "", "parent": a, "child": b}
-                                              for i, (a, b) in enumerate(zip(frames, frames[1:]))]}
+                                              for i, (a, b) in enumerate(zip(frames, frames[1:], strict=False))]}
 
 
 def frame_parents(frames, tree: dict) -> list[int]:
@@ -276,7 +276,7 @@ class PicturesSuite(Suite):
         if reason:
             section.notes.append(reason)
         for png, (title, q, caption) in zip(pngs, [("MuJoCo: home pose", home, "q = 0 (clipped into the limits)"),
-                                                   ("MuJoCo: worst configuration", worst, label)]):
+                                                   ("MuJoCo: worst configuration", worst, label)], strict=False):
             qs = ", ".join(f"{v:.4f}" for v in q)
             section.figures.append(Figure(title, "image/png", base64.b64encode(png).decode("ascii"), f"{caption}; q = [{qs}]"))
         return SuiteResult([], section)

@@ -155,7 +155,7 @@ def configurations(draw, spec: ArmSpec, edge_probability: float = 0.3) -> np.nda
     ``edge_probability``, else uniform."""
     q = []
     lower, upper = spec.coordinate_limits
-    for lo, hi, revolute in zip(lower, upper, spec.coordinate_revolute):
+    for lo, hi, revolute in zip(lower, upper, spec.coordinate_revolute, strict=True):
         if draw(st.floats(0, 1)) < edge_probability:
             q.append(draw(st.sampled_from(_edges(float(lo), float(hi), revolute))))
         else:

@@ -209,7 +209,7 @@ def plan_cartesian(spec: ArmSpec, targets, q_start, durations=None, position_onl
         q_ref = choice.q
     points = [q_start] + [c.q for c in choices]
     if durations is None:
-        durations = [auto_duration(spec, a, b, min_duration) for a, b in zip(points[:-1], points[1:])]
+        durations = [auto_duration(spec, a, b, min_duration) for a, b in zip(points[:-1], points[1:], strict=False)]
     else:
         durations = [float(d) for d in np.atleast_1d(durations)]
         if len(durations) == 1 and len(choices) > 1:

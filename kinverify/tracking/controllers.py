@@ -75,7 +75,7 @@ class Position(Controller):
 
     def gains(self) -> dict[str, tuple[float, float]]:
         w = OMEGA[self.name]
-        return {j.name: (float(i * w * w), float(2.0 * i * w)) for j, i in zip(self.spec.joints, self.inertia)}
+        return {j.name: (float(i * w * w), float(2.0 * i * w)) for j, i in zip(self.spec.joints, self.inertia, strict=True)}
 
     def mjcf(self) -> str:
         return generate_mjcf(self.spec, actuators="position", position_gains=self.gains())

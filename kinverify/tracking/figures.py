@@ -139,7 +139,7 @@ def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) ->
     """(GIF figures, '') or ([], "rendering unavailable: <reason>"), rendered in a child process."""
     clips = [run.q[frame_indices(len(run.q), run.plan.dt, fps)] for run in runs]
     clips = [c[np.isfinite(c).all(axis=1)] for c in clips]  # a diverged run: up to its last finite state
-    runs, clips = [r for r, c in zip(runs, clips) if len(c)], [c for c in clips if len(c)]
+    runs, clips = [r for r, c in zip(runs, clips, strict=True) if len(c)], [c for c in clips if len(c)]
     if not runs:
         return [], "rendering unavailable: no finite executed states to show"
     from kinverify.mujoco_gl import render_in_child
@@ -154,7 +154,7 @@ def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) ->
     return [Figure(f"Execution under {run.controller}", "image/gif", base64.b64encode(gif).decode("ascii"),
                    f"MuJoCo offscreen rendering of the executed joint states, a frame every {1 / fps:.3g} s of "
                    f"simulated time ({len(clip)} frames, {size[0]}×{size[1]} px, loops)")
-            for run, clip, gif in zip(runs, clips, gifs)], ""
+            for run, clip, gif in zip(runs, clips, gifs, strict=True)], ""
 
 
 def animation(run: Run, mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[dict | None, str]:

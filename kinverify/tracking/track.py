@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -79,7 +79,7 @@ def validate_target(spec: ArmSpec, q1, duration: float) -> np.ndarray:
         raise InputError(f"--to needs {spec.dof} joint values ({', '.join(spec.joint_names)}), got {q1.size}")
     if not math.isfinite(duration) or duration <= 0:
         raise InputError(f"--duration must be positive, got {duration:g}")
-    for j, (v, joint) in enumerate(zip(q1, spec.joints)):
+    for v, joint in zip(q1, spec.joints, strict=True):  # q1.shape == (dof,) checked above
         if not joint.limits.lower <= v <= joint.limits.upper:
             raise InputError(f"--to: {joint.name} = {v:g} is outside its limits [{joint.limits.lower:g}, {joint.limits.upper:g}]")
     return q1
@@ -163,7 +163,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
         if reason:
             notes.append(f"{reason} (animation of {', '.join(r.controller for r in wanted)})")
     report(steps, steps)
-    deg = ", ".join(f"{math.degrees(v):.4g}" if j.type == "revolute" else f"{v:.4g} m" for v, j in zip(trajectory.q1, spec.joints))
+    deg = ", ".join(f"{math.degrees(v):.4g}" if j.type == "revolute" else f"{v:.4g} m" for v, j in zip(trajectory.q1, spec.joints, strict=True))
     u = joint_unit(j.type == "revolute" for j in spec.joints)
     force = "N·m" if u == "rad" else "N" if u == "m" else "N·m|N"
     section = Section("Trajectory tracking (MuJoCo on the MJCF, model terms from Pinocchio on the URDF)",
@@ -176,7 +176,7 @@ def track(spec: ArmSpec, urdf: str, trajectory: Trajectory, controllers, checked
                    f"speed at end of hold [{u}/s]", f"hold error energy [{u}²·s]", f"max effort [{force}]", "at effort limit [%]",
                    "reason"], rows)
     section.notes += notes + [
-        f"RMS error is sqrt(mean ||q_d − q||²) over the motion; residual speed is the max ||q̇|| from 0.2 s after the end "
+        "RMS error is sqrt(mean ||q_d − q||²) over the motion; residual speed is the max ||q̇|| from 0.2 s after the end "
         "of the motion.",
         "Tracking measures a controller's performance on the model, not whether the models agree: it is shown against "
         "its goals and does not decide the verdict unless gated (--gate tracking.<controller>).",

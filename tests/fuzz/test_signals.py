@@ -9,7 +9,6 @@ starts importing, e.g. inside ``trimesh``'s ``try: ... except BaseException`` (w
 from __future__ import annotations
 
 import importlib.util
-import json
 import os
 import signal
 import subprocess

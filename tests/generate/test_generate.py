@@ -37,7 +37,7 @@ def test_same_names_in_both_files(path):
     urdf_joints = [j.get("name") for j in urdf.iter("joint") if j.get("type") != "fixed"]
     mjcf_joints = [j.get("name") for j in mjcf.iter("joint")]
     assert urdf_joints == mjcf_joints == list(spec.joint_names)
-    urdf_links = {l.get("name") for l in urdf.iter("link")}
+    urdf_links = {el.get("name") for el in urdf.iter("link")}
     mjcf_bodies = {b.get("name") for b in mjcf.iter("body")}
     mjcf_sites = {s.get("name") for s in mjcf.iter("site")}
     assert set(spec.link_names) <= urdf_links & mjcf_bodies
@@ -124,7 +124,7 @@ def test_sdf_is_deterministic_and_names_what_the_urdf_names(path):
     assert sdf.tag == "sdf" and float(sdf.get("version")) >= 1.9
     model = sdf.find("model")
     assert [j.get("name") for j in model.iter("joint") if j.get("type") != "fixed"] == list(spec.joint_names)
-    assert {l.get("name") for l in model.iter("link")} == set(spec.link_names)
+    assert {el.get("name") for el in model.iter("link")} == set(spec.link_names)
     assert {f.get("name") for f in model.iter("frame")} == set(spec.tool_names)
     welded = [j for j in model.iter("joint") if j.findtext("parent") == "world"]
     assert len(welded) == (0 if spec.floating else 1)  # a floating base is a free body

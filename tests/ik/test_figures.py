@@ -6,7 +6,6 @@ from __future__ import annotations
 import base64
 import json
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -49,7 +48,7 @@ def test_ik_section_has_success_and_time_figures(ik_result):
     table = section.tables[0]
     assert [[r[0], r[1], r[2], r[3]] for r in table.rows] == \
         [[d["solver"], d["backend"], d["targets"], d["solved"]] for d in section.data["solvers"]]
-    for d, row in zip(section.data["solvers"], table.rows):
+    for d, row in zip(section.data["solvers"], table.rows, strict=True):
         assert len(d["time_ms"]) == d["targets"] == 12
         assert np.median(d["time_ms"]) == pytest.approx(row[6], rel=1e-3)  # 4 significant digits kept
 

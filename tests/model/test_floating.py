@@ -106,7 +106,7 @@ def test_gravity_in_base_coordinates_is_the_gradient_of_the_potential_energy():
     h = 1e-6
     gradient = np.array([(energy(q + h * e) - energy(q - h * e)) / (2 * h) for e in np.eye(len(q))])
     assert np.abs(gradient - pin.gravity(q)).max() < 1e-6
-    assert pin.gravity(q)[2] == pytest.approx(sum(l.inertial.mass for l in (spec.base_link, *(j.link for j in spec.joints))) * 9.81)
+    assert pin.gravity(q)[2] == pytest.approx(sum(link.inertial.mass for link in (spec.base_link, *(j.link for j in spec.joints))) * 9.81)
 
 
 @pytest.mark.parametrize("pitch", [math.pi / 2, -math.pi / 2, math.pi / 2 - 1e-12, -math.pi / 2 + 1e-10])

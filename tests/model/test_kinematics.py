@@ -87,7 +87,7 @@ def test_edge_samples_are_inside_the_limits():
 
 def _plain_chain(spec, q):
     out = [np.broadcast_to(spec.base_origin.transform, (len(q), 4, 4))]
-    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices)):
+    for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices, strict=True)):
         out.append((out[parent] @ joint.origin.transform) @ joint_motion(joint, q[:, i]))
     links = np.stack(out, axis=1)
     tools = [links[:, spec.link_index(tool.parent)] @ tool.origin.transform for tool in spec.tools]

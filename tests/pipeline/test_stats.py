@@ -20,7 +20,7 @@ errors_lists = st.lists(
 
 def _stats(values: np.ndarray, splits) -> ErrorStats:
     st_ = ErrorStats()
-    for part, idx in zip(np.split(values, splits), np.split(np.arange(values.size), splits)):
+    for part, idx in zip(np.split(values, splits), np.split(np.arange(values.size), splits), strict=True):
         st_.update(part, idx[:, None].astype(float))
     return st_
 
@@ -87,7 +87,7 @@ def test_merge_is_order_independent(values, cuts, rnd):
     x = np.array(values)
     splits = sorted(c for c in cuts if c <= x.size)
     parts = []
-    for part, idx in zip(np.split(x, splits), np.split(np.arange(x.size), splits)):
+    for part, idx in zip(np.split(x, splits), np.split(np.arange(x.size), splits), strict=True):
         st_ = ErrorStats()
         st_.update(part, idx[:, None].astype(float))
         parts.append(st_)

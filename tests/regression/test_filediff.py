@@ -27,7 +27,7 @@ def moved_joint(spec, index: int, offset):
     """``spec`` with joint ``index``'s origin moved by ``offset`` [m] (in its parent link's frame)."""
     joints = list(spec.joints)
     o = joints[index].origin
-    joints[index] = replace(joints[index], origin=Origin(tuple(float(a + b) for a, b in zip(o.xyz, offset)), o.rpy))
+    joints[index] = replace(joints[index], origin=Origin(tuple(float(a + b) for a, b in zip(o.xyz, offset, strict=True)), o.rpy))
     return replace(spec, joints=tuple(joints))
 
 
@@ -47,7 +47,7 @@ def check_one_joint_moved(diff, spec, index: int, size: float) -> None:
     assert (change.where, change.field) == (f"joint {name}", "origin.xyz")
     assert change.delta == pytest.approx(size, rel=1e-9)
     assert all(c.field == "origin.xyz" and c.delta <= size + 1e-12 for c in diff.params if c.where == "frame target")
-    riding = dict(zip(spec.frame_names, frame_link_indices(spec)))
+    riding = dict(zip(spec.frame_names, frame_link_indices(spec), strict=True))
     for f in diff.frames:
         if f.frame in riding:
             downstream = riding[f.frame] > index

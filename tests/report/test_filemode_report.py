@@ -107,7 +107,8 @@ def test_turned_base_is_drawn_overlaid_and_named(turned):
     alignment = np.array(result.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"])
     np.testing.assert_allclose(alignment, turn, atol=1e-9)
     written = dict(panels(pictures, alignment.tolist()))["home pose, as written"]
-    origins = lambda poses: np.array([p for p in poses if p is not None])[:, :3, 3]
+    def origins(poses):
+        return np.array([p for p in poses if p is not None])[:, :3, 3]
     np.testing.assert_allclose(origins(written["mujoco"]), origins(written[result.backends[0]]) * [-1, -1, 1], atol=1e-9)
     first_screen = _text(page[:page.index('<section id="matrix">')])
     assert "The MJCF's base is the URDF's turned by 180° about [0, 0, 1] (panels" in first_screen
@@ -125,7 +126,7 @@ def test_alignment_draws_the_mjcf_side_back_onto_the_urdf_side(turned):
     assert [title for title, _ in drawn] == ["home pose, as written", "home pose, bases aligned", "worst configuration, bases aligned"]
     ref = data["reference"]
     for title, poses in drawn:
-        same = all(np.allclose(a, b, atol=1e-9) for a, b in zip(poses[ref], poses["mujoco"]) if a is not None and b is not None)
+        same = all(np.allclose(a, b, atol=1e-9) for a, b in zip(poses[ref], poses["mujoco"], strict=True) if a is not None and b is not None)
         assert same == ("aligned" in title)
     result.sections["filemode"].data["alignment"] = {"T_mjcf_from_urdf": t.tolist()}
     assert "panels &#34;as written&#34;" in render_html(result) or 'panels "as written"' in render_html(result)

@@ -63,7 +63,8 @@ def _luminance(hex_colour: str) -> float:
 @given(st.floats(1e-15, 1.0), st.floats(1e-15, 1.0))
 def test_passing_cells_lighten_towards_the_tolerance(a, b):
     lo, hi = sorted((a, b))
-    colour = lambda r: matrix.colour(r, True, False)[0]
+    def colour(r):
+        return matrix.colour(r, True, False)[0]
     assert _luminance(colour(lo)) <= _luminance(colour(hi)) + 1.0  # rounding of the interpolated channels
     assert colour(hi) != matrix.colour(2.0, False, False)[0]
 

@@ -263,7 +263,8 @@ def test_the_default_arm3_run_prints_in_40_lines_at_80_columns(default_arm3):
     if not backend_info("drake-sdf").available:
         pytest.skip("docs/report.md shows the run with the test extra, Drake's backends included")
     shown = _between((ROOT / "docs" / "report.md").read_text(encoding="utf-8"), "```text\n", "\n```").splitlines()[1:]
-    numbers = lambda line: " ".join(re.sub(r"\d[\d.e+-]*", "#", line).split())  # the layout, not the timings
+    def numbers(line):  # the layout, not the timings
+        return " ".join(re.sub(r"\d[\d.e+-]*", "#", line).split())
     assert [numbers(line) for line in shown[:-1]] == [numbers(line) for line in lines]  # docs/report.md shows this run
     assert shown[-1] == "report: reports/arm3.html  json: reports/arm3.json"
 

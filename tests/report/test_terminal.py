@@ -9,7 +9,6 @@ import dataclasses
 import itertools
 import re
 
-import numpy as np
 import pytest
 from rich.console import Console
 
@@ -78,16 +77,16 @@ def test_results_fit_the_terminal_and_cut_no_number(failing, width):
 def test_labels_say_what_each_number_is(failing, width):
     text = _render(failing, width)
     lines = text.splitlines()
-    agreement = next(i for i, l in enumerate(lines) if l.startswith("property ") and "max error" in l)
+    agreement = next(i for i, ln in enumerate(lines) if ln.startswith("property ") and "max error" in ln)
     assert "tolerance" in lines[agreement] and ("p99 error" in lines[agreement]) == (width == 200)
-    assert any(l.startswith("performance ") and "measured" in l and "goal" in l for l in lines[agreement + 1:])
+    assert any(ln.startswith("performance ") and "measured" in ln and "goal" in ln for ln in lines[agreement + 1:])
     rms = rows_of(text, "tracking.computed-torque")[0]
     assert " 3.5e-5 0.0001 rad " in rms  # 'measured' is the check's value (an RMS here), then the goal and its unit
     pd = rows_of(text, "tracking.pd+gravity")[0]
     assert " 0.42 0.15 × move " in pd and pd.endswith("missed") and "FAIL" not in pd
     assert ("RMS joint error over the motion" in rms) == (width == 200)  # what is measured: dropped before any number
     assert "rad|m" not in text  # every joint of arm3 is revolute: joint-space errors are in rad
-    verdict = next(l for l in lines if l.startswith("verdict: "))
+    verdict = next(ln for ln in lines if ln.startswith("verdict: "))
     assert len(verdict) <= width  # the backends by name where the line has room, else how many
     assert f"{len(failing.backends)} backends" in verdict or all(b in verdict for b in failing.backends)
     pairs = "pin-urdf vs 2" if backend_info("drake-sdf").available else "pin-urdf vs mujoco"  # Drake's dynamics: a second pair
@@ -102,8 +101,8 @@ def test_compact_numbers_keep_three_digits_and_drop_exponent_padding():
 def test_suites_get_one_line_each(failing):
     text = _render(failing, 80)
     head = text.split(f"\n{failing.model}: ")[0]  # before the tables (a failure below starts with ✗ too)
-    lines = [l for l in head.splitlines() if re.match(r"^[✓✗·] ", l)]
-    assert [l.split()[1] for l in lines] == ["kinematics", "ik", "dynamics"]
+    lines = [ln for ln in head.splitlines() if re.match(r"^[✓✗·] ", ln)]
+    assert [ln.split()[1] for ln in lines] == ["kinematics", "ik", "dynamics"]
     assert "✗ kinematics" in text and "checks fail" in lines[0] and lines[0].rstrip().endswith("s")
 
 
@@ -114,7 +113,7 @@ def test_fit_table_drops_optional_columns_before_cutting_a_word():
     console.print(fit_table(console, cols, rows, optional=("comment",)))
     text = console.export_text()
     assert "fk.position" in text and "1.234567e-16" in text and "explanation" not in text
-    assert max(len(l.rstrip()) for l in text.splitlines()) <= 40
+    assert max(len(ln.rstrip()) for ln in text.splitlines()) <= 40
 
 
 @pytest.mark.parametrize("width", WIDTHS)
@@ -127,11 +126,11 @@ def test_track_table_fits_and_labels_its_columns(width):
     console = Console(width=width, record=True, file=open("/dev/null", "w"))
     console.print(track_table(spec, result, console))
     text = console.export_text()
-    assert max(len(l.rstrip()) for l in text.splitlines()) <= width
-    header = " ".join(l.strip() for l in text.splitlines()[:6])
+    assert max(len(ln.rstrip()) for ln in text.splitlines()) <= width
+    header = " ".join(ln.strip() for ln in text.splitlines()[:6])
     assert "RMS error" in header and "(motion)" in header and "max error" in header and "[rad]" in header
     for m in result.metrics:
-        row = next(l for l in text.splitlines() if l.strip().startswith(m.controller)).split()
+        row = next(ln for ln in text.splitlines() if ln.strip().startswith(m.controller)).split()
         assert row[1] == f"{m.rms_error:.3e}" and row[2] == f"{m.max_error:.3e}"  # RMS under RMS, max under max
 
 

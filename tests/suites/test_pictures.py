@@ -5,7 +5,6 @@ child process with a camera fitted to the arm, and the note when GL is unavailab
 from __future__ import annotations
 
 import io
-from pathlib import Path
 
 import numpy as np
 import pytest

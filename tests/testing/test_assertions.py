@@ -33,7 +33,7 @@ def longer_link2(spec, dz=0.001):
 
 def pasted_q(message: str) -> np.ndarray:
     """The ``q = [...]`` line of a failure message, evaluated as Python."""
-    (line,) = [l.strip() for l in message.splitlines() if l.strip().startswith("q = [")]
+    (line,) = [ln.strip() for ln in message.splitlines() if ln.strip().startswith("q = [")]
     namespace: dict = {}
     exec(line, namespace)
     return np.array(namespace["q"])

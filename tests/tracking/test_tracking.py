@@ -113,7 +113,7 @@ def _within_effort(spec, trajectory) -> bool:
     pin = pinocchio_dynamics(spec, generate_urdf(spec))
     plan = quintic(trajectory.q0, trajectory.q1, trajectory.duration, 0.01)
     effort = np.array([j.limits.effort for j in spec.joints])
-    return all(np.all(np.abs(pin.inverse(q, v, a)) < 0.8 * effort) for q, v, a in zip(plan.q, plan.qd, plan.qdd))
+    return all(np.all(np.abs(pin.inverse(q, v, a)) < 0.8 * effort) for q, v, a in zip(plan.q, plan.qd, plan.qdd, strict=True))
 
 
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])

@@ -206,7 +206,7 @@ class Aligner:
             # next axis is taken where it crosses a plane across this one, only the part of the shift
             # across that axis shows (am − dm / (dm·am))
             moved = []
-            for pt, (dm, du) in zip(points, dirs):
+            for pt, (dm, du) in zip(points, dirs, strict=True):
                 if np.linalg.norm(np.cross(dm, am)) <= 1e-6:
                     continue
                 near = max(np.linalg.norm(np.cross(am, dm)), np.linalg.norm(np.cross(am, du))) < NEAR_PARALLEL
@@ -257,7 +257,7 @@ class Aligner:
         if found:
             theta = consensus(found, [1.0] * len(found))
             turned = [axis_angle_to_matrix(am, np.array([theta]))[0] @ dm for dm, _ in dirs]
-            ok = all(min(np.linalg.norm(x - du), np.linalg.norm(x + du)) <= rtol for x, (_, du) in zip(turned, dirs))
+            ok = all(min(np.linalg.norm(x - du), np.linalg.norm(x + du)) <= rtol for x, (_, du) in zip(turned, dirs, strict=True))
             return theta if ok else 0.0
         return 0.0
 

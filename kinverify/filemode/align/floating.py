@@ -43,7 +43,7 @@ def urdf_base(urdf_text: str) -> UrdfBase:
     root = ET.fromstring(urdf_text)
     joints = root.findall("joint")
     children = {c.get("link") for j in joints for c in j.findall("child")}
-    roots = [l.get("name") for l in root.findall("link") if l.get("name") not in children]
+    roots = [el.get("name") for el in root.findall("link") if el.get("name") not in children]
     name = roots[0] if roots else ""
     below = [j for j in joints if (p := j.find("parent")) is not None and p.get("link") == name]
     floating = next((j for j in below if j.get("type") == "floating"), None)

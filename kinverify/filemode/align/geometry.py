@@ -154,7 +154,7 @@ def consensus(values: list[float], weights: list[float], linear: bool = False, s
     total = sum(weights)
     best, support = 0.0, 0.0
     for v in values:
-        group = [(x, w) for x, w in zip(values, weights) if diff(x, v) <= spread]
+        group = [(x, w) for x, w in zip(values, weights, strict=True) if diff(x, v) <= spread]
         s = sum(w for _, w in group)
         if s > support:
             support = s

@@ -69,7 +69,7 @@ def _strip_affix(names: list[str]) -> list[str]:
 def _normalise(names) -> dict[str, str]:
     """name -> lowercased alphanumerics without the prefix and suffix most names share."""
     names = list(names)
-    return {n: re.sub(r"[^0-9a-z]", "", core.lower()) or n.lower() for n, core in zip(names, _strip_affix(names))}
+    return {n: re.sub(r"[^0-9a-z]", "", core.lower()) or n.lower() for n, core in zip(names, _strip_affix(names), strict=True)}
 
 
 def _numbers(names) -> dict[str, str]:
@@ -128,8 +128,8 @@ def _pair_siblings(u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], par
 
     def cost(iu: tuple, im: tuple) -> float:
         c = sum(1e3 * (u.joint(cu[a]).type != m.joint(cm[b]).type) + abs(sizes[0][cu[a]] - sizes[1][cm[b]])
-                + abs(lu[2][a, 0] - lm[2][b, 0]) / scale + abs(lu[2][a, 1] - lm[2][b, 1]) for a, b in zip(iu, im))
-        for (a1, b1), (a2, b2) in itertools.combinations(list(zip(iu, im)), 2):
+                + abs(lu[2][a, 0] - lm[2][b, 0]) / scale + abs(lu[2][a, 1] - lm[2][b, 1]) for a, b in zip(iu, im, strict=True))
+        for (a1, b1), (a2, b2) in itertools.combinations(list(zip(iu, im, strict=True)), 2):
             c += abs(lu[0][a1, a2] - lm[0][b1, b2]) / scale + abs(lu[1][a1, a2] - lm[1][b1, b2])
         return c
 
@@ -144,7 +144,7 @@ def _pair_siblings(u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], par
             if rest:
                 iu.append(a)
                 im.append(min(rest, key=lambda b: cost(tuple(iu), tuple(im) + (b,))))
-    return [(cu[a], cm[b]) for a, b in zip(iu, im) if u.joint(cu[a]).type == m.joint(cm[b]).type]
+    return [(cu[a], cm[b]) for a, b in zip(iu, im, strict=True) if u.joint(cu[a]).type == m.joint(cm[b]).type]
 
 
 def _by_tree(u: ModelDesc, m: ModelDesc, pairs: list, free_u: list[str], free_m: list[str]) -> list[tuple[str, str]]:
@@ -236,7 +236,7 @@ def match_joints(u: ModelDesc, m: ModelDesc, explicit=()) -> tuple[list[tuple[st
     # Chain order: what is left of each file's main chain, paired in order when the types agree
     # and the angle to the parent axis (independent of the base frame) agrees.
     fu, fm = free(0), free(1)
-    for a, b in zip(fu, fm):
+    for a, b in zip(fu, fm, strict=False):
         ta, tb = _twist(u, a), _twist(m, b)
         if u.joint(a).type == m.joint(b).type and (ta is None or tb is None or abs(ta - tb) < 1e-3):
             pairs.append((a, b, "chain order and axis"))

@@ -95,7 +95,7 @@ def check_supported(root: ET.Element, kind: str, path) -> None:
         links = root.findall("link")
         joints = root.findall("joint")
         children = {c.get("link") for j in joints for c in j.findall("child")}
-        roots = {l.get("name") for l in links} - children
+        roots = {el.get("name") for el in links} - children
         for joint in joints:
             parent = joint.find("parent")
             if joint.get("type") in PLANAR_URDF and parent is not None and parent.get("link") in roots:

@@ -24,7 +24,7 @@ def coupled(urdf: str, mjcf: str, mimics: dict, equalities: list) -> tuple[str, 
     joint2, multiplier, offset) meaning joint1 = offset + multiplier·joint2."""
     for follower, (leader, k, c) in mimics.items():
         urdf = P.sub_once(rf'(<joint name="{follower}" type="revolute">)',
-                          lambda m: m[1] + f'<mimic joint="{leader}" multiplier="{k}" offset="{c}"/>', urdf)
+                          lambda m, leader=leader, k=k, c=c: m[1] + f'<mimic joint="{leader}" multiplier="{k}" offset="{c}"/>', urdf)
     eq = "".join(f'<joint joint1="{a}" joint2="{b}" polycoef="{c} {k} 0 0 0"/>' for a, b, k, c in equalities)
     return urdf, P.sub_once(r"</mujoco>", f"<equality>{eq}</equality></mujoco>", mjcf)
 
