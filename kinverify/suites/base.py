@@ -240,7 +240,7 @@ class Suite(ABC):
     ``run``. A suite with no properties only adds a report section (diagnosis, pictures)."""
 
     name: ClassVar[str]
-    title: ClassVar[str]
+    title: str  # a class attribute; a suite made per file may set its own
     properties: ClassVar[tuple[Property, ...]] = ()
     report_only: ClassVar[bool] = False  # only a report section (skipped by --no-report-suites)
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, cast
+from typing import Any
 
 from kinverify.filemode.compare.context import file_view
 from kinverify.filemode.compare.inertials import analyse, rounded_side, uniform_mass_ratio
@@ -43,7 +43,7 @@ class InertiaSuite(Suite):
         info = file_view(ctx)
         if info is None:
             return SuiteResult([], Section(self.title, "skipped: needs both a URDF and an MJCF"))
-        defaults = cast(tuple[float, float, float], tuple(tolerance(ctx.options, self.property(p)) for p in PROPS))
+        defaults = tuple(tolerance(ctx.options, self.property(p)) for p in PROPS)
         results = analyse(info, defaults)
         moving = [r for r in results if not r.group.fixed_base_root]
         checks = []
