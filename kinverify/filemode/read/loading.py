@@ -280,7 +280,7 @@ def _resolve_mesh_assets(root: ET.Element, base: Path) -> set[str]:
         for mesh in asset.findall("mesh"):
             filename = mesh.get("file")
             found = resolve_asset(filename, folder) if filename else None
-            if found is not None:
+            if found is not None and filename:  # found only for a filename
                 mesh.set("file", str(found))
                 kept.add(mesh.get("name") or Path(filename).stem)
     return kept
@@ -307,7 +307,7 @@ def _weighs(geom: ET.Element, parents: dict, defaults: dict) -> bool:
         return True
 
 
-def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, list[str], list[str]]:
+def _drop_meshes(root: ET.Element, kept: set[str] | frozenset[str] = frozenset()) -> tuple[int, list[str], list[str]]:
     """Remove geoms using a mesh not in ``kept`` (named on the geom or given by its default class),
     those mesh assets and the default classes' references to them, skin/hfield assets and file
     textures (and references to them). Also returns the bodies whose mass came in part from a
