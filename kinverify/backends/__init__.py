@@ -9,7 +9,7 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Callable
+from typing import Any, Callable
 
 from kinverify.errors import BackendUnavailable, UnknownNameError
 from kinverify.backends.base import Backend, BackendBase, Evaluation, finite_difference_jacobians
@@ -32,7 +32,7 @@ class BackendInfo:
     extra: str = ""  # the optional extra of kinverify that installs its library
 
     @property
-    def backend_class(self) -> type:
+    def backend_class(self) -> type[Any]:
         """The adapter class, which declares the capabilities (library, Jacobians, slow...)."""
         if not self.available:
             raise BackendUnavailable(self.name, self.reason)
@@ -112,7 +112,7 @@ def default_backend_names(sources: ModelSources) -> list[str]:
     for info in available_backends().values():
         if not info.available or getattr(sources, info.source) is None:
             continue
-        if info.name == "analytic-dh" and (sources.spec.dh is None or sources.spec.floating):
+        if info.name == "analytic-dh" and (sources.spec is None or sources.spec.dh is None or sources.spec.floating):
             continue
         names.append(info.name)
     return names

@@ -51,5 +51,6 @@ class AnalyticDHBackend(AnalyticBackend):
         q = self._check(q)
         links = np.empty((q.shape[0], self.spec.dof + 1, 4, 4))
         links[:, 0] = self.spec.base_origin.transform
+        assert self.spec.dh is not None  # checked on construction
         links[:, 1:] = dhmod.dh_link_poses(self.spec.dh.convention, self.spec.dh.rows, self._prismatic, links[0, 0], q)
         return np.concatenate([links, tool_poses(self.spec, links)], axis=1)

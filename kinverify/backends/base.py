@@ -109,4 +109,6 @@ class EvaluatingBackend(BackendBase):
         return self.evaluate(q, with_jacobians=False).poses
 
     def jacobians(self, q: np.ndarray) -> np.ndarray:
-        return self.evaluate(q).jacobians
+        jac = self.evaluate(q).jacobians
+        assert jac is not None  # evaluated with Jacobians
+        return jac

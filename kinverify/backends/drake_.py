@@ -45,7 +45,7 @@ class DrakeBackend(EvaluatingBackend):
         self.parser_warnings = list(warnings)
         self.floating = has_base(self.joint_names)
         self._q0 = plant.GetPositions(self.context).copy()
-        self._free = None
+        self._free: tuple[int, int] | None = None
         if self.floating:
             joint = floating_joint(plant, name)
             self._free = (joint.position_start(), joint.velocity_start())
@@ -75,6 +75,7 @@ class DrakeBackend(EvaluatingBackend):
         """Drake's position vectors ``(N, nq)`` for our configurations ``(N, n)``."""
         full = np.tile(self._q0, (q.shape[0], 1))
         if self.floating:
+            assert self._free is not None  # set whenever the base floats
             iq = self._free[0]
             full[:, iq:iq + 7] = base_positions(q[:, :6])
             q = q[:, 6:]
@@ -95,11 +96,14 @@ class DrakeBackend(EvaluatingBackend):
                 poses[k, f] = relative(ctx, world, frame).GetAsMatrix4()
                 if with_jacobians:
                     jac = jacobian(ctx, kv, frame, origin, world, world)
+                    assert full is not None  # made whenever with_jacobians
                     full[k, f, :3], full[k, f, 3:] = jac[3:], jac[:3]  # [angular; linear] -> [linear; angular]
         jac = None
         if with_jacobians:
+            assert full is not None
             jac = full[..., self._idx_v]
             if self.floating:
+                assert self._free is not None  # set whenever the base floats
                 iv = self._free[1]
                 base = full[..., iv:iv + 6] @ base_velocity_map(q[:, :6])[:, None]
                 jac = np.concatenate([base, jac], axis=-1)

@@ -30,7 +30,7 @@ class DrakeDynamics:
         plant = self.plant
         self.context = plant.CreateDefaultContext()
         self._q0 = plant.GetPositions(self.context).copy()
-        self._free = None
+        self._free: tuple[int, int] | None = None
         if self.floating:
             joint = floating_joint(plant, name)
             self._free = (joint.position_start(), joint.velocity_start())
@@ -50,6 +50,7 @@ class DrakeDynamics:
         if self.floating:
             if v is not None:
                 raise ValueError("velocity-dependent dynamics of a floating base are not compared")
+            assert self._free is not None  # set whenever the base floats
             full[self._free[0]:self._free[0] + 7] = base_positions(q[:6])[0]
             q = q[6:]
         full[self.idx_q] = q
@@ -62,6 +63,7 @@ class DrakeDynamics:
     def _columns(self, q) -> tuple[np.ndarray, np.ndarray | None]:
         if not self.floating:
             return self.idx_v, None
+        assert self._free is not None  # set whenever the base floats
         iv = self._free[1]
         cols = np.concatenate([np.arange(iv, iv + 6), self.idx_v])
         s = np.eye(len(cols))

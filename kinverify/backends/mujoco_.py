@@ -133,6 +133,7 @@ class MujocoBackend(EvaluatingBackend):
                 pos[k, sf] = site_xpos[sid]
             if with_jacobians:
                 com_pos(m, d)  # cdof, needed by the Jacobian functions
+                assert full is not None  # made whenever with_jacobians
                 jk = full[k]
                 for f, oid in bodies:
                     jac_body(m, d, jk[f, :3], jk[f, 3:], oid)
@@ -144,6 +145,7 @@ class MujocoBackend(EvaluatingBackend):
         poses[..., 3, 3] = 1.0
         jac = None
         if with_jacobians:
+            assert full is not None
             jac = full if self._vadr == list(range(m.nv)) else full[..., self._vadr]
             if self.floating:  # free joint: world linear, body angular velocity
                 iv = self._free[1]

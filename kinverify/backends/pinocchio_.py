@@ -152,7 +152,7 @@ class PinocchioBackend(EvaluatingBackend):
         placement = data.oMf[fid]
         rot, pos = placement.rotation, placement.translation
 
-        def fk(q):
+        def fk(q, inner=None):  # the wrappers' signature (inner unused)
             return rot, pos, cfj(model, data, q, fid, lwa)
 
         if model.nv == 1:  # computeFrameJacobian returns a (6,) vector then

@@ -50,7 +50,7 @@ class YourdfpyBackend(BackendBase):
         self._cfg = np.asarray(robot.cfg, dtype=float).copy()
         self._reseat_transforms()
         parent = {j.child: j.parent for j in robot.robot.joints}
-        depth = {}
+        depth: dict[str, int] = {}
         for frame in self.frames:  # every link from the root to each frame, parents first
             link, path = frame, []
             while link != self._root and link not in depth:
@@ -58,7 +58,7 @@ class YourdfpyBackend(BackendBase):
                 link = parent[link]
             for k, child in enumerate(reversed(path)):
                 depth[child] = depth.get(link, 0) + k + 1
-        self._edges = [(child, parent[child]) for child in sorted(depth, key=depth.get)]
+        self._edges = [(child, parent[child]) for child in sorted(depth, key=depth.__getitem__)]
 
     def _reseat_transforms(self) -> None:
         """At load time trimesh keeps a joint's first (identity) transform when the real origin is
@@ -115,7 +115,7 @@ def fixed_root(urdf_text: str) -> str:
     import xml.etree.ElementTree as ET
 
     root = ET.fromstring(urdf_text)
-    children = {j.find("child").get("link") for j in root.iter("joint") if j.find("child") is not None}
+    children = {c.get("link") for j in root.iter("joint") if (c := j.find("child")) is not None}
     for joint in root.iter("joint"):
         parent = joint.find("parent")
         if joint.get("type") == "floating" and parent is not None and parent.get("link") not in children:

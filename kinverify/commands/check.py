@@ -162,12 +162,12 @@ def run(args) -> int:
     options = VerifyOptions(samples=args.samples, seed=args.seed, suites=suites)
     worst = 0
     for kind, path, other in jobs(args.files):
-        label = shown(f"{path} + {other.name}" if kind == "pair" else path)
+        label = shown(f"{path} + {other.name}" if kind == "pair" else path)  # type: ignore[union-attr]  # a pair has its other file
         if kind == "skip":
             print(f"{label}: skipped (not a spec .toml, a URDF or an MJCF)", flush=True)
             continue
         try:
-            code, line = (check_spec(path, options, args) if kind == "spec" else check_pair(path, other, options) if kind == "pair"
+            code, line = (check_spec(path, options, args) if kind == "spec" else check_pair(path, other, options) if kind == "pair"  # type: ignore[arg-type]
                           else check_audit(path, options))
         except KinverifyError as err:  # the message names the file
             message = shown(" ".join(str(err).split()))

@@ -87,6 +87,8 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
     others = [b for b in build_backends(sources) if b.name != name and frame in b.frames]
     all_confirmed = True
     for i, q in enumerate(solutions):
+        confirmed: list[str]
+        disagree: list[str]
         confirmed, disagree = [], []
         for other in others:
             p = other.evaluate(q[None], with_jacobians=False).poses[:, other.frames.index(frame)]
@@ -105,7 +107,7 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
 
 
 def _distinct(qs, revolute, tol: float = 1e-6):
-    out = []
+    out: list = []
     for q in qs:
         if not any(_joint_distance(q, p, revolute) <= tol for p in out):
             out.append(q)

@@ -82,6 +82,7 @@ def run(args) -> int:
     q1 = validate_target(spec, q1, duration)
     trajectory = Trajectory(default.q0, q1, duration, default.hold if args.hold is None else args.hold)
     sources = ModelSources.from_spec(spec)
+    assert sources.urdf is not None  # generated from the spec
     started, t0 = datetime.now(timezone.utc), time.perf_counter()
     result = track(spec, sources.urdf, trajectory, controllers, options=_gated())
     return _report(args, spec, result, started, t0)
@@ -163,6 +164,7 @@ def _run_cartesian(args, spec, default, controllers) -> int:
               f"joint distance {c.distance:.3g}, via {c.source}; segment {cplan.durations[k]:g} s)")
     hold_s = default.hold if args.hold is None else args.hold
     sources = ModelSources.from_spec(spec)
+    assert sources.urdf is not None  # generated from the spec
     started, t0 = datetime.now(timezone.utc), time.perf_counter()
     if len(cplan.choices) == 1:
         result = track(spec, sources.urdf, Trajectory(cplan.q_start, cplan.choices[0].q, cplan.durations[0], hold_s), controllers,

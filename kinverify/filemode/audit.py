@@ -239,6 +239,7 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
         if where is None:
             findings.append(f)
             continue
+        assert reference is not None and name is not None  # where was found for them
         findings.append(_disagreement(kind, reference, name, where, f.values.get("agree", ())))
         kept[name] = backends[name]  # compared in the kinematics suite too: its checks show the size per frame
     if reference is None:

@@ -21,6 +21,7 @@ import dataclasses
 import re
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -65,6 +66,8 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
 
     options = options or VerifyOptions()
     wanted = side_names(options, kinds)
+    findings: list
+    internal: list
     findings, internal = [], []
     readers = {"sdf": read_sdf, "usd": read_usd}
     M, mjcf_text, m, free = readers.get(kinds[1], read_mjcf)(mjcf, findings)
@@ -179,7 +182,7 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
     base = BASE_COORDINATES if info.base_coordinates else ()
     texts = {"urdf": None, "mjcf": None, "sdf": None, "usd": None, kinds[0]: diag["urdf_text"], kinds[1]: diag["mjcf_text"]}
-    second = dict(joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
+    second: dict[str, Any] = dict(joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
                   frames=tuple(b for _, b, _ in matching.frames))  # the second file's own names
     sources = ModelSources(name, base + tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
                            tuple(diag["upper"]), tuple(diag["revolute"]), urdf=texts["urdf"], mjcf=texts["mjcf"], sdf=texts["sdf"],

@@ -35,6 +35,7 @@ def geom_shape_attributes(geom: Geometry) -> str:
         return f'fromto="{nums(geom.fromto)}" size="{nums([geom.radius])}"'
     if geom.shape == "sphere":
         return f'pos="{nums(geom.pos)}" size="{nums([geom.radius])}"'
+    assert geom.size is not None  # a box states its size
     return f'pos="{nums(geom.pos)}" size="{nums([s / 2 for s in geom.size])}"'
 
 

@@ -59,11 +59,11 @@ def generate_urdf(spec: ArmSpec) -> str:
                 f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(spec.base_origin)}", "  </joint>"]
     out += _link(spec.base_link, 0)
     for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices, strict=True)):
-        parent = spec.link_names[parent]
+        parent_name = spec.link_names[parent]
         lim = joint.limits
         out += [
             f"  <joint name={attr(joint.name)} type={attr(joint.type)}>",
-            f"    <parent link={attr(parent)}/>",
+            f"    <parent link={attr(parent_name)}/>",
             f"    <child link={attr(joint.link.name)}/>",
             f"    {_origin(joint.origin)}",
             f'    <axis xyz="{nums(joint.axis)}"/>',

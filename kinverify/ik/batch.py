@@ -274,6 +274,16 @@ class _Rows:
 
     COLUMNS = ("own", "cap", "it", "ewin")
     BATCH_LAST = ("q", "seed", "pt", "rts", "b1", "b2")
+    own: np.ndarray  # the arrays above, set by __init__ and take/extend
+    cap: np.ndarray
+    it: np.ndarray
+    ewin: np.ndarray
+    q: np.ndarray
+    seed: np.ndarray
+    pt: np.ndarray
+    rts: np.ndarray
+    b1: np.ndarray
+    b2: np.ndarray
 
     def __init__(self, **arrays) -> None:
         self.__dict__.update(arrays)

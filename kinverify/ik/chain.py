@@ -113,13 +113,14 @@ class SerialChain:
         if base is None:
             base = root_link(root, source)
         links = [link.get("name") for link in root.findall("link")]
-        joints = {j.get("name") for j in root.findall("joint")}
+        joint_set = {j.get("name") for j in root.findall("joint")}
         for which, name in (("--base", base), ("--tip", tip)):
             if name not in links:
-                raise InputError(f"{which}: {source} has no link {name!r}" + (" (a joint has that name)" if name in joints else "")
+                raise InputError(f"{which}: {source} has no link {name!r}" + (" (a joint has that name)" if name in joint_set else "")
                                  + f"; links: {', '.join(links)}")
         by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
-        path, link = [], tip
+        path: list = []
+        link = tip
         while link != base:
             if link not in by_child or len(path) >= len(by_child):  # at most one step per joint (a cycle never ends)
                 raise InputError(f"{source}: link {tip!r} is not below link {base!r}")
@@ -174,6 +175,7 @@ class SerialChain:
         work = np.empty((3, 3, n_cfg))
         for i in range(k):
             if jacobian:
+                assert z is not None and o is not None  # made whenever jacobian
                 z[:, i], o[:, i] = rot[2], p
             if self.revolute[i]:
                 np.multiply(rot[0], c[i], out=work[0])
@@ -189,6 +191,7 @@ class SerialChain:
             p = p + out[3].reshape(3, n_cfg)
         if not jacobian:
             return rot, p, None
+        assert z is not None and o is not None
         d = p[:, None, :] - o
         cols = np.empty((6, k, n_cfg))
         cols[0] = z[1] * d[2] - z[2] * d[1]
@@ -199,6 +202,7 @@ class SerialChain:
             prismatic = ~self.revolute
             cols[:3, prismatic] = z[:, prismatic]
             cols[3:, prismatic] = 0.0
+        assert self.columns is not None and self.width is not None  # set in __post_init__
         if k == self.width and (self.columns == np.arange(k)).all():
             return rot, p, cols
         jac = np.zeros((6, self.width, n_cfg))

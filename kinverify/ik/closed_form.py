@@ -39,16 +39,16 @@ class Arm3ClosedForm:
         if spec.dof != 3 or any(j.type != "revolute" for j in spec.joints) or not spec.is_serial:
             raise InputError(f"{spec.name}: closed-form IK needs 3 revolute joints (arm3 shape)")
         axes = [tuple(np.round(j.axis, 12)) for j in spec.joints]
-        tool = spec.tools[-1] if tool is None else next(t for t in spec.tools if t.name == tool)
-        origins = [j.origin for j in spec.joints[1:]] + [tool.origin]
+        frame = spec.tools[-1] if tool is None else next(t for t in spec.tools if t.name == tool)
+        origins = [j.origin for j in spec.joints[1:]] + [frame.origin]
         straight = all(np.allclose(o.transform[:3, :3], np.eye(3)) and np.allclose(o.transform[:2, 3], 0) for o in origins)
-        if axes != [(0, 0, 1), (0, 1, 0), (0, 1, 0)] or not straight or tool.parent != spec.joints[2].link.name \
+        if axes != [(0, 0, 1), (0, 1, 0), (0, 1, 0)] or not straight or frame.parent != spec.joints[2].link.name \
                 or not np.allclose(spec.base_origin.transform[:3, :3], np.eye(3)) \
                 or not np.allclose(spec.joints[0].origin.transform[:3, :3], np.eye(3)):
             raise InputError(f"{spec.name}: closed-form IK needs the arm3 shape (yaw z, pitch y, pitch y, offsets along z)")
         base = spec.base_origin.transform @ spec.joints[0].origin.transform
         shoulder = base[:3, 3] + np.array([0.0, 0.0, spec.joints[1].origin.transform[2, 3]])
-        return cls(shoulder, spec.joints[2].origin.transform[2, 3], tool.origin.transform[2, 3], spec.lower, spec.upper)
+        return cls(shoulder, spec.joints[2].origin.transform[2, 3], frame.origin.transform[2, 3], spec.lower, spec.upper)
 
     def position(self, q) -> np.ndarray:
         """Tool position ``(..., 3)`` of configurations ``(..., 3)``."""

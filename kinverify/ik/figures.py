@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from kinverify.report.plots import RC, figure_entry, new_figure
+from kinverify.suites.base import Figure
 
 MIN_MS = 1e-6  # a solve time of 0 (timer resolution) is drawn at this value on the log axis
 
@@ -27,7 +28,7 @@ def _label(d: dict) -> str:
     return f"{d['solver']} / {d['backend']}"
 
 
-def success_figure(solvers: list[dict], tol_pos: float, tol_rot: float) -> dict:
+def success_figure(solvers: list[dict], tol_pos: float, tol_rot: float) -> Figure:
     """Horizontal bars: percentage of targets solved within the suite's tolerance and within the
     solver's own tolerance, one pair of bars per solver/backend."""
     import matplotlib
@@ -56,7 +57,7 @@ def success_figure(solvers: list[dict], tol_pos: float, tol_rot: float) -> dict:
                             "1 − ik.failure_rate) and within the solver's own stopping tolerance (grey)")
 
 
-def time_figure(solvers: list[dict]) -> dict:
+def time_figure(solvers: list[dict]) -> Figure:
     """One axes, one row per solver/backend, sharing a log time axis: every target's solve time
     (dots), the median (long red bar, its value at the right) and the 95th percentile (short bar)."""
     import matplotlib
@@ -95,7 +96,7 @@ def time_figure(solvers: list[dict]) -> dict:
                             "value. Timings are not asserted.")
 
 
-def ik_figures(solvers: list[dict], tol_pos: float, tol_rot: float) -> list[dict]:
+def ik_figures(solvers: list[dict], tol_pos: float, tol_rot: float) -> list[Figure]:
     """Both figures from the section's ``solvers`` records (none when there are none)."""
     if not solvers:
         return []

@@ -42,12 +42,13 @@ class SeedTable:
         rng = np.random.default_rng(seed)
         qs = np.concatenate([rng.uniform(lower, upper, (samples, len(lower))), corners(lower, upper, rng)])
         samples = len(qs)
-        rot9, pos = [], []
+        rot9_parts: list[np.ndarray] = []
+        pos_parts: list[np.ndarray] = []
         for a in range(0, samples, 4096):
             s, p = fk_soa(np.ascontiguousarray(qs[a:a + 4096].T))[:2]
-            rot9.append(s.transpose(2, 1, 0).reshape(-1, 9))  # row-major R per sample
-            pos.append(p.T)
-        rot9, pos = np.concatenate(rot9), np.concatenate(pos)
+            rot9_parts.append(s.transpose(2, 1, 0).reshape(-1, 9))  # row-major R per sample
+            pos_parts.append(p.T)
+        rot9, pos = np.concatenate(rot9_parts), np.concatenate(pos_parts)
         extent = pos.max(0) - pos.min(0) + cell
         cell = max(float(cell), float(np.prod(extent) / MAX_CELLS) ** (1 / 3))
         self.cell, self.k, self.w = cell, int(k), float(w_rot)
@@ -65,7 +66,7 @@ class SeedTable:
         self.norms = np.einsum("ij,ij->i", pos, pos) + w2 * np.einsum("ij,ij->i", rot9, rot9)
         self.q = qs  # (samples, n)
 
-    def _nearest_per_cell(self, pos: np.ndarray) -> np.ndarray:
+    def _nearest_per_cell(self, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(cells, pool)`` sample indices and ``(cells,)`` how many are distinct: per cell the
         ``pool`` samples nearest its centre among those in the cube of cells around it, the cube
         growing (for the cells still short) up to ``MAX_RADIUS``; a cell with fewer repeats them,
@@ -103,7 +104,7 @@ class SeedTable:
             for axis in range(3):
                 for step in (1, -1):
                     moved = np.roll(source, step, axis=axis)
-                    edge = [slice(None)] * 3
+                    edge: list[slice | int] = [slice(None)] * 3
                     edge[axis] = 0 if step == 1 else -1
                     moved[tuple(edge)] = -1  # no wrap-around
                     source = np.where(source < 0, moved, source)

@@ -36,13 +36,13 @@ def check_urdf_tree(root: ET.Element, path, label: str = "") -> None:
     """:class:`InputError` unless the URDF's links and joints form one tree (see the module doc)."""
     where = _where(path, label)
     links: dict[str, ET.Element] = {}
-    for link in root.findall("link"):
-        name = link.get("name")
+    for link_element in root.findall("link"):
+        name = link_element.get("name")
         if name is None:
             raise InputError(f"{where}: a <link> has no name")
         if name in links:
             raise InputError(f"{where}: link {name!r} is defined twice")
-        links[name] = link
+        links[name] = link_element
     if links and "world" not in links and any((p := j.find("parent")) is not None and p.get("link") == "world"
                                               for j in root.findall("joint")):
         links["world"] = ET.Element("link", name="world")  # the world itself, as Drake and Gazebo read an undeclared one
@@ -152,11 +152,11 @@ def check_urdf_numbers(root: ET.Element, path, label: str = "") -> None:
             for origin in link.findall(f"{part}/origin"):
                 for attribute in ("xyz", "rpy"):
                     _finite(origin, attribute, 3, where, f"{what} <{part}><origin>")
-        for tag, attributes in URDF_NUMBERS.items():
+        for tag, counts in URDF_NUMBERS.items():
             if tag.startswith(("inertial/", "geometry/")):
                 found = link.findall(tag) if tag.startswith("inertial/") else link.findall(f"*/{tag}")
                 for element in found:
-                    for attribute, count in attributes.items():
+                    for attribute, count in counts.items():
                         _finite(element, attribute, count, where, f"{what} <{tag.split('/')[-1]}>", finite=False)
 
 

@@ -44,7 +44,8 @@ def _origin(d) -> Origin:
 def _link(d) -> Link:
     geometry = d.get("geometry")
     if geometry is not None:
-        geometry = Geometry(**{k: tuple(v) if isinstance(v, list) else v for k, v in geometry.items()})
+        fields: dict[str, Any] = {k: tuple(v) if isinstance(v, list) else v for k, v in geometry.items()}
+        geometry = Geometry(**fields)
     inertial = d["inertial"]
     return Link(d["name"], Inertial(inertial["mass"], tuple(inertial["com"]), tuple(inertial["inertia"])), geometry)
 

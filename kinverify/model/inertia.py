@@ -31,6 +31,7 @@ def volume(geom: Geometry) -> float:
     if geom.shape == "sphere":
         return 4.0 / 3.0 * np.pi * r**3
     if geom.shape == "box":
+        assert geom.size is not None  # a box states its size
         return float(np.prod(geom.size))
     cylinder = np.pi * r**2 * geom.length
     return cylinder + (4.0 / 3.0 * np.pi * r**3 if geom.shape == "capsule" else 0.0)
@@ -44,6 +45,7 @@ def inertial_from_geometry(geom: Geometry, mass: float | None = None, density: f
         i = 0.4 * total * r**2
         return Inertial(total, geom.pos, (i, i, i, 0.0, 0.0, 0.0))
     if geom.shape == "box":
+        assert geom.size is not None  # a box states its size
         x, y, z = geom.size
         k = total / 12.0
         return Inertial(total, geom.pos, (k * (y * y + z * z), k * (x * x + z * z), k * (x * x + y * y), 0.0, 0.0, 0.0))
@@ -59,5 +61,6 @@ def inertial_from_geometry(geom: Geometry, mass: float | None = None, density: f
         offset = length / 2 + 3 * r / 8
         i_radial = m_cyl * (3 * r**2 + length**2) / 12 + 2 * m_hemi * (83 / 320 * r**2 + offset**2)
         tensor = _axisymmetric(axis, i_axial, i_radial)
-    inertia = (tensor[0, 0], tensor[1, 1], tensor[2, 2], tensor[0, 1], tensor[0, 2], tensor[1, 2])
-    return Inertial(total, tuple(centre), tuple(float(v) for v in inertia))
+    inertia = (float(tensor[0, 0]), float(tensor[1, 1]), float(tensor[2, 2]), float(tensor[0, 1]), float(tensor[0, 2]),
+               float(tensor[1, 2]))
+    return Inertial(total, tuple(centre), inertia)

@@ -10,7 +10,7 @@ import math
 import os
 import tomllib
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, cast, overload
 
 import numpy as np
 
@@ -30,6 +30,7 @@ class _Table:
     def __init__(self, data: Any, path: str) -> None:
         if not isinstance(data, dict):
             raise SpecError(path, f"expected a table, got {type(data).__name__}")
+        self.used: set[str]
         self.data, self.path, self.used = data, path, set()
 
     def at(self, key: str) -> str:
@@ -43,6 +44,10 @@ class _Table:
             return default
         return self.data[key]
 
+    @overload
+    def table(self, key: str, required: Literal[True]) -> "_Table": ...
+    @overload
+    def table(self, key: str, required: bool = False) -> "_Table | None": ...
     def table(self, key: str, required: bool = False) -> "_Table | None":
         value = self.get(key, required=required)
         return None if value is None else _Table(value, self.at(key))
@@ -249,7 +254,7 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     last_link = last_link_table.get("name", f"link{len(joint_tables)}") if isinstance(last_link_table, dict) else None
     tools = []
     if flange is not None:
-        tools.append(Tool(flange_name, last_link, flange))
+        tools.append(Tool(cast(str, flange_name), cast(str, last_link), flange))  # a non-table last [link] is refused below
     for tt, tname, parent, origin in tool_specs:
         if flange is not None and parent in (None, flange_name):
             t = flange.transform @ origin.transform
@@ -263,6 +268,7 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     for i, jt in enumerate(joint_tables):
         # default geometry: towards the first joint hanging from this link, else its first tool
         children = [k for k in range(i + 1, len(joint_tables)) if (parents[k] or link_names[k - 1]) == link_names[i]]
+        end: tuple[float, float, float] | None
         if children:
             end = origins[children[0]].xyz
         else:

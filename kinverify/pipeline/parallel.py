@@ -18,6 +18,7 @@ import shutil
 import signal
 import tempfile
 import uuid
+from collections.abc import Sequence
 from typing import Any, Callable, Iterator
 
 from kinverify import interrupts
@@ -80,7 +81,7 @@ def check_executor_options(options) -> None:
         raise InputError("--scheduler needs --executor dask")
 
 
-def run_chunks(ctx, fn: Callable, chunks: list[tuple[int, int]]) -> Iterator:
+def run_chunks(ctx, fn: Callable, chunks: Sequence[tuple[int, int]]) -> Iterator:
     """Yield ``fn``'s result for each ``(start, stop)`` of ``chunks``, in that order."""
     opts = ctx.options
     check_executor_options(opts)

@@ -6,6 +6,7 @@ Everything is reproducible from ``seed`` (numpy ``default_rng``).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import cast
 
 import numpy as np
 
@@ -94,7 +95,7 @@ class Samples:
         u0, u1 = max(start - n_edge, 0), stop - n_edge
         if u1 > u0:
             rng = np.random.default_rng(self.seed)
-            rng.bit_generator.advance(u0 * self.shape[1])
+            cast(np.random.PCG64, rng.bit_generator).advance(u0 * self.shape[1])  # default_rng's generator
             parts.append(rng.uniform(self.lower, self.upper, size=(u1 - u0, self.shape[1])))
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 

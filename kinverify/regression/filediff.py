@@ -128,7 +128,7 @@ def diff_files(old_path: str, new_path: str, samples: int = DIFF_SAMPLES, seed: 
     """Parameter- and behaviour-level differences from the file ``old_path`` to ``new_path``
     (two URDFs or two MJCFs; anything else: :class:`InputError`)."""
     kinds = file_kind(old_path), file_kind(new_path)
-    if None in kinds:
+    if kinds[0] is None or kinds[1] is None:
         bad = old_path if kinds[0] is None else new_path
         raise InputError(f"{bad}: not a URDF or MJCF; diff compares two specs (.toml), two URDFs or two MJCFs")
     if kinds[0] != kinds[1]:

@@ -82,7 +82,7 @@ def _link_changes(out, old: Link, new: Link, atol: float) -> None:
     for attr in ("mass", "com", "inertia"):
         _compare(out, where, f"inertial.{attr}", getattr(old.inertial, attr), getattr(new.inertial, attr), atol)
     og, ng = old.geometry, new.geometry
-    if (og is None) != (ng is None) or (og is not None and og.shape != ng.shape):
+    if (og is None) != (ng is None) or (og is not None and ng is not None and og.shape != ng.shape):
         _compare(out, where, "geometry", og and og.shape, ng and ng.shape, atol)
     elif og is not None:
         for attr in ("radius", "fromto", "size", "pos"):
@@ -135,10 +135,10 @@ def diff_specs(old: ArmSpec, new: ArmSpec, atol: float = ATOL) -> list[ParamChan
         _link_changes(out, old_links[name], new_links[name], atol)
     old_tools, new_tools = {t.name: t for t in old.tools}, {t.name: t for t in new.tools}
     for name in _names(out, "tool", list(old_tools), list(new_tools)):
-        a, b = old_tools[name], new_tools[name]
-        _compare(out, f"tool {name}", "parent", a.parent, b.parent, atol)
-        _compare(out, f"tool {name}", "origin.xyz", a.origin.xyz, b.origin.xyz, atol)
-        _compare(out, f"tool {name}", "origin.rpy", a.origin.rpy, b.origin.rpy, atol)
+        ta, tb = old_tools[name], new_tools[name]
+        _compare(out, f"tool {name}", "parent", ta.parent, tb.parent, atol)
+        _compare(out, f"tool {name}", "origin.xyz", ta.origin.xyz, tb.origin.xyz, atol)
+        _compare(out, f"tool {name}", "origin.rpy", ta.origin.rpy, tb.origin.rpy, atol)
     _dh_changes(out, old, new, atol)
     return out
 
@@ -147,7 +147,7 @@ def _dh_changes(out, old: ArmSpec, new: ArmSpec, atol: float) -> None:
     if (old.dh is None) != (new.dh is None):
         out.append(ParamChange("dh", "table", "added" if old.dh is None else "removed", old.dh is not None, new.dh is not None))
         return
-    if old.dh is None:
+    if old.dh is None or new.dh is None:  # both or neither
         return
     _compare(out, "dh", "convention", old.dh.convention, new.dh.convention, atol)
     for i, (a, b) in enumerate(zip(old.dh.rows, new.dh.rows, strict=False)):

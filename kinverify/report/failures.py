@@ -67,17 +67,17 @@ def failure_groups(result: VerifyResult) -> list[dict[str, Any]]:
     out = []
     for col, failed in by_column.items():
         props = list(dict.fromkeys(c.property for c in failed))
-        rows = []
+        rows: list[dict[str, Any]] = []
         for prop in props:
             mine = [c for c in failed if c.property == prop]
             first = min(mine, key=lambda c: rank.get(c.frame, len(rank)))
-            worst = max(mine, key=lambda c: ratio(c) if ratio(c) == ratio(c) else math.inf)
+            worst_check = max(mine, key=lambda c: ratio(c) if ratio(c) == ratio(c) else math.inf)
             against = list(dict.fromkeys(x for c in mine for x in c.backends if x != col)) or [col]
-            rows.append({"property": prop, "first": first, "worst": worst, "n": len(mine), "against": ", ".join(against),
+            rows.append({"property": prop, "first": first, "worst": worst_check, "n": len(mine), "against": ", ".join(against),
                          "of": sum(1 for c in result.checks if c.property == prop and col in c.backends)})
         start = min((r["first"] for r in rows), key=lambda c: rank.get(c.frame, len(rank)))
         diag = diagnosis.get(col) or {}
-        worst = []
+        worst: list[dict[str, Any]] = []
         for w in diag.get("worst", []):
             worst.append({**configuration(w["q"], rev), "where": w["frame"],
                           "error": f"{w['position_error']:.3e} m, {w['rotation_error']:.3e} rad"})

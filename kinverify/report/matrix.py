@@ -18,10 +18,12 @@ A cell is the worst of its checks (frames, compared backends) relative to its to
 
 from __future__ import annotations
 
+import builtins
 import math
 import re
 from collections import Counter
 from dataclasses import dataclass, field
+from typing import Any
 
 from kinverify.report.units import display_unit, revolute
 from kinverify.results import VerifyResult
@@ -54,7 +56,7 @@ def ratio(c: Check) -> float:
     return c.max_error / c.tolerance if c.tolerance > 0 else math.inf
 
 
-def severity(c: Check) -> int:
+def severity(c: Check) -> tuple[bool, float]:
     """Sort key of a check, worst last: passing by ratio, then failing."""
     r = ratio(c)
     return (not c.passed, math.inf if r != r else r)
@@ -158,7 +160,7 @@ class Row:
     kind: str
     cells: dict[str, Cell] = field(default_factory=dict)
 
-    @property
+    @builtins.property  # the field above shadows the builtin in this class body
     def against(self) -> str:
         sides = list(dict.fromkeys(a for cell in self.cells.values() for a in cell.against))
         if sides == ["goal"]:
@@ -166,7 +168,7 @@ class Row:
         sides = [s for s in sides if s != "goal"]
         return f"vs {sides[0]}" if len(sides) == 1 else (f"vs {len(sides)} others" if sides else "")
 
-    @property
+    @builtins.property
     def failed(self) -> bool:
         return any(not c.passed for c in self.cells.values())
 
@@ -238,7 +240,7 @@ def layout(groups: list[Group]) -> list[list[list[Group]]]:
     return stacks
 
 
-def legend(explained: bool = False) -> list[dict[str, str]]:
+def legend(explained: bool = False) -> list[dict[str, Any]]:
     """Swatches for the legend: agreement ratios, performance, failures (and, when the run has
     them, differences a finding reports)."""
     items = [(1e-9, True, False, "≤ 1e-9 of tolerance"), (1e-6, True, False, "1e-6"), (1e-3, True, False, "1e-3"),

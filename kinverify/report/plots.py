@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import base64
 import io
+from typing import Any
 
 import numpy as np
 
@@ -17,7 +18,7 @@ from kinverify.suites.base import Figure
 from kinverify.results import VerifyResult
 from kinverify.pipeline.stats import HIST_EDGES
 
-_RC = {"svg.fonttype": "path", "svg.hashsalt": "kinverify", "font.size": 8, "axes.titlesize": 9}
+_RC: Any = {"svg.fonttype": "path", "svg.hashsalt": "kinverify", "font.size": 8, "axes.titlesize": 9}
 RC = _RC  # for suites drawing their own section figures
 
 
@@ -78,7 +79,7 @@ def error_distributions_svg(result: VerifyResult) -> str | None:
         for i, (prop, pairs) in enumerate(props.items()):
             ax = fig.add_subplot(rows, cols, i + 1)
             lo, hi = len(centres), 0
-            series = {" vs ".join(pair): hist for pair, hist in pairs.items()}
+            series: dict[str, Any] = {" vs ".join(pair): hist for pair, hist in pairs.items()}
             if len(series) > 6:  # a legend of 25 pairs hides the plot: pool them
                 series = {f"{len(series)} backend pairs, pooled": sum(series.values())}
             for label, hist in series.items():

@@ -4,7 +4,7 @@ the time left; a spinner and the suite's name while the total is not known yet."
 
 from __future__ import annotations
 
-from rich.progress import BarColumn, Progress, ProgressColumn, SpinnerColumn, TextColumn
+from rich.progress import BarColumn, Progress, ProgressColumn, SpinnerColumn, TaskID, TextColumn
 from rich.text import Text
 
 # What each suite counts when it reports progress (``VerifyOptions.on_progress(done, total)``).
@@ -42,7 +42,7 @@ class VerifyProgress:
         self.label = label
         self._progress = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), CountColumn(), EtaColumn(),
                                   console=console, transient=True, disable=not console.is_terminal)
-        self._task = None
+        self._task: TaskID | None = None
         self.suite_name = ""
 
     def __enter__(self) -> "VerifyProgress":
@@ -56,8 +56,10 @@ class VerifyProgress:
     def suite(self, name: str) -> None:
         """A suite starts: a new bar (its speed and time left are its own)."""
         self.suite_name = name
+        assert self._task is not None  # made on entering
         self._progress.remove_task(self._task)  # a new task: no total until the suite reports one
         self._task = self._progress.add_task(f"{self.label}: {name}", total=None, unit=UNITS.get(name, "steps"))
 
     def advance(self, done: int, total: int) -> None:
+        assert self._task is not None  # made on entering
         self._progress.update(self._task, completed=done, total=total)

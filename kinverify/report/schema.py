@@ -124,7 +124,7 @@ def schema_problem(data: Any) -> str | None:
         return None
     got = _JSON_TYPES.get(type(error.instance), type(error.instance).__name__)
     if error.validator == "type":
-        wanted = error.validator_value if isinstance(error.validator_value, list) else [error.validator_value]
+        wanted: list[str] = error.validator_value if isinstance(error.validator_value, list) else [error.validator_value]
         return f"{_field(error)} must be {' or '.join(_SCHEMA_TYPES.get(w, w) for w in wanted)}, got {got}"
     if error.validator == "enum":
         value = repr(error.instance)

@@ -44,6 +44,7 @@ def panels(data: dict, alignment=None, keys=("home", "worst")) -> list[tuple[str
         title = titles[key]
         drawn = {b: _poses(p) for b, p in poses[key].items()}
         if moved and other in drawn:
+            assert t is not None  # moved: an alignment was given
             if key == keys[0]:
                 out.append((f"{title}, as written", {**drawn, other: _moved(drawn[other], t)}))
             title += ", bases aligned"

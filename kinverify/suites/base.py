@@ -19,14 +19,15 @@ import builtins
 import math
 from abc import ABC, abstractmethod
 from dataclasses import asdict, dataclass, field, fields
-from typing import TYPE_CHECKING, Any, Callable, ClassVar, Literal
+from typing import TYPE_CHECKING, Any, Callable, ClassVar, Literal, cast
 
 import numpy as np
 
 if TYPE_CHECKING:  # only for annotations: suites never need the backends module at import time
     from kinverify.backends import Backend, ModelSources
 
-AGREEMENT, PERFORMANCE = "agreement", "performance"
+AGREEMENT: Kind = "agreement"
+PERFORMANCE: Kind = "performance"
 EXPLAINED = "explained"  # a failing check whose cause a finding reports (file mode): shown, the finding counts
 SEVERITIES = ("error", "warning", "info")
 Kind = Literal["agreement", "performance"]
@@ -69,12 +70,12 @@ class Check:
     kind: str = AGREEMENT
     gated: bool = False
 
-    @property
+    @builtins.property  # the field ``property`` shadows the builtin in this class body
     def counts(self) -> bool:
         """Does this check decide the verdict? Agreement always; performance only when gated."""
         return self.kind == AGREEMENT or self.gated
 
-    @property
+    @builtins.property
     def decisive_failure(self) -> bool:
         return self.counts and not self.passed
 
@@ -239,7 +240,7 @@ class Suite(ABC):
     ``run``. A suite with no properties only adds a report section (diagnosis, pictures)."""
 
     name: ClassVar[str]
-    title: ClassVar[str]
+    title: str  # a class attribute; a suite made per file may set its own
     properties: ClassVar[tuple[Property, ...]] = ()
     report_only: ClassVar[bool] = False  # only a report section (skipped by --no-report-suites)
 
@@ -268,7 +269,7 @@ def stats_check(p: Property, options: VerifyOptions | None, subject: str, pair: 
     with the tolerance, kind and gate the property has under ``options``."""
     tol = tolerance(options, p)
     worst = tuple(stats.worst_q.tolist()) if stats.worst_q is not None else ()
-    return Check(p.name, subject, tuple(pair), stats.max_error, stats.percentile(99), tol, within(stats.max_error, tol),
+    return Check(p.name, subject, cast(tuple[str, str], tuple(pair)), stats.max_error, stats.percentile(99), tol, within(stats.max_error, tol),
                  worst, unit or p.unit, stats.count, tuple(stats.histogram.tolist()), note, p.kind, gated(options, p))
 
 
@@ -277,15 +278,16 @@ def value_check(p: Property, options: VerifyOptions | None, subject: str, pair: 
     """A :class:`Check` of ``p`` from one measured value (a parameter difference, a fraction)."""
     tol = tolerance(options, p)
     error = float(error)
-    return Check(p.name, subject, tuple(pair), error, error, tol, within(error, tol), tuple(float(v) for v in worst_q),
+    return Check(p.name, subject, cast(tuple[str, str], tuple(pair)), error, error, tol, within(error, tol), tuple(float(v) for v in worst_q),
                  unit or p.unit, samples, (), note, p.kind, gated(options, p))
 
 
 def tolerance(options: VerifyOptions | None, prop: Property) -> float:
     """The tolerance (or goal) in effect: a ``--gate`` goal, a ``--tolerance`` override, or the default."""
     if options is not None:
-        if options.gates.get(prop.name) is not None:
-            return float(options.gates[prop.name])
+        gate = options.gates.get(prop.name)
+        if gate is not None:
+            return float(gate)
         if prop.name in options.tolerances:
             return float(options.tolerances[prop.name])
     return prop.tolerance

@@ -139,7 +139,7 @@ def diagnose_pair(ref, other, q: np.ndarray, frames, joint_names, tol_pos: float
         return None
     first = int(np.argmax(bad.any(axis=0)))
     score = np.maximum(pos / tol_pos, rot / tol_rot).max(axis=1)
-    worst = []
+    worst: list[dict[str, Any]] = []
     for i in np.argsort(-score, kind="stable"):
         row = [round(float(v), 12) for v in q[i]]
         if row in [w["q"] for w in worst]:

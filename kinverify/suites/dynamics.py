@@ -76,6 +76,7 @@ class DynamicsSuite(Suite):
     def models(self, ctx: VerifyContext) -> tuple[PinocchioDynamics, MujocoDynamics, str]:
         """(Pinocchio on the URDF, MuJoCo on the MJCF for rigid-body dynamics, where the armature came from)."""
         sources = ctx.sources
+        assert sources.urdf is not None and sources.mjcf is not None  # run() skips the suite otherwise
         mj = MujocoDynamics(sources.mjcf, sources.mjcf_joint_names or sources.joint_names, rigid=True)
         if sources.spec is not None:
             armature, origin = [j.armature for j in sources.spec.joints], "spec"
@@ -225,6 +226,7 @@ class DynamicsSuite(Suite):
             checks.append(self.value_check(ctx.options, prop, "parameters", ("urdf", "mjcf"), err, unit=units[prop],
                                            note=f"largest at {joint}" if err > 0 else ""))
         if origin == "spec":
+            assert ctx.sources.spec is not None  # the armature came from it
             spec_arm = np.array([j.armature for j in ctx.sources.spec.joints])
             err, joint = worst(spec_arm, mj.armature)
             checks.append(self.value_check(ctx.options, "dynamics.armature", "parameters", ("spec", "mjcf"), err, unit=units["dynamics.armature"],

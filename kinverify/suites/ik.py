@@ -164,7 +164,7 @@ def _models(solvers, frame, revolute, reference) -> dict[str, FrameModel]:
     reference's chain when it has one (else the first batched chain's; else each its own)."""
     models = {b.name: FrameModel(b, frame, revolute) for b in solvers}
     chains = [m for name, m in models.items() if m.chain is not None]
-    owner = models[reference] if reference in models and models[reference].chain is not None else (chains or [None])[0]
+    owner = models[reference] if reference in models and models[reference].chain is not None else (chains[0] if chains else None)
     for m in models.values():
         m.seed_model = owner or m
     return models

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 from kinverify.filemode.compare.context import file_view
 from kinverify.filemode.compare.inertials import analyse, rounded_side, uniform_mass_ratio
@@ -124,7 +125,7 @@ def body_findings(results, info) -> list[Finding]:
         signature.setdefault(key, []).append(r)
     for (kind, *_), group in signature.items():
         r = group[0]
-        names = {"link": [x.group.urdf_link for x in group], "mjcf_link": [x.group.mjcf_link for x in group]}
+        names: dict[str, Any] = {"link": [x.group.urdf_link for x in group], "mjcf_link": [x.group.mjcf_link for x in group]}
         where = ", ".join(x.label for x in group)
         values = {"urdf": {"mass": r.urdf.mass, "com": r.urdf.com.tolist(), "inertia": r.urdf.inertia.tolist(),
                            "principal": r.tensors["urdf_principal"], "links": [p.name for p in r.group.urdf]},

@@ -86,10 +86,11 @@ def kinematics_chunk(backends: dict[str, Backend], opts: VerifyOptions, q: np.nd
             fd = slice(0, min(fd_stop[name], rows.stop))
             acc.add(jacobian_errors(ref_eval, backend.evaluate(q[fd]), fd), pair, q[fd])
     for name, backend in backends.items():
-        ev = evaluations.get(name)
-        if backend.jacobian_method == "analytic" and fd_stop[name] > 0 and ev is not None:
-            fd = slice(0, min(fd_stop[name], len(ev.poses)))
-            acc.add(finite_difference_errors(backend, q[fd], ev.jacobians[fd]), (name, "finite-difference"), q[fd])
+        found = evaluations.get(name)
+        if backend.jacobian_method == "analytic" and fd_stop[name] > 0 and found is not None:
+            assert found.jacobians is not None  # evaluated with Jacobians
+            fd = slice(0, min(fd_stop[name], len(found.poses)))
+            acc.add(finite_difference_errors(backend, q[fd], found.jacobians[fd]), (name, "finite-difference"), q[fd])
     return acc
 
 

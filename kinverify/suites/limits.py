@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any, cast
 
 from kinverify.filemode.compare.context import file_view
 from kinverify.filemode.compare.inertials import rounded_side
@@ -135,7 +136,7 @@ class LimitsSuite(Suite):
             if ju.type == "revolute" and jm.offset:  # a zero offset is a turn, known up to whole turns: the one that fits
                 lo, up = min(((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)),
                              key=lambda b: max(_error(b[0], jmj.lower) or 0.0, _error(b[1], jmj.upper) or 0.0))
-            pos = [_error(lo, jmj.lower), _error(up, jmj.upper)]
+            pos = cast(list[float], [_error(lo, jmj.lower), _error(up, jmj.upper)])  # floats: both bounds are (±inf when none)
             effort, others, alike = _actuated(ju.effort, jmj)
             row = {"joint": jm.urdf, "mjcf": jm.mjcf, "label": jm.urdf if jm.urdf == jm.mjcf else f"{jm.urdf} / {jm.mjcf}",
                    "revolute": ju.type == "revolute", "pair": ("urdf", "mjcf"), "lower": (lo, jmj.lower),
@@ -151,6 +152,7 @@ class LimitsSuite(Suite):
 
 def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
     """Differences above tolerance as findings, one per cause; rounding as one info per file."""
+    unlimited: dict[str, list[dict]]
     out, rounded, degrees, unlimited, other = [], [], [], {}, []
     tol = tolerances.get("limits.position", 1e-9)
     for r in rows:
@@ -179,9 +181,9 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
     for side, group in unlimited.items():
         silent = [r for r in group if r["unset"]["range"] == side]
         if silent:
-            other = "MJCF" if side == "URDF" else "URDF"
+            limiting = "MJCF" if side == "URDF" else "URDF"
             out.append(finding("limit_unset", f"the {side} leaves {len(silent)} joints without limits (no range stated: "
-                               f"unlimited by default); the {other} limits them: " + ", ".join(
+                               f"unlimited by default); the {limiting} limits them: " + ", ".join(
                                    f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, "
                                    f"{r['upper'][0 if side == 'MJCF' else 1]:.6g}]" for r in silent),
                                {"unset_in": side, "urdf": [[r["lower"][0], r["upper"][0]] for r in silent],
@@ -288,7 +290,7 @@ def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list
             prop="limits.effort", joint=[r["joint"] for r in several], mjcf_joint=[r["mjcf"] for r in several]))
     for key, group in groups.items():
         unit = _force_unit(group)
-        names = {"joint": [r["joint"] for r in group], "mjcf_joint": [r["mjcf"] for r in group]}
+        names: dict[str, Any] = {"joint": [r["joint"] for r in group], "mjcf_joint": [r["mjcf"] for r in group]}
         values = {"urdf": [r["effort"][0] for r in group], "mjcf": [r["effort"][1] for r in group],
                   "mjcf_from": [r["effort_how"] for r in group], "checks": [["limits.effort", "joints"]]}
         if key[0] == "unbounded":

@@ -30,7 +30,7 @@ def fk_errors(reference: Evaluation, other: Evaluation, with_rotation: bool = Tr
     for k, j in enumerate(mine):
         frame = other.frames[j]
         out[("fk.position", frame)] = pos[:, k]
-        if with_rotation:
+        if rot is not None:  # with_rotation
             out[("fk.rotation", frame)] = rot[:, k]
     return out
 def jacobian_errors(reference: Evaluation, other: Evaluation, rows: slice | None = None) -> dict[tuple[str, str], np.ndarray]:
@@ -48,9 +48,9 @@ def jacobian_errors(reference: Evaluation, other: Evaluation, rows: slice | None
     a = ref_jac if ref == list(range(ref_jac.shape[1])) else ref_jac[:, ref]
     b = other.jacobians if mine == list(range(other.jacobians.shape[1])) else other.jacobians[:, mine]
     diff = a - b  # (N, F, 6, n)
-    rows = np.square(diff, out=diff).sum(axis=-1)  # (N, F, 6)
-    lin = np.sqrt(rows[..., :3].sum(axis=-1))
-    ang = np.sqrt(rows[..., 3:].sum(axis=-1))
+    squares = np.square(diff, out=diff).sum(axis=-1)  # (N, F, 6)
+    lin = np.sqrt(squares[..., :3].sum(axis=-1))
+    ang = np.sqrt(squares[..., 3:].sum(axis=-1))
     out = {}
     for k, j in enumerate(mine):
         frame = other.frames[j]

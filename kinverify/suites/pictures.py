@@ -55,8 +55,8 @@ def render_pngs(mjcf: str, joint_names, configurations, width: int = WIDTH, heig
         points += [p for g in range(model.ngeom) if model.geom_bodyid[g] in arm
                    for p in data.geom_xpos[g] + model.geom_rbound[g] * corners]
         reach = data.xpos[arm[-1], :2] - data.xpos[arm[0], :2]
-    points = np.array(points)
-    lo, hi = points.min(axis=0), points.max(axis=0)
+    cloud = np.array(points)
+    lo, hi = cloud.min(axis=0), cloud.max(axis=0)
     radius = max(float(np.linalg.norm(hi - lo)) / 2, 0.05)
     cam = mujoco.MjvCamera()
     mujoco.mjv_defaultFreeCamera(model, cam)
@@ -64,7 +64,7 @@ def render_pngs(mjcf: str, joint_names, configurations, width: int = WIDTH, heig
     cam.elevation = -20.0
     # look across the arm's reach in the last configuration (the worst), not along it
     cam.azimuth = np.degrees(np.arctan2(reach[1], reach[0])) + 90.0 if np.linalg.norm(reach) > 0.1 * radius else 135.0
-    cam.distance = fit_distance(points - cam.lookat, cam.azimuth, cam.elevation, model.vis.global_.fovy, width / height)
+    cam.distance = fit_distance(cloud - cam.lookat, cam.azimuth, cam.elevation, model.vis.global_.fovy, width / height)
     option = mujoco.MjvOption()
     option.frame = mujoco.mjtFrame.mjFRAME_BODY
     size = max(model.stat.meansize, 1e-9)  # MuJoCo scales frame triads by the model's mean body size
@@ -225,7 +225,7 @@ def skeleton_data(ctx: VerifyContext, home: np.ndarray) -> dict:
             disagreements.append({"backend": name, "q": q[i].tolist(), "frame": common[f],
                                   "reference": ref_poses[i, ri[f], :3, 3].tolist(), "value": backend.poses(q[i:i + 1])[0, oi[f], :3, 3].tolist(),
                                   "position_error": float(pos[i, f]), "rotation_error": float(rot[i, f])})
-    other = max(score, key=score.get) if score else ""
+    other = max(score, key=score.__getitem__) if score else ""
     if src.spec is None:  # file mode: the MJCF as MuJoCo reads it is drawn over the URDF side, agreeing or not
         readers = [n for n in MJCF_READERS if n in ctx.backends and n != ref.name]
         other = next((n for n in readers if n in score or not score), other)
@@ -270,7 +270,7 @@ class PicturesSuite(Suite):
             visible, reason = 0, f"rendering unavailable: MuJoCo cannot load the MJCF ({library_reason(err)})"
         else:
             reason = "" if visible else "no MuJoCo rendering: the MJCF has no visible geometry on the arm (meshes are not loaded)"
-        pngs = []
+        pngs: list = []
         if visible:
             pngs, reason = render_in_child(src.mjcf, src.mjcf_joint_names or src.joint_names, [home, worst])
         if reason:

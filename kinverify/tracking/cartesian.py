@@ -166,7 +166,7 @@ def solve_target(spec: ArmSpec, model: FrameModel, target: np.ndarray, position_
     where = np.flatnonzero(ok)
     dist = [float(np.linalg.norm(q - q_ref)) for q in candidates]
     best = int(np.argmin(dist))
-    distinct = []
+    distinct: list[np.ndarray] = []
     for q in candidates:
         if not any(np.abs(q - p).max() <= 1e-6 for p in distinct):
             distinct.append(q)
@@ -246,6 +246,7 @@ def track_waypoints(spec: ArmSpec, urdf: str, cplan: CartesianPlan, hold_s: floa
     motion = cplan.plan(0.001)
     trajectory = Trajectory(cplan.q_start, cplan.choices[-1].q, motion.duration, hold_s)
     result = track(spec, urdf, trajectory, controllers, plots=False, render=False, plan=hold(motion, hold_s), options=options)
+    assert result.section is not None  # track always makes its section
     result.section.title = "Trajectory tracking through Cartesian waypoints"
     result.section.summary = (f"{len(cplan.choices)} waypoints for {cplan.frame} solved by IK ({cplan.backend}), "
                                  f"quintic segments of {', '.join(f'{d:g}' for d in cplan.durations)} s, then a {hold_s:g} s hold")

@@ -35,7 +35,7 @@ def _every(n: int) -> slice:
     return slice(None, None, max(1, n // MAX_POINTS))
 
 
-def joint_plot(run: Run, joint_names) -> dict:
+def joint_plot(run: Run, joint_names) -> Figure:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -61,7 +61,7 @@ def joint_plot(run: Run, joint_names) -> dict:
                   "executed (solid) vs planned (dashed) joint angles, and executed joint speeds")
 
 
-def error_plot(runs: list[Run]) -> dict:
+def error_plot(runs: list[Run]) -> Figure:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -104,12 +104,12 @@ def render_gifs(mjcf: str, qadr, clips, fps: float = FPS, size=SIZE) -> list[byt
     model = mujoco.MjModel.from_xml_string(mjcf)
     data = mujoco.MjData(model)
     qadr = np.asarray(qadr, dtype=int)
-    points = []
+    parts: list[np.ndarray] = []
     for q in (q for clip in clips for q in clip):
         data.qpos[qadr] = q
         mujoco.mj_kinematics(model, data)
-        points.append(data.xpos[1:].copy())
-    points = np.concatenate(points) if points else np.zeros((1, 3))
+        parts.append(data.xpos[1:].copy())
+    points = np.concatenate(parts) if parts else np.zeros((1, 3))
     lo, hi = points.min(axis=0), points.max(axis=0)
     cam = mujoco.MjvCamera()
     mujoco.mjv_defaultFreeCamera(model, cam)
@@ -135,7 +135,7 @@ def render_gifs(mjcf: str, qadr, clips, fps: float = FPS, size=SIZE) -> list[byt
     return out
 
 
-def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[list[dict], str]:
+def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[list[Figure], str]:
     """(GIF figures, '') or ([], "rendering unavailable: <reason>"), rendered in a child process."""
     clips = [run.q[frame_indices(len(run.q), run.plan.dt, fps)] for run in runs]
     clips = [c[np.isfinite(c).all(axis=1)] for c in clips]  # a diverged run: up to its last finite state
@@ -157,7 +157,7 @@ def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) ->
             for run, clip, gif in zip(runs, clips, gifs, strict=True)], ""
 
 
-def animation(run: Run, mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[dict | None, str]:
+def animation(run: Run, mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[Figure | None, str]:
     """(GIF figure, '') or (None, reason) for one run."""
     figs, reason = animations([run], mjcf, qadr, fps, size)
     return (figs[0] if figs else None), reason

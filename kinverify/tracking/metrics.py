@@ -8,6 +8,7 @@ joint error"); the hold is the time after the motion, with the goal held.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 
@@ -76,7 +77,8 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
     t, q = run.t, run.q
     qd_plan = run.plan.q[: len(q)]
     if len(q) < 2:
-        return Metrics(run.controller, *([float("inf")] * 6), None, *([float("inf")] * 4), 0.0, run.diverged or "no samples",
+        inf = float("inf")
+        return Metrics(run.controller, inf, inf, inf, inf, inf, inf, None, inf, inf, inf, inf, 0.0, run.diverged or "no samples",
                        False, run.diverged or "no samples")
     err = np.linalg.norm(qd_plan - q, axis=1)
     motion, after = t <= run.motion_end + 1e-12, t > run.motion_end + 1e-12
@@ -95,7 +97,7 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
         settling = None
     else:
         settling = max(0.0, float(t[outside[-1] + 1] - run.motion_end)) if len(outside) else 0.0
-    m = dict(
+    m: dict[str, Any] = dict(
         rms_error=float(np.sqrt(np.mean(err[motion] ** 2))), max_error=float(err.max()),
         final_error=float(err[motion][-1]), hold_final_error=float(err[-1]), ee_path_deviation=float(path.max()),
         overshoot=overshoot, settling_time=settling,

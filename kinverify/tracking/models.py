@@ -38,7 +38,7 @@ class PinocchioDynamics:
         self.model = self.build_model(urdf)
         m = self.model
         self.floating = has_base(joint_names)
-        self._ff = None
+        self._ff: tuple[int, int, np.ndarray] | None = None
         if self.floating:
             root = next((i for i in range(1, m.njoints) if m.parents[i] == 0), None)
             if root is None or m.joints[root].shortname() != "JointModelFreeFlyer":
@@ -77,6 +77,7 @@ class PinocchioDynamics:
         q = np.asarray(q, dtype=float)
         if not self.floating:
             return self._in(q)
+        assert self._ff is not None  # set whenever the base floats
         iq, _, placement_inv = self._ff
         full = pin.neutral(self.model)
         t = placement_inv @ base_transforms(q[:6])
@@ -87,7 +88,7 @@ class PinocchioDynamics:
 
     def _columns(self, q) -> tuple[np.ndarray, np.ndarray | None]:
         """Our columns among the model's velocities, and ``S`` for the base block (None if fixed)."""
-        return base_columns(self.idx_v, self._ff[1] if self.floating else None, q, linear_in_body=True)
+        return base_columns(self.idx_v, self._ff[1] if self._ff is not None else None, q, linear_in_body=True)
 
     def mass(self, q) -> np.ndarray:
         M = pin.crba(self.model, self.data, self._q(q))
@@ -144,7 +145,8 @@ class MujocoDynamics:
             for flag in RIGID_BODY_DISABLED:
                 m.opt.disableflags |= int(getattr(mujoco.mjtDisableBit, flag))
             m.body_gravcomp[:] = 0.0
-        self.floating, self._free = has_base(joint_names), None
+        self._free: tuple[int, int] | None = None
+        self.floating = has_base(joint_names)
         if self.floating:
             free = [j for j in range(m.njnt) if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)
                     and m.body_parentid[m.jnt_bodyid[j]] == 0]
@@ -186,6 +188,7 @@ class MujocoDynamics:
         q = np.asarray(q, dtype=float)
         if self.floating:  # the free joint's qpos: the base's world pose, quaternion wxyz
             t = base_transforms(q[:6])
+            assert self._free is not None  # set whenever the base floats
             a = self._free[0]
             d.qpos[a:a + 3], d.qpos[a + 3:a + 7] = t[:3, 3], matrix_to_quat(t[:3, :3])
             if v is not None:
@@ -198,7 +201,7 @@ class MujocoDynamics:
 
     def _columns(self, q) -> tuple[np.ndarray, np.ndarray | None]:
         """Our columns among MuJoCo's dofs, and ``S`` for the base block (None if fixed)."""
-        return base_columns(self.vadr, self._free[1] if self.floating else None, q, linear_in_body=False)
+        return base_columns(self.vadr, self._free[1] if self._free is not None else None, q, linear_in_body=False)
 
     def mass(self, q) -> np.ndarray:
         self._set(q)

@@ -276,7 +276,7 @@ class Aligner:
         that disagree (a frame placed differently, an axis moved) are left out one at a time, the
         worst relative to its tolerance first, until the rest agree."""
         pm = self.mjcf_poses(signs, offsets)
-        feats = []  # (name, kind, urdf data, mjcf data, tolerance)
+        feats: list[tuple] = []  # (name, kind, urdf data, mjcf data, tolerance)
         for fu, fm, _ in self.frame_pairs:
             feats.append((fu, "point", self.pu[:, self.p.ui[fu], :3, 3], pm[:, self.p.mi[fm], :3, 3], self.tol(fu)))
         for a, b in self.pairs:
@@ -469,6 +469,7 @@ class Aligner:
                             max([e[0] for e in axis_errors.values()], default=0.0))
                 best = Alignment(t, joints, self.matching.couplings, self.matching.independent, fits, axis_errors,
                                  residual, label, bad)
+        assert best is not None  # candidates() is never empty (identity first)
         return best
 
 

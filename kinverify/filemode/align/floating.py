@@ -49,10 +49,10 @@ def urdf_base(urdf_text: str) -> UrdfBase:
     floating = next((j for j in below if j.get("type") == "floating"), None)
     if floating is not None:
         child = floating.find("child")
-        return UrdfBase("floating", name, floating.get("name"), child.get("link") if child is not None else name)
+        return UrdfBase("floating", name, floating.get("name"), child.get("link") if child is not None else name)  # type: ignore[arg-type]  # a URDF's names are checked on reading
     if name == "world" and below and all(j.get("type") == "fixed" for j in below):
         return UrdfBase("fixed", name, below[0].get("name"), name)
-    return UrdfBase("unstated", name, None, name)
+    return UrdfBase("unstated", name, None, name)  # type: ignore[arg-type]  # a URDF's names are checked on reading
 
 
 def fixed_urdf(urdf_text: str, keep_origin: bool) -> str:

@@ -118,8 +118,8 @@ def foot_on_line(p1, a1, p2, a2) -> np.ndarray:
 def reach(desc: ModelDesc) -> dict[str, float]:
     """Per frame, the length of its chain from the base at q = 0 (joint anchor to joint anchor,
     then to the frame): the largest distance a rotation error upstream can move it by."""
-    anchors = {j.name: j.anchor for j in desc.joints}
-    parent = {j.name: j.parent for j in desc.joints}
+    anchors: dict[str | None, np.ndarray] = {j.name: j.anchor for j in desc.joints}
+    parent: dict[str | None, str | None] = {j.name: j.parent for j in desc.joints}
     length: dict[str | None, float] = {None: 0.0}
 
     def chain(joint: str | None) -> float:

@@ -56,7 +56,7 @@ def _strip_affix(names: list[str]) -> list[str]:
         common = os.path.commonprefix(seq)
         cut = max(common.rfind("_"), common.rfind("-"), common.rfind("/"), common.rfind(":")) + 1
         if not cut:  # a prefix most (not all) names share, e.g. iiwa_ on all links but "base"
-            heads = Counter(re.match(r"^[^_\-/:]*[_\-/:]", n)[0] for n in seq if re.match(r"^[^_\-/:]*[_\-/:]", n))
+            heads = Counter(hm[0] for n in seq if (hm := re.match(r"^[^_\-/:]*[_\-/:]", n)))
             head, count = heads.most_common(1)[0] if heads else ("", 0)
             cut = len(head) if count > len(seq) / 2 and count >= 2 else 0
             seq = [n[cut:] if cut and n.startswith(head) and len(n) > cut else n for n in seq]
@@ -134,6 +134,8 @@ def _pair_siblings(u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], par
         return c
 
     k = min(len(cu), len(cm))
+    iu: list[int] | tuple[int, ...]
+    im: list[int] | tuple[int, ...]
     if max(len(cu), len(cm)) <= MAX_PERMUTED:
         options = ((iu, im) for iu in itertools.combinations(range(len(cu)), k) for im in itertools.permutations(range(len(cm)), k))
         iu, im = min(options, key=lambda o: round(cost(*o), 9))  # a tie (mirror-image fingers) keeps the files' order
@@ -273,6 +275,7 @@ def resolve_couplings(couplings, order: list[str], followers=frozenset()) -> dic
                     todo.append(other)
         root = min(group, key=lambda j: (j in followers, rank[j]))
         seen |= group
+        value: dict[str, tuple[float, float, Coupling | None]]
         value, todo = {root: (1.0, 0.0, None)}, [root]  # joint -> (k, c, a coupling on the way) with joint = k·root + c
         while todo:
             j = todo.pop()
@@ -283,6 +286,7 @@ def resolve_couplings(couplings, order: list[str], followers=frozenset()) -> dic
                     todo.append(other)
         for j, (k, c, via) in value.items():
             if j != root:
+                assert via is not None  # reached through a coupling
                 source = next((x.source for x in couplings if x.follower == j), via.source)
                 nonlinear = any(x.nonlinear for x in couplings if j in (x.follower, x.leader))
                 out[j] = Coupling(j, root, k, c, source, nonlinear)

@@ -107,7 +107,7 @@ class PairPoses:
             self.ub = build_backend("usd", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (), usd=urdf_text))
         elif u.kind == "sdf" or urdf_library == "drake":  # an SDFormat side, or a URDF only Drake reads
             self.ub = build_backend(f"drake-{u.kind}", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (),
-                                                                    **{u.kind: urdf_text}))
+                                                                    **{u.kind: urdf_text}))  # type: ignore[arg-type]  # the text of u.kind
         else:
             reader = PinocchioBackend if urdf_library == "pinocchio" else MujocoBackend
             self.ub = reader.from_urdf(urdf_text, self.ujoints, self.uframes)

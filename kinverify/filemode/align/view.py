@@ -23,7 +23,7 @@ class AlignedBackend(BackendBase):
     joints only, each at the value every other library gets."""
 
     def __init__(self, inner, alignment: Alignment, frames, mode: str, left: np.ndarray | None = None,
-                 constants: list[np.ndarray] | None = None, pick: list[str] | None = None) -> None:
+                 constants: list[np.ndarray] | np.ndarray | None = None, pick: list[str] | None = None) -> None:
         self.inner, self.alignment, self.mode = inner, alignment, mode
         self.name, self.frames = inner.name, tuple(frames)
         self.floating = bool(getattr(inner, "floating", False))
@@ -90,4 +90,6 @@ class AlignedBackend(BackendBase):
     def jacobians(self, q: np.ndarray) -> np.ndarray:
         if self.jacobian_method != "analytic":
             return super().jacobians(q)  # finite differences of the aligned poses
-        return self.evaluate(q).jacobians
+        jac = self.evaluate(q).jacobians
+        assert jac is not None  # evaluated with Jacobians
+        return jac

@@ -144,7 +144,7 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                         magnitude=max(shift, angle), unit="m|rad"))
             readings[name] = p1
         agree, apart = majority(readings, tol)
-        for name, (pos, rot) in apart.items():
+        for name, (pos, rot) in apart.items():  # type: ignore[assignment]  # floats here, arrays above
             keep.pop(name, None)
             values = {"file": side, "backends": [agree[0], name], "agree": agree, "apart": name, "position_m": pos,
                       "rotation_rad": rot}
@@ -156,7 +156,7 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                 message = (f"the {side} is read differently by {agree[0]} and {name}: up to {pos:.3g} m, {rot:.3g} rad on the "
                            f"same file (no third reading agrees with either); {name} is left out of the comparison "
                            "between the files")
-            findings.append(finding("parser_disagreement", message, values, magnitude=max(pos, rot), unit="m|rad"))
+            findings.append(finding("parser_disagreement", message, values, magnitude=float(max(pos, rot)), unit="m|rad"))
     return keep, findings, rows
 
 

@@ -122,6 +122,7 @@ class FileDynamicsSuite(DynamicsSuite):
         m_names = base + tuple(j.mjcf for j in al.joints)
         revolute = BASE_REVOLUTE[:len(base)] + tuple(j.type == "revolute" for j in al.joints)
         src = ctx.sources
+        assert src.urdf is not None and src.mjcf is not None  # file mode: both files
         sources = ModelSources(src.name, u_names, src.frames, (), (), revolute,
                                None, lock_urdf_joints(src.urdf, info.matching.unmatched_urdf + info.u.held),
                                lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf + info.m.held), m_names,
@@ -136,6 +137,7 @@ class FileDynamicsSuite(DynamicsSuite):
 
     def models(self, ctx: VerifyContext):
         al = self.info.alignment
+        assert ctx.sources.urdf is not None and ctx.sources.mjcf is not None  # file mode: both files
         mj = MujocoDynamics(ctx.sources.mjcf, ctx.sources.mjcf_joint_names, rigid=True)
         pin = PinocchioDynamics(ctx.sources.urdf, ctx.sources.joint_names, mj.armature)
         self._substitute_inertia(pin)
@@ -167,6 +169,7 @@ def parameter_findings(info, tolerances: dict) -> list:
     """Joint damping and friction that differ (one finding per pair of values: an error when both
     files state them, a warning naming the silent file when one leaves the value unset), armature
     the URDF cannot express (one warning), and format extensions a library ignores (one info)."""
+    groups: dict
     out, groups = [], {}
     for j in info.alignment.joints:
         ju, jm = info.u.joint(j.urdf), info.m.joint(j.mjcf)

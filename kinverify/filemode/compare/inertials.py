@@ -38,7 +38,7 @@ def combine(parts: list[tuple[float, np.ndarray, np.ndarray]]) -> Inertial:
     mass = float(sum(p[0] for p in parts))
     if mass <= 0:
         return Inertial()
-    com = sum(p[0] * p[1] for p in parts) / mass
+    com = np.asarray(sum(p[0] * p[1] for p in parts)) / mass
     inertia = np.zeros((3, 3))
     for m, c, i in parts:
         r = c - com
@@ -167,7 +167,7 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
         com, inertia = place(body, poses_m.get(body.name))
         twin = twin_m.get(body.name)
         silent = twin if twin is not None and u.body(twin) is None and twin in u.no_inertial else None
-        twin = twin if twin is not None and u.body(twin) is not None and same_body(u.body(twin), body) else None
+        twin = twin if twin is not None and (tb := u.body(twin)) is not None and same_body(tb, body) else None
         out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped,
                                                                known=body.mass_known, unset_twin=silent,
                                                                moved_by=_moved_by(m, body.owner, key_m),
@@ -283,7 +283,7 @@ def seat_on_joints(grps: list[Group], info, poses_m: dict) -> None:
         g.seated = (angle, gap)
 
 
-def analyse(info, defaults: tuple[float, float, float]) -> list[GroupResult]:
+def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
     """Every rigid body of both files compared (see the module docstring); ``defaults``: the
     mass, CoM and tensor tolerances in effect (the written precision may raise them)."""
     grps = groups(info.u, info.m, info.joint_pairs, info.frame_pairs, info.poses_u,

@@ -35,7 +35,7 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
         ptol, rtol = tol(f)
         convention = (fit is not None and (fit.position > ptol or fit.rotation > rtol)
                       and fit.residual_position <= ptol and fit.residual_rotation <= rtol)
-        constants.append(fit.constant if convention else np.eye(4))
+        constants.append(fit.constant if convention and fit is not None else np.eye(4))
     out = {}
     for name in wanted:
         info_b = available_backends().get(name)

@@ -133,7 +133,7 @@ def _lumped(results) -> list:
 
 def _world(results, tol_mass: float) -> list:
 
-    out = []
+    out: list = []
     if uniform_mass_ratio(results) is not None:
         return out  # a units mistake, said once by the inertia suite
     for r in results:

@@ -5,6 +5,7 @@ differ, frame conventions, renamed joints, lengths in other units.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -40,6 +41,7 @@ def _to_parent(desc: ModelDesc, joint: str) -> tuple[float, float]:
     and the angle between them [rad, 0 to π/2, whichever way each axis points]. Both are fixed in
     the body between the two joints: no joint value, zero offset or world transform changes them."""
     j = desc.joint(joint)
+    assert j.parent is not None  # asked only of a joint moved by an upstream joint
     p = desc.joint(j.parent)
     angle = math.atan2(float(np.linalg.norm(np.cross(p.axis, j.axis))), abs(float(p.axis @ j.axis)))  # exact near 0
     return line_distance(p.anchor, p.axis, j.anchor, j.axis), angle
@@ -90,7 +92,7 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
                            magnitude=max(dist, ang), unit="m|rad"))
     differs: set[str] = set()
     for j in al.joints:
-        names = {"joint": j.urdf, "mjcf_joint": j.mjcf}
+        names: dict[str, Any] = {"joint": j.urdf, "mjcf_joint": j.mjcf}
         frames = [f for f in _downstream(u, j.urdf) if f in compared]
         if j.sign < 0:
             out.append(finding("axis_sign_flip", f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
@@ -160,7 +162,7 @@ def convention_findings(al: Alignment, kinds: dict[str, str], tol, moved=frozens
         angle = _angle(f.constant)
         values = {"translation_m": shift, "rotation_rad": angle, "xyz": f.constant[:3, 3].tolist(),
                   "rpy": matrix_to_rpy(f.constant[:3, :3]).tolist(), "frames": [f.urdf]}
-        names = {"frame": f.urdf, "mjcf_frame": f.mjcf}
+        names: dict[str, Any] = {"frame": f.urdf, "mjcf_frame": f.mjcf}
         if kinds.get(f.urdf) == "site" and shift > ptol and f.why in ("same name", "given"):
             out.append(finding("frame_offset", f"frame {f.urdf}/{f.mjcf}: placed {shift:.4g} m and {angle:.4g} rad away from "
                                f"the other file's, on the same link (xyz {fmt(f.constant[:3, 3])} in its own axes)", values,
@@ -183,7 +185,7 @@ def length_units(u: ModelDesc, m: ModelDesc, matching: Matching, compared: list[
     lu = lm = 0.0
     for a, b, _ in matching.joints:
         ju, jm = u.joint(a), m.joint(b)
-        if ju.parent is not None and m.joint(b).parent is not None:
+        if ju.parent is not None and jm.parent is not None:
             lu += float(np.linalg.norm(u.frames[ju.child][:3, 3] - u.frames[u.joint(ju.parent).child][:3, 3]))
             lm += float(np.linalg.norm(m.frames[jm.child][:3, 3] - m.frames[m.joint(jm.parent).child][:3, 3]))
     if lu <= 1e-9 or lm <= 1e-9 or abs(lm / lu - 1) < 1e-2:

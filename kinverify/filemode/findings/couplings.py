@@ -44,6 +44,7 @@ def coupling_findings(u, m, matching, alignment=None) -> list:
                                    {"urdf": [a.multiplier, a.offset], "mjcf": [b.multiplier, b.offset]}, joint=f))
                 continue
             c, side = (a, "URDF") if a is not None else (b, "MJCF")
+            assert c is not None  # one of the two couples it
             out.append(finding("coupling_one_file", f"joint {f} follows {c.leader} in the {side} only ({c.source}); the "
                                "other file leaves it free: compared as coupled", {"file": side, "leader": c.leader}, joint=f))
         elif abs(a.multiplier - b.multiplier) > 1e-9 or abs(a.offset - b.offset) > (

@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from kinverify.suites.base import Finding
+from kinverify.suites.base import Finding, Severity
 
-SEVERITY = {
+SEVERITY: dict[str, Severity] = {
     # kinematics
     "base_transform": "error", "zero_offset": "error", "axis_sign_flip": "error", "axis_direction": "error",
     "axis_position": "error", "type_difference": "error", "frame_offset": "error", "disagreement_starts": "error",
@@ -47,7 +47,7 @@ SUBJECTS = ("joint", "link", "frame")
 
 
 def finding(kind: str, message: str, values: dict | None = None, *, magnitude: float | None = None, unit: str = "",
-            prop: str = "", severity: str | None = None, **names) -> Finding:
+            prop: str = "", severity: Severity | None = None, **names) -> Finding:
     """A :class:`Finding` of ``kind`` (severity from ``SEVERITY`` unless given); ``names``:
     ``joint``/``link``/``frame`` (URDF name) and ``mjcf_joint``/``mjcf_link``/``mjcf_frame`` (its
     MJCF name); several subjects are joined with ", "."""

@@ -70,7 +70,7 @@ def describe_urdf(urdf_text: str) -> ModelDesc:
     for name, el in xml_joints.items():
         mimic = el.find("mimic")
         if mimic is not None and mimic.get("joint"):
-            couplings.append(Coupling(name, mimic.get("joint"), float(mimic.get("multiplier", 1.0)),
+            couplings.append(Coupling(name, mimic.get("joint"), float(mimic.get("multiplier", 1.0)),  # type: ignore[arg-type]  # checked above
                                       float(mimic.get("offset", 0.0)), "<mimic>"))
     return ModelDesc("urdf", "pinocchio", joints, frames, owner, depth, bodies, skipped, kind, couplings,
                      extensions=_urdf_extensions(root), held=held)
@@ -80,7 +80,7 @@ def _urdf_bodies(model, data, movable: dict) -> list[BodyInertial]:
     """One inertial per URDF link: Pinocchio fuses fixed links into their joint's inertia and keeps
     each fixed link's own inertia on its fixed-joint frame; a moving link is its joint's inertia
     minus the fixed links fused into it."""
-    fused = {}
+    fused: dict = {}
     for f in model.frames:
         if f.type == pin.FrameType.FIXED_JOINT and f.inertia.mass > 0:
             fused[f.parentJoint] = fused.get(f.parentJoint, pin.Inertia.Zero()) + f.placement.act(f.inertia)

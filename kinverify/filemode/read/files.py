@@ -189,7 +189,7 @@ def sdf_free_bodies(sdf_text: str) -> list[str]:
     if model is None:
         return []
     children = {j.findtext("child", "").strip() for j in model.iter("joint")}
-    return [el.get("name") for el in model.findall("link") if el.get("name") not in children]
+    return [el.get("name") for el in model.findall("link") if el.get("name") not in children]  # type: ignore[misc]  # links are named
 
 
 def mjcf_angle_unit(mjcf_text: str) -> str:

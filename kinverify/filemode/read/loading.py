@@ -312,7 +312,7 @@ def _weighs(geom: ET.Element, parents: dict, defaults: dict) -> bool:
         return True
 
 
-def _drop_meshes(root: ET.Element, kept: set[str] = frozenset()) -> tuple[int, int, list[str], list[str]]:
+def _drop_meshes(root: ET.Element, kept: set[str] | frozenset[str] = frozenset()) -> tuple[int, int, list[str], list[str]]:
     """Remove geoms using a mesh not in ``kept`` (named on the geom or given by its default class;
     a primitive fitted to such a mesh too: its size came from the mesh), those mesh assets and the default classes' references to them, skin/hfield assets and file
     textures (and references to them). Also returns the bodies whose mass came in part from a

@@ -135,7 +135,7 @@ def urdf_precision(urdf_text: str) -> Precision:
             for w in _words(limit.get("lower")) + _words(limit.get("upper")):
                 out.note("limit", rounding_of(w, angle=joint.get("type") != "prismatic"), w)
     for link in root.findall("link"):
-        out.frames[link.get("name")] = _path(link.get("name"), by_child)
+        out.frames[link.get("name")] = _path(link.get("name"), by_child)  # type: ignore[index, arg-type]  # a URDF's names are checked on reading
         inertial = link.find("inertial")
         if inertial is None:
             continue
@@ -148,7 +148,7 @@ def urdf_precision(urdf_text: str) -> Precision:
         values = [(inertial.find("mass"), ("value",)), (inertial.find("inertia"), ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"))]
         for el, attrs in values:
             for a in attrs if el is not None else ():
-                _relative(out, el.get(a))
+                _relative(out, el.get(a))  # type: ignore[union-attr]  # el is not None here
     return out
 
 
@@ -176,7 +176,7 @@ def mjcf_precision(mjcf_text: str) -> Precision:
     deg = math.pi / 180 if compiler is None or compiler.get("angle", "degree") == "degree" else 1.0
     out = Precision("MJCF")
 
-    def pose_words(el) -> tuple[list[str], float]:
+    def pose_words(el) -> tuple[list[str], list[str]]:
         words = [w for a in POSE for w in _words(el.get(a))]
         euler = _words(el.get("euler")) + _words(el.get("axisangle"))[3:]
         return words, euler
@@ -225,7 +225,7 @@ def mjcf_precision(mjcf_text: str) -> Precision:
         for site in world.findall("site"):
             sr, sp, _ = element(site)
             if site.get("name"):
-                out.frames.setdefault(site.get("name"), (sr, sp))
+                out.frames.setdefault(site.get("name"), (sr, sp))  # type: ignore[arg-type]  # checked above
     for default in root.iter("default"):  # class defaults: joint ranges written once for many joints
         for joint in default.findall("joint"):
             hinge = joint.get("type", "hinge") == "hinge"

@@ -20,7 +20,7 @@ POSE_ATTRS = ("pos", "quat", "euler", "axisangle", "xyaxes", "zaxis")
 
 
 def continuous_joints(urdf_text: str) -> set[str]:
-    return {j.get("name") for j in ET.fromstring(urdf_text).iter("joint") if j.get("type") == "continuous"}
+    return {j.get("name") for j in ET.fromstring(urdf_text).iter("joint") if j.get("type") == "continuous"}  # type: ignore[misc]  # a URDF's names are checked on reading
 
 
 def prepare_urdf(urdf_text: str) -> str:

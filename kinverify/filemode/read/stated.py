@@ -64,7 +64,7 @@ def mjcf_joint_values(root: ET.Element) -> dict[str, frozenset[str]]:
             continue
         out[joint.get("name")] = frozenset(value for value, attrs in MJCF_ATTRIBUTES.items()
                                            if any(attribute(joint, a, parents, defaults) is not None for a in attrs))
-    return out
+    return out  # type: ignore[return-value]  # unnamed joints skipped above
 
 
 def urdf_joint_values(root: ET.Element) -> dict[str, frozenset[str]]:
@@ -81,12 +81,12 @@ def urdf_joint_values(root: ET.Element) -> dict[str, frozenset[str]]:
         if limit is not None and limit.get("effort") is not None:
             values.add("effort")
         out[joint.get("name")] = frozenset(values)
-    return out
+    return out  # type: ignore[return-value]  # a URDF's names are checked on reading
 
 
 def urdf_links_without_inertial(root: ET.Element) -> set[str]:
     """URDF links that state no ``<inertial>`` (massless by the format's default)."""
-    return {link.get("name") for link in root.findall("link") if link.find("inertial") is None}
+    return {link.get("name") for link in root.findall("link") if link.find("inertial") is None}  # type: ignore[misc]  # a URDF's names are checked on reading
 
 
 def unset(stated: frozenset[str] | None, value: str) -> bool:

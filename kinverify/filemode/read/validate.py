@@ -58,7 +58,7 @@ def _float(el: ET.Element | None, attr: str, default: float | None = None) -> fl
     if el is None or el.get(attr) is None:
         return default
     try:
-        return float(el.get(attr))
+        return float(el.get(attr))  # type: ignore[arg-type]  # None returned above
     except ValueError:
         return None  # unreadable: the libraries report it
 
