@@ -69,6 +69,7 @@ def open_stage(path: str, label: str = "--usd") -> tuple[Usd.Stage, list[str], l
         raise InputError(f"{label}: reading USD needs {MISSING}")
     root = os.path.abspath(path)
     _check_layer(root, label, None)
+    todo: list[tuple[str, str | None]]
     todo, seen, layers, absent = [(root, None)], set(), [], []
     while todo:
         file, by = todo.pop()
@@ -94,10 +95,10 @@ def open_stage(path: str, label: str = "--usd") -> tuple[Usd.Stage, list[str], l
             todo.append((resolved, os.path.basename(file)))
     with quiet_stderr():
         stage = Usd.Stage.Open(layers[0], Usd.Stage.LoadAll)
-    for err in stage.GetCompositionErrors():
-        if isinstance(err, (Pcp.ErrorArcCycle, Pcp.ErrorSublayerCycle)):
-            site = getattr(err, "rootSite", None)
+    for error in stage.GetCompositionErrors():
+        if isinstance(error, (Pcp.ErrorArcCycle, Pcp.ErrorSublayerCycle)):
+            site = getattr(error, "rootSite", None)
             prim = getattr(site, "path", "") if site is not None else ""
             raise InputError(f"{label}: {path}: composition cycle at prim {prim or '/'}: a layer sublayers or references "
-                             "itself (pxr: " + str(err).strip().splitlines()[0] + ")")
+                             "itself (pxr: " + str(error).strip().splitlines()[0] + ")")
     return stage, sorted(set(absent)), layers

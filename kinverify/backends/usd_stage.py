@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -53,7 +54,7 @@ class UsdRobot:
     body1 to body0); ``root_pose``: the root body's world pose at q = 0 (identity when it floats)."""
 
     path: str
-    stage: object  # Usd.Stage
+    stage: Any  # Usd.Stage (pxr is untyped)
     bodies: list[str]
     names: dict[str, str]  # body path -> name
     joints: list[UsdJoint]
@@ -72,6 +73,7 @@ class UsdRobot:
     # mass the converter keeps as an Xform, a visual's holder), name -> (body path, pose in the body, kind)
     sites: dict[str, tuple[str, np.ndarray, str]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    layers: list[Any] = field(default_factory=list, repr=False, compare=False)  # the opened layers, kept alive with the stage
 
     def joint(self, name: str) -> UsdJoint:
         return next(j for j in self.joints if j.name == name)
@@ -128,7 +130,8 @@ def read_robot(path: str, label: str = "--usd") -> UsdRobot:
                          "articulated robots")
     art = articulations[0]
     bodies_all = {str(p): d for p, d in zip(*objects["RigidBody"], strict=True)}
-    joints, names = [], {}
+    joints: list[UsdJoint] = []
+    names: dict[str, int] = {}
     for kind_name, kind in KINDS.items():
         for p, d in zip(*objects[kind_name], strict=True):
             prim = str(p)
@@ -183,6 +186,7 @@ def _tree(path, label, stage, art, bodies_all: dict, joints: list[UsdJoint], wor
     tree_joints = [j for j in joints if not j.excluded and (j.body0 in members or j.body1 in members)]
     to_world = [j for j in tree_joints if not j.body0 or not j.body1]
     roots = [str(p) for p in art.rootPrims]
+    root: str | None
     if to_world:
         root = to_world[0].body1 or to_world[0].body0
     else:
@@ -219,7 +223,7 @@ def _tree(path, label, stage, art, bodies_all: dict, joints: list[UsdJoint], wor
         pose = j.x0 @ np.linalg.inv(j.x1) if j.body1 == root else j.x1 @ np.linalg.inv(j.x0)
         if j.kind != "fixed":
             notes.append(f"joint {j.path} ({j.kind}) holds the root body {root} to the world: held at 0")
-    names = {}
+    names: dict[str, str] = {}
     for b in order:
         name = b.rsplit("/", 1)[-1]
         names[b] = name if name not in names.values() else b
@@ -258,6 +262,7 @@ def _sites(stage, robot: UsdRobot, world: np.ndarray) -> dict[str, tuple[str, np
     """Prims with a site schema (``MjcSiteAPI``, ``NewtonSiteAPI``) and plain Xforms under a body (or, the
     root held to the world, under no body: fixed in the world): their pose in it. A name taken by a
     body is left out, and so is a name two such prims share (which one a file means is not known)."""
+    out: dict[str, tuple[str, np.ndarray, str]]
     cache, out, seen = UsdGeom.XformCache(), {}, set()
     members = set(robot.bodies)
     for prim in stage.Traverse():

@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 
@@ -209,6 +210,7 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
         raise InputError(f"--backends: a one-file audit of a {SIDE[kind]} compares {', '.join(readers)}; got "
                          f"{', '.join(options.backends or [])}")
     findings: list = []
+    loaded: Any  # a LoadedFile, or (a USD) a namespace of its fields and the articulation read
     if kind == "usd":
         loaded, robot = load_usd(path)
         loaded = SimpleNamespace(**{f: getattr(loaded, f) for f in ("path", "kind", "original", "text", "name", "warnings")},

@@ -75,7 +75,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     matching = match(u, m, joints, frames)
     if base.floating:  # the URDF's link above its floating root stays in the world: not the robot's
         matching.frames = [p for p in matching.frames if not (base.urdf.kind == "floating" and p[0] == base.urdf.root)]
-    precision = tuple(_precision(kind, loaded, desc) for kind, loaded, desc in ((kinds[0], U, u), (kinds[1], M, m)))
+    precision = (_precision(kinds[0], U, u), _precision(kinds[1], M, m))
     fl = floors(*precision, matching.frames, reach(u), len(matching.independent))
     lower, upper, revolute = sample_ranges(u, matching.independent)
     q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)

@@ -196,8 +196,9 @@ def survives(key, fn: Callable[[], object], seconds: float | None = None) -> Non
             _SURVIVED[digest] = err.reason
         except Exception:  # it raised: the caller's own run raises it again
             _SURVIVED[digest] = None
-    if _SURVIVED[digest] is not None:
-        raise LibraryDied(_SURVIVED[digest])
+    reason = _SURVIVED[digest]
+    if reason is not None:
+        raise LibraryDied(reason)
 
 
 @contextlib.contextmanager

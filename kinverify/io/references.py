@@ -52,7 +52,7 @@ def package_file(filename: str, base: Path, packages: dict[str, str] | None = No
     ``packages`` ``{pkg: PATH}`` (``--package``), else ``<dir>/pkg/rel`` or ``<dir>/rel`` with
     ``<dir>`` named ``pkg``, for ``base`` and each folder above it; None when none exists."""
     package, _, rel = filename.split("://", 1)[1].partition("/")
-    if package in (packages or {}):
+    if packages and package in packages:
         given = Path(packages[package]).expanduser() / rel
         if given.exists():
             return given
@@ -166,7 +166,7 @@ def _rewrite(text: str, root: ET.Element, base: Path, chain: list[str], done: di
             break
         pattern = re.compile(r"<uri>\s*" + re.escape(escape(uri)) + r"\s*</uri>")
         replacement = f"<uri>{escape(done[key][0])}</uri>"
-        text = pattern.sub(lambda _m, r=replacement: r, text)
+        text = pattern.sub(lambda _m, r=replacement: r, text)  # type: ignore[misc]  # mypy cannot type a lambda with defaults
     return text, links
 
 
@@ -213,6 +213,8 @@ def mjcf_files(root: ET.Element, path, budget: Budget | None = None, chain: tupl
     wanted += [(el, a, texturedir) for el in root.iter("texture") for a in TEXTURE_FILES if el.get(a)]
     for el, attribute, folder in wanted:
         name = el.get(attribute)
+        if not name:  # never: ``wanted`` keeps the attributes set
+            continue
         target = Path(name) if Path(name).is_absolute() else folder / name
         try:
             os.stat(target)

@@ -22,7 +22,7 @@ import math
 
 from kinverify.map.rows import Rows
 from kinverify.map.side import VALUES, Value
-from kinverify.suites.base import Finding
+from kinverify.suites.base import Finding, Severity
 
 POSITION_TOL = 1e-4  # rad or m: a default pose written to 4 decimals agrees
 RTOL = 1e-3  # relative: gains, limits, inertias written to 3-4 significant digits agree
@@ -30,7 +30,7 @@ DEGREE = 180.0 / math.pi
 DRIVE_VALUES = ("stiffness", "damping", "effort")
 
 
-def map_finding(kind: str, severity: str, message: str, joints=(), values=None, magnitude=None, unit="", prop="") -> Finding:
+def map_finding(kind: str, severity: Severity, message: str, joints=(), values=None, magnitude=None, unit="", prop="") -> Finding:
     joints = list(joints)
     return Finding(kind, severity, message, ", ".join(joints), "joint" if joints else "model", "", prop,
                    dict(values or {}), None if magnitude is None else float(magnitude), unit)
@@ -56,8 +56,8 @@ def order_findings(rows: Rows) -> list[Finding]:
                                 {"files": [a.label, b.label], "only_first": only_a, "only_second": only_b},
                                 len(only_a) + len(only_b), "joints"))
         common = [r for r in range(len(rows.names)) if rows.names[r][ref] and rows.names[r][s]]
-        by_a = sorted(common, key=lambda r: a.names.index(rows.names[r][ref]))
-        by_b = sorted(common, key=lambda r: b.names.index(rows.names[r][s]))
+        by_a = sorted(common, key=lambda r: a.names.index(rows.name(r, ref)))
+        by_b = sorted(common, key=lambda r: b.names.index(rows.name(r, s)))
         moved = [rows.names[r][ref] for r, q in zip(by_a, by_b, strict=True) if r != q]
         if moved:
             out.append(map_finding("joint_order", "error", f"{b.label} ({b.order}) orders {len(moved)} of the {len(common)} "
@@ -78,14 +78,15 @@ def _actuator_order(rows: Rows) -> list[Finding]:
     out = []
     for s in having[1:]:
         a, b = rows.sides[having[0]], rows.sides[s]
+        acts = a.actuators or []  # every side in having states actuators
         ka, kb = actuator_rows(rows, having[0]), actuator_rows(rows, s)
         common = [k for k in ka if k and k in kb]
         by_b = sorted(common, key=kb.index)
-        moved = [a.actuators[ka.index(k)].name for k, q in zip(common, by_b, strict=True) if k != q]
+        moved = [acts[ka.index(k)].name for k, q in zip(common, by_b, strict=True) if k != q]
         if moved:
             out.append(map_finding("actuator_order", "error", f"{b.label} orders {len(moved)} of the {len(common)} actuators "
                                 f"both have (by the joints they drive) otherwise than {a.label}: {listed(moved)}; use the "
-                                "actuator map", [rows.label(k[0]) for k in common if a.actuators[ka.index(k)].name in moved],
+                                "actuator map", [rows.label(k[0]) for k in common if acts[ka.index(k)].name in moved],
                                 {"files": [a.label, b.label]}, len(moved), "actuators", "order"))
     return out
 
@@ -148,10 +149,11 @@ def _value_finding(rows: Rows, v: Value, key: tuple, hits: list) -> Finding:
     what, ref, s = key[:3]
     a, b = rows.sides[ref], rows.sides[s]
     joints = [rows.label(r) for r, _, _ in hits]
-    types = {rows.joint(r, ref).type for r, _, _ in hits}
+    types = {j.type for r, _, _ in hits if (j := rows.joint(r, ref)) is not None}  # every hit: a row side ref has
     unit = v.unit(types.pop()) if len(types) == 1 else f"{v.unit_revolute} or {v.unit_prismatic}"
     if what != "difference":
         size = max(abs(x) for _, x, _ in hits)
+        severity: Severity
         kind, severity = f"{v.name}_{what}", "warning" if what == "unset" else "info"
         why = "leaves it unset (its simulator's default applies)" if what == "unset" else f"cannot state it ({b.format})"
         message = f"{v.label}: {b.label} {why} on {len(joints)} joints where {a.label} states up to {size:.6g} {unit}: {listed(joints)}"

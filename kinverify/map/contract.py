@@ -42,7 +42,7 @@ class MapResult:
     def to_dict(self) -> dict[str, Any]:
         sides = []
         for side in self.sides:
-            entry = {"file": side.label, "path": side.path, "format": side.format, "order": side.order if side.ordered else None,
+            entry: dict[str, Any] = {"file": side.label, "path": side.path, "format": side.format, "order": side.order if side.ordered else None,
                      "joints": side.names if side.ordered else None, "notes": side.notes}
             if side.ordered:
                 entry["qpos_index"] = [j.qpos for j in side.joints]

@@ -39,7 +39,9 @@ def couplings(rows: Rows, s: int) -> dict[int, tuple[int | None, Follows]]:
 def drive_findings(rows: Rows) -> list:
     out, followers_driven = [], set()
     stated = {s: couplings(rows, s) for s, side in enumerate(rows.sides) if side.format in COUPLED_FORMATS}
-    every, stater = {}, {}  # each coupling as the first file that states it says it, and that file
+    every: dict[int, tuple[int | None, Follows]] = {}
+    stater: dict[int, int] = {}
+    # each coupling as the first file that states it says it, and that file
     for s, found in stated.items():
         for r, c in found.items():
             every.setdefault(r, c)
@@ -66,7 +68,8 @@ def drive_findings(rows: Rows) -> list:
 
 
 def _drive_differences(rows: Rows, skip: set[int]) -> list:
-    out, groups = [], {}
+    out: list = []
+    groups: dict[tuple, list] = {}
     for r in range(len(rows.names)):
         if r in skip:
             continue
@@ -104,7 +107,7 @@ def _coupling_differences(rows: Rows, stated: dict) -> list:
             x, y = ra.get(key), rb.get(key)
             if x is None or y is None:
                 holder, other = (a, b) if x is not None else (b, a)
-                f, _, _, c = x or y
+                f, _, _, c = ra[key] if x is not None else rb[key]
                 out.append(map_finding("coupling_one_file", "warning", f"{rows.label(f)} follows {c.leader} ({c.source}) in "
                                        f"{holder.label} only; {other.label} leaves it free", [rows.label(f)],
                                        {"in": holder.label}, None, "", "follows"))

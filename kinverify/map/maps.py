@@ -21,7 +21,7 @@ from kinverify.map.rows import Rows
 def _positions(rows: Rows, s: int) -> dict[int, int]:
     """Row -> position in side ``s``'s joint order."""
     side = rows.sides[s]
-    return {r: side.names.index(rows.names[r][s]) for r in range(len(rows.names)) if rows.names[r][s] is not None}
+    return {r: side.names.index(rows.name(r, s)) for r in range(len(rows.names)) if rows.names[r][s] is not None}
 
 
 def joint_map(rows: Rows, a: int, b: int) -> list[int | None]:

@@ -44,7 +44,7 @@ def order_rows(result: MapResult) -> tuple[list[str], list[list[str]]]:
                 cells.append("—")
                 continue
             j = side.joint(n)
-            at = f" qpos[{j.qpos}]" if j.qpos is not None and side.format == "mjcf" else ""
+            at = f" qpos[{j.qpos}]" if j is not None and j.qpos is not None and side.format == "mjcf" else ""
             named = f" {n}" if n != cells[0] else ""
             cells.append(f"#{side.names.index(n)}{named}{at}")
         rows.append(cells)

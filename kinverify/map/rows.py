@@ -25,6 +25,13 @@ class Rows:
     def row_of(self, s: int, name: str) -> int | None:
         return next((r for r, row in enumerate(self.names) if row[s] == name), None)
 
+    def name(self, r: int, s: int) -> str:
+        """Row ``r``'s joint name in side ``s``, which has it (KeyError if it lacks it)."""
+        name = self.names[r][s]
+        if name is None:
+            raise KeyError(f"side {s} lacks the joint of row {r}")
+        return name
+
     def joint(self, r: int, s: int) -> MapJoint | None:
         name = self.names[r][s]
         return None if name is None else self.sides[s].joint(name)
@@ -43,7 +50,8 @@ def pair_names(a: Side, b: Side) -> list[tuple[str, str]]:
         pairs, _, _ = match_joints(a.desc, b.desc)
         known_a, known_b = set(a.names), set(b.names)
         return [(x, y) for x, y, _ in pairs if x in known_a and y in known_b]
-    out, used = [], set()
+    out: list[tuple[str, str]] = []
+    used = set()
     for key in (lambda n: n, _simple):
         keys_b: dict[str, list[str]] = {}
         for n in b.names:

@@ -42,19 +42,19 @@ def read_sdf(path: str, options) -> Side:
     actuators = []
     for a in plant.GetJointActuatorIndices():
         act = plant.get_joint_actuator(a)
-        j = by_name.get(act.joint().name())
-        if j is None:
+        mj = by_name.get(act.joint().name())
+        if mj is None:
             continue
-        j.driven, j.mode = True, "Drake joint actuator"
+        mj.driven, mj.mode = True, "Drake joint actuator"
         if act.effort_limit() < 1e300:
-            j.effort, j.how["effort"] = float(act.effort_limit()), "Drake actuator effort limit"
+            mj.effort, mj.how["effort"] = float(act.effort_limit()), "Drake actuator effort limit"
         reflected = float(act.default_reflected_inertia())
-        j.armature, j.how["armature"] = reflected, "Drake reflected inertia (rotor inertia × gear ratio²)"
+        mj.armature, mj.how["armature"] = reflected, "Drake reflected inertia (rotor inertia × gear ratio²)"
         if act.has_controller():
             gains = act.get_controller_gains()
-            j.stiffness, j.damping = float(gains.p()), float(gains.d())
-            j.how["stiffness"] = j.how["damping"] = "drake:controller_gains"
-        actuators.append(Actuator(act.name(), (j.name,), "Drake joint actuator"))
+            mj.stiffness, mj.damping = float(gains.p()), float(gains.d())
+            mj.how["stiffness"] = mj.how["damping"] = "drake:controller_gains"
+        actuators.append(Actuator(act.name(), (mj.name,), "Drake joint actuator"))
     expresses = frozenset({"default", "effort", "velocity", "armature", "joint_damping", "stiffness", "damping"})
     notes = [f"Drake: {w}" for w in warnings]
     return Side(path, path, "sdf", "Drake plant order", joints, actuators, expresses, desc, notes)

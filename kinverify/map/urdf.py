@@ -31,15 +31,15 @@ def read_urdf(path: str, options) -> Side:
     for el in root.findall("joint"):
         if el.get("type") not in MOVABLE:
             continue
-        j = MapJoint(el.get("name"), MOVABLE[el.get("type")])
+        j = MapJoint(el.get("name", ""), MOVABLE[el.get("type", "")])  # load_urdf refuses a nameless joint
         limit, dynamics, mimic = el.find("limit"), el.find("dynamics"), el.find("mimic")
         for name, element, attribute in (("effort", limit, "effort"), ("velocity", limit, "velocity"),
                                          ("friction", dynamics, "friction"), ("joint_damping", dynamics, "damping")):
-            if element is not None and element.get(attribute) is not None:
-                setattr(j, name, float(element.get(attribute)))
+            if element is not None and (value := element.get(attribute)) is not None:
+                setattr(j, name, float(value))
                 j.how[name] = f"<{element.tag} {attribute}>"
-        if mimic is not None and mimic.get("joint"):
-            j.follows = Follows(mimic.get("joint"), float(mimic.get("multiplier", 1.0)), float(mimic.get("offset", 0.0)),
+        if mimic is not None and (leader := mimic.get("joint")):
+            j.follows = Follows(leader, float(mimic.get("multiplier", 1.0)), float(mimic.get("offset", 0.0)),
                                 "<mimic>")
         joints.append(j)
     actuators = _transmissions(root, joints)
@@ -68,7 +68,7 @@ def _transmissions(root: ET.Element, joints: list[MapJoint]) -> list[Actuator] |
     by_name = {j.name: j for j in joints}
     actuators = []
     for tr in found:
-        names = tuple(j.get("name") for j in tr.findall("joint") if j.get("name") in by_name)
+        names = tuple(name for j in tr.findall("joint") if (name := j.get("name")) is not None and name in by_name)
         if not names:
             continue
         extras = {_tag(el): el for el in tr.iter()}
@@ -77,13 +77,13 @@ def _transmissions(root: ET.Element, joints: list[MapJoint]) -> list[Actuator] |
             j = by_name[name]
             j.driven, j.mode = True, "transmission"
             rotor, gear = extras.get("rotor_inertia"), extras.get("gear_ratio")
-            if rotor is not None and rotor.get("value") is not None:
-                ratio = float(gear.get("value")) if gear is not None and gear.get("value") is not None else 1.0
-                j.armature = float(rotor.get("value")) * ratio**2
+            if rotor is not None and (inertia := rotor.get("value")) is not None:
+                ratio = float(value) if gear is not None and (value := gear.get("value")) is not None else 1.0
+                j.armature = float(inertia) * ratio**2
                 j.how["armature"] = "drake:rotor_inertia × drake:gear_ratio²"
             gains = extras.get("controller_gains")
-            if gains is not None and gains.get("p") is not None:
-                j.stiffness, j.damping = float(gains.get("p")), float(gains.get("d", 0.0))
+            if gains is not None and (p := gains.get("p")) is not None:
+                j.stiffness, j.damping = float(p), float(gains.get("d", 0.0))
                 j.how["stiffness"] = j.how["damping"] = "drake:controller_gains"
     for j in joints:
         if j.driven is None:

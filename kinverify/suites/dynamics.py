@@ -187,12 +187,12 @@ class DynamicsSuite(Suite):
             mass = pin.mass(qk)
             accel = [mj.forward(qk, v, tau)] if "dynamics.forward" in compared else [None]
             terms = {  # evaluated below, for the compared properties only; each binds this configuration's values
-                "dynamics.mass_matrix": lambda qk=qk, mass=mass: (mass, mj.mass(qk)),
+                "dynamics.mass_matrix": lambda qk=qk, mass=mass: (mass, mj.mass(qk)),  # type: ignore[misc]  # mypy cannot type a lambda with defaults
                 "dynamics.gravity": lambda qk=qk: (pin.gravity(qk), mj.gravity(qk)),
-                "dynamics.bias": lambda qk=qk, v=v: (pin.bias(qk, v), mj.bias(qk, v)),
-                "dynamics.inverse": lambda qk=qk, v=v, a=a: (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),
+                "dynamics.bias": lambda qk=qk, v=v: (pin.bias(qk, v), mj.bias(qk, v)),  # type: ignore[misc]  # mypy cannot type a lambda with defaults
+                "dynamics.inverse": lambda qk=qk, v=v, a=a: (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),  # type: ignore[misc]  # mypy cannot type a lambda with defaults
                 # force residual of MuJoCo's acceleration in Pinocchio's equations: M·(a_mj − a_pin)
-                "dynamics.forward": lambda qk=qk, v=v, tau=tau, mass=mass, accel=accel:
+                "dynamics.forward": lambda qk=qk, v=v, tau=tau, mass=mass, accel=accel:  # type: ignore[misc]  # mypy cannot type a lambda with defaults
                     (tau, tau + mass @ (accel[0] - pin.forward(qk, v, tau))),
             }
             pairs = {p: terms[p]() for p in compared}

@@ -49,5 +49,6 @@ def mujoco_mjcf(urdf_text: str, *, free: bool = False) -> str:
         return text
     tree = ET.fromstring(text)
     body = tree.find("worldbody/body")
+    assert body is not None, "the generated MJCF has a body under <worldbody>"
     body.insert(0, ET.Element("freejoint", name="root"))
     return ET.tostring(tree, encoding="unicode")

@@ -120,7 +120,9 @@ def _sites(root: ET.Element) -> list[_Site]:
         for child in _bodies(body):
             walk(child, moving, site if site.joint is not None else above, body if own else rigid)
 
-    for body in _bodies(root.find("worldbody")):
+    worldbody = root.find("worldbody")
+    assert worldbody is not None, "an MJCF MuJoCo wrote has a <worldbody>"
+    for body in _bodies(worldbody):
         walk(body, False, None, None)
     return out
 
@@ -145,7 +147,7 @@ def _applicable(kind: str, site: _Site) -> bool:
     inertial = _inertial(site.body)
     if inertial is None or site.rigid is not None:  # a body welded to another is one rigid body with it: its own
         return False                                 # centre of mass and mass are not what is compared
-    share = float(inertial.get("mass")) / _group_mass(site.body)
+    share = float(inertial.get("mass", "0")) / _group_mass(site.body)
     if kind == "inertia":  # alone in its rigid body: the moment planted is one of the rigid body's
         return share == 1.0 and bool(np.all(_vec(inertial, "diaginertia", [0, 0, 0]) > 0))
     return kind == "mass" or share >= 0.25  # its centre of mass moves the rigid body's by its share of the mass
@@ -161,7 +163,7 @@ def _welded(body: ET.Element) -> list[ET.Element]:
 
 
 def _group_mass(body: ET.Element) -> float:
-    return sum(float(b.find("inertial").get("mass", "0")) for b in _welded(body) if b.find("inertial") is not None)
+    return sum(float(i.get("mass", "0")) for b in _welded(body) if (i := b.find("inertial")) is not None)
 
 
 # --- the changes --------------------------------------------------------------------------------
@@ -170,6 +172,7 @@ def _plant(draw, kind: str, site: _Site) -> Planted:
     body, joint = site.body, site.joint
     bname = body.get("name")
     if kind in JOINT_KINDS:
+        assert joint is not None, "a joint kind is planted only where the site has a joint (_applicable)"
         jname = joint.get("name")
         axis = _vec(joint, "axis", [0, 0, 1])
         axis = axis / np.linalg.norm(axis)
@@ -206,13 +209,14 @@ def _plant(draw, kind: str, site: _Site) -> Planted:
                 new = [lo - abs(step), hi] if end == 0 else [lo, hi + abs(step)]
             _put(joint, "range", new)
             return Planted(kind, jname, None, abs(step), "m" if slide else "rad")
-        damping = float(joint.get("damping"))
+        damping = float(joint.get("damping", "0"))
         change = damping * draw(st.floats(0.1, 1.0)) * draw(st.sampled_from([1, -0.5]))
         joint.set("damping", repr(damping + change))
         return Planted(kind, jname, None, abs(change), "N·s/m" if slide else "N·m·s/rad")
     inertial = _inertial(body)
+    assert inertial is not None, "an inertial kind is planted only where the body has one (_applicable)"
     if kind == "mass":
-        mass = float(inertial.get("mass"))
+        mass = float(inertial.get("mass", "0"))
         factor = 1 + draw(st.floats(0.05, 0.3)) * draw(st.sampled_from([1, -1]))
         inertial.set("mass", repr(mass * factor))
         return Planted(kind, None, bname, abs(mass * factor - mass), "kg")
@@ -220,7 +224,7 @@ def _plant(draw, kind: str, site: _Site) -> Planted:
         length = draw(st.floats(1.0, 20.0)) * 1e-3
         direction = np.array([draw(st.floats(-1, 1)) for _ in range(3)]) + np.array([0, 0, 1e-3])
         _put(inertial, "pos", _vec(inertial, "pos", [0, 0, 0]) + direction / np.linalg.norm(direction) * length)
-        return Planted(kind, None, bname, length * float(inertial.get("mass")) / _group_mass(body), "m")
+        return Planted(kind, None, bname, length * float(inertial.get("mass", "0")) / _group_mass(body), "m")
     moments = _vec(inertial, "diaginertia", [0, 0, 0])
     which = draw(st.sampled_from([0, 1, 2]))
     others = np.delete(moments, which)

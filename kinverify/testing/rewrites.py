@@ -70,6 +70,7 @@ def equivalent_rewrites(draw, mjcf_text: str) -> tuple[str, str]:
     else:
         site = draw(st.sampled_from(inertials))
         inertial = _inertial(site.body)
+        assert inertial is not None, "drawn from the sites with an inertial"
         rot = _body_rotation(inertial)
         full = rot @ np.diag(_vec(inertial, "diaginertia", [0, 0, 0])) @ rot.T
         for attr in ("diaginertia", "quat"):

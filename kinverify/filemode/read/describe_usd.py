@@ -29,6 +29,7 @@ and the rest are described in :func:`usd_notes`, not compared.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -69,10 +70,10 @@ def joint_values(robot: UsdRobot, joint) -> dict:
     k, m = robot.kilograms, robot.meters
     force = k * m * m if angular else k * m  # torque or force unit
     kind = "angular" if angular else "linear"
-    out = {"drive": None, "custom_effort": _number(prim, "urdf:limit:effort"), "initial": None}
+    out: dict[str, Any] = {"drive": None, "custom_effort": _number(prim, "urdf:limit:effort"), "initial": None}
     if f"PhysicsDriveAPI:{kind}" in applied_schemas(prim):
         pre = f"drive:{kind}:physics:"
-        drive = {key: _number(prim, pre + key) for key in ("stiffness", "damping", "maxForce", "targetPosition",
+        drive: dict[str, Any] = {key: _number(prim, pre + key) for key in ("stiffness", "damping", "maxForce", "targetPosition",
                                                            "targetVelocity")}
         drive["type"] = str(_get(prim, pre + "type") or "force")
         for key in ("stiffness", "damping"):
@@ -154,7 +155,7 @@ def _inertial(robot: UsdRobot, body: str, pose: np.ndarray, owner) -> tuple[Body
         return None, f"{name}: no MassAPI mass (the simulator derives it from the colliders)"
     mass *= robot.kilograms
     com, diag = _get(prim, "physics:centerOfMass"), _get(prim, "physics:diagonalInertia")
-    known = com is not None and diag is not None and np.all(np.isfinite(np.array(com, float))) and any(float(x) > 0 for x in diag)
+    known = bool(com is not None and diag is not None and np.all(np.isfinite(np.array(com, float))) and any(float(x) > 0 for x in diag))
     com_l = np.array([f32(x) for x in com], dtype=float) * robot.meters if known else np.zeros(3)
     ine_l = np.zeros((3, 3))
     if known:
@@ -172,6 +173,7 @@ def describe_usd(robot: UsdRobot) -> ModelDesc:
     """pxr's reading of the USD articulation, every joint at 0 (a floating root held at the identity)."""
     poses = {b: t[0] for b, t in forward(robot, {}, 1).items()}
     joint_names = {j.path: j.name for j in robot.joints}
+    owner: dict[str, str | None]
     owner, depth, tree_parent = {robot.root: None}, {robot.root: 0}, {}
     joints, skipped, held, extensions = [], [], [], {}
     for body in robot.bodies[1:]:
@@ -236,12 +238,12 @@ def usd_precision(robot: UsdRobot) -> Precision:
     out = UsdPrecision("USD")
     held = next((j for j in robot.joints if robot.root in (j.body0, j.body1) and not (j.body0 and j.body1)), None)
     bound = {robot.root: (0.0, 0.0) if held is None else  # a root held to the world by a joint: its two frames
-             (8 * F32, math.sqrt(3) * F32 * (np.linalg.norm(held.x0[:3, 3]) + np.linalg.norm(held.x1[:3, 3])))}
+             (8 * F32, math.sqrt(3) * F32 * float(np.linalg.norm(held.x0[:3, 3]) + np.linalg.norm(held.x1[:3, 3])))}
     for body in robot.bodies[1:]:
         j = robot.parent_joint[body]
         up = j.body0 if body == j.body1 else j.body1
         rot, pos = bound[up]
-        bound[body] = (rot + 8 * F32, pos + math.sqrt(3) * F32 * (np.linalg.norm(j.x0[:3, 3]) + np.linalg.norm(j.x1[:3, 3])))
+        bound[body] = (rot + 8 * F32, pos + math.sqrt(3) * F32 * float(np.linalg.norm(j.x0[:3, 3]) + np.linalg.norm(j.x1[:3, 3])))
     out.frames = {robot.names[b]: v for b, v in bound.items()}
     out.frames.update({site: bound[body] for site, (body, _, _) in robot.sites.items()})
     limits = [abs(x) for j in robot.joints for x in (j.lower, j.upper) if math.isfinite(x)]

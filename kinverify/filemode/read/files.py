@@ -22,7 +22,7 @@ from kinverify.filemode.read.describe_mjcf import describe_mjcf, free_joint_valu
 from kinverify.filemode.read.describe_sdf import describe_sdf
 from kinverify.filemode.read.describe_usd import describe_usd, pose_mismatches
 from kinverify.filemode.read.describe_urdf import describe_urdf
-from kinverify.backends.usd_stage import read_robot
+from kinverify.backends.usd_stage import UsdRobot, read_robot
 from kinverify.filemode.read.loading import LoadedFile, load_mjcf, load_sdf, load_urdf
 from kinverify.filemode.read.model import ModelDesc
 from kinverify.filemode.read.prepare import fix_free_bases, prepare_urdf
@@ -146,7 +146,7 @@ def read_sdf(path: str, findings: list, free=None):
                                                              loaded.text if floating else "")
 
 
-def load_usd(path: str) -> tuple[LoadedFile, object]:
+def load_usd(path: str) -> tuple[LoadedFile, UsdRobot]:
     """The USD file read by pxr (every layer checked first: :mod:`kinverify.backends.usd_stage`) as a
     :class:`LoadedFile` whose text is the path (pxr resolves its layers from there), and its articulation."""
     robot = read_robot(path)

@@ -82,6 +82,7 @@ def compile_xacro(path: str | Path, packages: dict[str, str] | None = None,
 
 def _compile(path, args) -> tuple[str, str, list[str]]:
     """The URDF text, what xacro printed and the files it read (run in the child)."""
+    read: list[str]
     printed, read = io.StringIO(), []  # xacro prints its warnings: keep them for the report, off the terminal
     try:
         # the file and everything it includes are read by kinverify's reader (bounded, no FIFO)
