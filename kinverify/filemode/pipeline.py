@@ -27,6 +27,7 @@ import numpy as np
 import kinverify.filemode.findings.accepted as acc
 from kinverify.backends import ModelSources, names_reading
 from kinverify.errors import InputError, KinverifyError
+from kinverify.filemode.align.attribution import attribute
 from kinverify.filemode.align.floating import base_findings, base_samples
 from kinverify.filemode.align.geometry import reach
 from kinverify.filemode.align.match import match
@@ -83,6 +84,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: frame_twins(info, tol), ([], []))
     matching.frames += new_pairs
     add_frames(al, new_pairs)
+    al.attribution = _guarded(internal, "attribution", lambda: attribute(info), {})
     compared = [a for a, _, _ in matching.frames]
     if base.kind:
         findings.append(finding(base.kind, base.message, {"urdf": base.urdf.kind, "urdf_root": base.urdf.root,

@@ -1,0 +1,177 @@
+"""Attribution: each matched joint's own difference, after what the joints above it already move,
+so that a change is said once, where it is, and nothing it carries is blamed for moving with it.
+
+Each matched joint carries a rigid body: its link and what hangs from it (centres of mass and
+inertias, named frames, the next joints' axis lines), its own axis line among them. Down the chain,
+at the aligned zero, the MJCF's body of each joint is brought onto the URDF's by a *carry*, the
+rigid motion that takes out what the joints above already account for (the base's is the
+identity: the world transform is the alignment's). A joint inherits its parent's carry, unless
+its frame sits elsewhere on its parent (the MJCF's body ``pos`` or ``quat`` edited, a URDF joint
+``<origin>`` changed) with everything it holds the same in its own axes: then that is *its* one
+difference, a moved frame (the offset vector, along its axis too) or a turned one (axis and angle:
+the tilt of its axis and the twist about it together), and its own carry lays its MJCF frame onto
+the URDF's.
+
+Only a frame change that explains more of the body's features than the parent's carry does is
+taken, and only when both files hang the body's contents in one frame (the same centre of mass,
+inertia and axis in its own axes): where they agree in the world but not in the link's axes, the
+files chose the link frame differently (a frame convention: a constant turn about the joint's
+axis with everything it holds turned back is no difference at all), and nothing is said.
+
+The findings then compare each joint's axis, and each rigid body's inertial, after its carry (see
+:mod:`kinverify.filemode.findings.alignment`, :mod:`kinverify.filemode.compare.inertials`): a
+second change below another is measured in its own right.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from kinverify.filemode.align.geometry import project_on_line
+from kinverify.filemode.read.model import ModelDesc
+from kinverify.model.transforms import geodesic_distance, invert_transform, rotation_log
+
+INERTIAL_ANGLE = 1e-6  # rad: an inertia tensor's orientation is known to about this, beyond the written precision
+
+
+@dataclass
+class Attribution:
+    """One matched joint (URDF name) after the joints above it: ``carry`` (4x4) brings what the
+    MJCF's joint moves, at the aligned zero in the URDF's world, onto the URDF's; ``axis``: its
+    axis lines after the carry, (angle rad, distance m); ``moved`` (xyz m, in its parent link's
+    axes) and ``turn`` (rotation vector rad, in its own axes): how its frame sits elsewhere on its
+    parent, when that is its difference (else None)."""
+    joint: str
+    carry: np.ndarray
+    axis: tuple[float, float] = (0.0, 0.0)
+    moved: np.ndarray | None = None
+    turn: np.ndarray | None = None
+    parent_frame: str = ""
+
+    @property
+    def changed(self) -> bool:
+        return self.moved is not None or self.turn is not None
+
+
+def _apply(t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    return t[:3, :3] @ x + t[:3, 3]
+
+
+def joint_line(desc: ModelDesc, joint: str, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A joint's axis direction and a point of its axis with its moving frame at ``pose``."""
+    j = desc.joint(joint)
+    t0 = desc.frames[j.child]
+    rot = pose[:3, :3] @ t0[:3, :3].T
+    return rot @ j.axis, rot @ (j.anchor - t0[:3, 3]) + pose[:3, 3]
+
+
+def _inertial(desc: ModelDesc, owner: str, poses: dict) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """Mass, centre of mass and inertia about it (world) of the bodies moving with ``owner`` only."""
+    parts = [(b.mass, _apply(poses[b.name], b.com_local), poses[b.name][:3, :3] @ b.inertia_local @ poses[b.name][:3, :3].T)
+             for b in desc.bodies if b.owner == owner and b.mass > 0 and b.name in poses]
+    mass = sum(p[0] for p in parts)
+    if mass <= 0:
+        return None
+    com = sum(p[0] * p[1] for p in parts) / mass
+    inertia = sum(i + m * (float((c - com) @ (c - com)) * np.eye(3) - np.outer(c - com, c - com)) for m, c, i in parts)
+    return mass, com, inertia
+
+
+class _Body:
+    """The features of what one joint pair moves, both files, at the aligned zero (URDF world)."""
+
+    def __init__(self, info, a: str, b: str, pm: dict, children: list[tuple[str, str]]) -> None:
+        u, m, fl = info.u, info.m, info.floors
+        ju = u.joint(a)
+        self.ptol, self.rtol = info.tol(ju.child)
+        sign = info.alignment.joint(a).sign
+        self.own, self.next = [], []
+        au, pu = joint_line(u, a, info.poses_u[ju.child])
+        am, pmm = joint_line(m, b, pm[m.joint(b).child])
+        self.own.append(("line", (au, pu), (sign * am, pmm)))
+        for c, d in children:
+            cu, cm = u.joint(c), m.joint(d)
+            if cu.child in info.poses_u and cm.child in pm:
+                self.next.append(("line", joint_line(u, c, info.poses_u[cu.child]), joint_line(m, d, pm[cm.child])))
+        iu, im = _inertial(u, a, info.poses_u), _inertial(m, b, pm)
+        if iu is not None and im is not None:
+            self.own.append(("com", iu[1], im[1]))
+            if abs(iu[0] - im[0]) <= 1e-3 * max(iu[0], im[0]):  # a different mass is a different inertial
+                self.own.append(("tensor", iu[2], im[2]))
+            norm = max(float(np.abs(np.linalg.eigvalsh(x[2])).max()) for x in (iu, im))
+            origin = info.poses_u[ju.child][:3, 3]
+            self.com_tol = self.ptol + 2 * fl.com + self.rtol * float(np.linalg.norm(iu[1] - origin))
+            self.tensor_tol = (1e-9 + fl.relative + 2 * (fl.inertial_angle + self.rtol + INERTIAL_ANGLE)) * norm
+        for fu, fm, _ in info.matching.frames:
+            if (u.frame_owner.get(fu) == a and m.frame_owner.get(fm) == b and m.frame_kind.get(fm) == "site"
+                    and fu in info.poses_u and fm in pm):
+                self.own.append(("site", info.poses_u[fu][:3, 3], pm[fm][:3, 3]))
+
+    def errors(self, feature, carry: np.ndarray) -> list[float]:
+        """How far a feature is off under ``carry``, relative to its tolerance (> 1: differs)."""
+        kind, x, y = feature
+        if kind == "line":
+            (au, pu), (am, pm) = x, y
+            am, pm = carry[:3, :3] @ am, _apply(carry, pm)
+            angle = float(np.arctan2(np.linalg.norm(np.cross(au, am)), float(au @ am)))
+            return [angle / self.rtol, float(np.linalg.norm(pm - project_on_line(pm, pu, au))) / self.ptol]
+        if kind == "tensor":
+            rot = carry[:3, :3]
+            return [float(np.abs(np.linalg.eigvalsh(x - rot @ y @ rot.T)).max()) / self.tensor_tol]
+        tol = self.com_tol if kind == "com" else self.ptol
+        return [float(np.linalg.norm(x - _apply(carry, y))) / tol]
+
+    def differing(self, carry: np.ndarray, features) -> int:
+        return sum(e > 1.0 for f in features for e in self.errors(f, carry))
+
+
+def attribute(info) -> dict[str, Attribution]:
+    """Every matched joint's attribution (see the module docstring), in the URDF's chain order.
+    ``info``: :class:`kinverify.filemode.compare.context.FileModeInfo` of the aligned files."""
+    u, m, al = info.u, info.m, info.alignment
+    to_m = {j.urdf: j.mjcf for j in al.joints}
+    tinv = invert_transform(al.T)
+    pm = {name: tinv @ pose for name, pose in info.poses_m.items()}
+    out: dict[str, Attribution] = {}
+    for j in al.joints:
+        a, b = j.urdf, j.mjcf
+        ju, jm = u.joint(a), m.joint(b)
+        if ju.child not in info.poses_u or jm.child not in pm:
+            continue
+        up = ju.parent
+        while up is not None and up not in to_m:  # a joint in one file only: what it moves is held at zero
+            up = u.joint(up).parent
+        inherited = out[up].carry if up in out else np.eye(4)
+        children = [(c.name, to_m[c.name]) for c in u.joints if c.parent == a and c.name in to_m
+                    and m.has_joint(to_m[c.name]) and m.joint(to_m[c.name]).parent == b]
+        body = _Body(info, a, b, pm, children)
+        att = Attribution(a, inherited, parent_frame=u.joint(up).child if up is not None else "")
+        same_parent = (ju.parent == up and (jm.parent == to_m[up] if up is not None else jm.parent is None))
+        if same_parent:
+            _frame_change(att, info, body, up, ju.child, pm[jm.child])
+        att.axis = tuple(body.errors(body.own[0], att.carry)[k] * (body.rtol, body.ptol)[k] for k in (0, 1))
+        out[a] = att
+    return out
+
+
+def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child: str, pose_m: np.ndarray) -> None:
+    """Take the joint's frame change as its difference when it explains more than the parent's
+    carry and leaves what the joint's own body holds agreeing (see the module docstring)."""
+    pose_u = info.poses_u[child]
+    seen = att.carry @ pose_m  # the MJCF's frame, what the joints above account for taken out
+    delta = seen[:3, 3] - pose_u[:3, 3]
+    angle = float(geodesic_distance(pose_u[:3, :3], seen[:3, :3]))
+    if float(np.linalg.norm(delta)) <= body.ptol and angle <= body.rtol:
+        return
+    own = pose_u @ invert_transform(pose_m)
+    features = body.own + body.next
+    if body.differing(own, body.own) or body.differing(own, features) >= body.differing(att.carry, features):
+        return
+    base = info.poses_u[info.u.joint(parent).child] if parent is not None else np.eye(4)
+    if float(np.linalg.norm(delta)) > body.ptol:
+        att.moved = base[:3, :3].T @ delta
+    if angle > body.rtol:
+        att.turn = rotation_log(pose_u[:3, :3].T @ seen[:3, :3])
+    att.carry = own
