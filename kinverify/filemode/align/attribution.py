@@ -29,9 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kinverify.filemode.align.geometry import project_on_line
+from kinverify.filemode.align.geometry import project_on_line, rotation_between
 from kinverify.filemode.read.model import ModelDesc
-from kinverify.model.transforms import geodesic_distance, invert_transform, rotation_log
+from kinverify.model.transforms import axis_angle_to_matrix, geodesic_distance, invert_transform, rotation_log
 
 INERTIAL_ANGLE = 1e-6  # rad: an inertia tensor's orientation is known to about this, beyond the written precision
 
@@ -49,6 +49,7 @@ class Attribution:
     moved: np.ndarray | None = None
     turn: np.ndarray | None = None
     parent_frame: str = ""
+    folded: float = 0.0  # the zero offset the fit took, part of its frame's turn (said there; the joint map's is then 0)
 
     @property
     def changed(self) -> bool:
@@ -152,6 +153,8 @@ def attribute(info) -> dict[str, Attribution]:
         if same_parent:
             _frame_change(att, info, body, up, ju.child, pm[jm.child])
         att.axis = tuple(body.errors(body.own[0], att.carry)[k] * (body.rtol, body.ptol)[k] for k in (0, 1))
+        if not att.changed and (att.axis[0] > body.rtol or att.axis[1] > body.ptol):
+            _seat(att, body)
         out[a] = att
     return out
 
@@ -169,9 +172,45 @@ def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child
     features = body.own + body.next
     if body.differing(own, body.own) or body.differing(own, features) >= body.differing(att.carry, features):
         return
+    offset = info.alignment.joint(att.joint).offset
+    if angle > body.rtol and offset and info.u.joint(att.joint).type == "revolute":
+        # a frame turned about another axis than its joint's, whose twist part the alignment took
+        # for a zero offset: one turn, as the file writes the frame (at the MJCF's own zero)
+        am, pm = joint_line(info.m, info.alignment.joint(att.joint).mjcf, pose_m)
+        seen = seen @ invert_transform(_about(invert_transform(pose_m), am, pm, offset))
+        att.folded = offset
+        info.alignment.joint(att.joint).offset = 0.0  # the files' joints share their zero: the turn is the difference
+        delta = seen[:3, 3] - pose_u[:3, 3]
     base = info.poses_u[info.u.joint(parent).child] if parent is not None else np.eye(4)
     if float(np.linalg.norm(delta)) > body.ptol:
         att.moved = base[:3, :3].T @ delta
     if angle > body.rtol:
         att.turn = rotation_log(pose_u[:3, :3].T @ seen[:3, :3])
     att.carry = own
+
+
+def _seat(att: Attribution, body: _Body) -> None:
+    """A joint whose axis line differs while its frame is the files' own choice (no frame change
+    to take): what it moves is carried seated on its axis (the MJCF's laid onto the URDF's by the
+    smallest rigid motion) when that makes more of what it moves agree than the parent's carry
+    does (its frame and axis moved together); an axis tilted within its frame moves nothing at the
+    zero, and keeps the parent's carry."""
+    (au, pu), (am, pm) = body.own[0][1], body.own[0][2]
+    am, pm = att.carry[:3, :3] @ am, _apply(att.carry, pm)
+    seat = np.eye(4)
+    seat[:3, :3] = rotation_between(am, au)
+    seat[:3, 3] = project_on_line(pm, pu, au) - seat[:3, :3] @ pm
+    seated = seat @ att.carry
+    features = body.own + body.next
+    if body.differing(seated, features) < body.differing(att.carry, features):
+        att.carry = seated
+
+
+def _about(to_local: np.ndarray, axis: np.ndarray, point: np.ndarray, angle: float) -> np.ndarray:
+    """The motion (4x4, in a body's own coordinates) of a turn by ``angle`` about the world line
+    (``axis``, ``point``), ``to_local`` taking world coordinates to the body's."""
+    a, p = to_local[:3, :3] @ axis, _apply(to_local, point)
+    out = np.eye(4)
+    out[:3, :3] = axis_angle_to_matrix(a, np.array([angle]))[0]
+    out[:3, 3] = p - out[:3, :3] @ p
+    return out

@@ -52,7 +52,9 @@ def origin_findings(att, frames: list[str], names: dict) -> list[Finding]:
         axis = att.turn / angle
         out.append(finding("joint_origin_turned", f"joint {names['joint']}/{names['mjcf_joint']}: its frame is turned by "
                            f"{angle:.4g} rad ({math.degrees(angle):.4g}°) about {fmt(axis)} (its own axes) from the "
-                           f"URDF's{where}{carried}", {"angle_rad": angle, "axis": axis.tolist(),
+                           f"URDF's{where}" + (f" (the {att.folded:.6g} rad about its axis that a zero offset would take is part of this turn)"
+                                                 if att.folded else "")
+                           + carried, {"angle_rad": angle, "zero_offset": att.folded, "axis": axis.tolist(),
                                                        "rotation_vector": att.turn.tolist(), "frames": frames},
                            magnitude=angle, unit="rad", **names))
     return out
@@ -119,6 +121,7 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
             out.append(finding("axis_sign_flip", f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
                                "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else ""),
                                {"sign": -1, "moves": frames}, magnitude=1, unit="", **names))
+        att = al.attribution.get(j.urdf)
         if j.offset:
             unit = "rad" if j.type == "revolute" else "m"
             deg = f" ({math.degrees(j.offset):.4g}°)" if j.type == "revolute" else ""
@@ -135,7 +138,6 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
             out.append(finding("type_difference", f"joint {j.urdf}/{j.mjcf}: {uj.type} in the URDF, {mj.type} in the MJCF",
                                {"urdf": uj.type, "mjcf": mj.type, "frames": frames}, **names))
             continue
-        att = al.attribution.get(j.urdf)
         if att is not None and att.changed:
             differs.add(j.urdf)
             out += origin_findings(att, frames, names)
