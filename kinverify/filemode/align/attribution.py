@@ -50,6 +50,7 @@ class Attribution:
     turn: np.ndarray | None = None
     parent_frame: str = ""
     folded: float = 0.0  # the zero offset the fit took, part of its frame's turn (said there; the joint map's is then 0)
+    contents: int = 0  # what the body holds (centre of mass, inertia, named frames) that still differs after the carry
 
     @property
     def changed(self) -> bool:
@@ -155,6 +156,7 @@ def attribute(info) -> dict[str, Attribution]:
         att.axis = tuple(body.errors(body.own[0], att.carry)[k] * (body.rtol, body.ptol)[k] for k in (0, 1))
         if not att.changed and (att.axis[0] > body.rtol or att.axis[1] > body.ptol):
             _seat(att, body)
+        att.contents = body.differing(att.carry, body.own[1:])
         out[a] = att
     return out
 
@@ -214,3 +216,21 @@ def _about(to_local: np.ndarray, axis: np.ndarray, point: np.ndarray, angle: flo
     out[:3, :3] = axis_angle_to_matrix(a, np.array([angle]))[0]
     out[:3, 3] = p - out[:3, :3] @ p
     return out
+
+
+def findings_count(info) -> int:
+    """How many differences the alignment and attribution of ``info`` leave to report: the world
+    transform, each sign flip, zero offset, moved or turned frame and axis that differs, and each
+    rigid body whose own contents differ after its carry."""
+    al = info.alignment
+    t = al.T
+    n = int(float(np.abs(t[:3, 3]).max()) > 1e-9 or float(geodesic_distance(t[:3, :3], np.eye(3))) > 1e-9)
+    for j in al.joints:
+        att = al.attribution.get(j.urdf)
+        n += (j.sign < 0) + bool(j.offset)
+        if att is None:
+            continue
+        ptol, rtol = info.tol(info.u.joint(j.urdf).child)
+        n += (att.moved is not None) + (att.turn is not None) + (att.axis[0] > rtol or att.axis[1] > ptol)
+        n += att.contents
+    return n
