@@ -3,12 +3,14 @@ variant disagree. A joint frame moved along its axis is one finding with the ful
 axis finding for the part across it and centres of mass for the rest); a frame turned about
 another axis than its joint's is one finding with that axis and angle (not a tilt of the axis and
 the twist left to the centres of mass); a tilt below a turned parent is measured in its own right
-(not on its parent's axis); what a moved frame carries is compared in that frame."""
+(not on its parent's axis); what a moved frame carries is compared in that frame; a first axis
+tilted where nothing but the joints places the MJCF's world is that axis, not a turned world."""
 
 from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 import pytest
 
@@ -86,3 +88,17 @@ def test_a_tilt_below_a_turned_parent_is_measured_in_its_own_right(tmp_path):
     assert errors == [("axis_direction", "panda_joint4"), ("joint_origin_turned", "panda_joint3")] and bodies == []
     assert finding(diag, "axis_direction").magnitude == pytest.approx(tilt, abs=1e-9)
     assert finding(diag, "joint_origin_turned").magnitude == pytest.approx(math.radians(5), abs=1e-9)
+
+
+def test_a_tilted_first_axis_is_that_axis_when_nothing_else_places_the_world(tmp_path):
+    """The MJCF MuJoCo writes from the URDF (its base merged into the world, so only the joints
+    place that world), joint 1's axis tilted by 0.05 rad: one axis_direction of 0.05 rad, not a
+    world turned to lay that axis and joint 2's axis then blamed for it."""
+    urdf, _ = P.generated_pair("panda")
+    (tmp_path / "robot.urdf").write_text(urdf)
+    mujoco.mj_saveLastXML(str(tmp_path / "written.xml"), mujoco.MjModel.from_xml_path(str(tmp_path / "robot.urdf")))
+    mjcf = (tmp_path / "written.xml").read_text().replace(
+        '<joint name="panda_joint1" ', f'<joint name="panda_joint1" axis="0 {-math.sin(0.05)!r} {math.cos(0.05)!r}" ', 1)
+    diag, errors, bodies = diagnose(tmp_path, mjcf)
+    assert errors == [("axis_direction", "panda_joint1")] and bodies == []
+    assert finding(diag, "axis_direction").magnitude == pytest.approx(0.05, abs=1e-9)
