@@ -31,7 +31,7 @@ import numpy as np
 
 from kinverify.filemode.align.geometry import project_on_line, rotation_between
 from kinverify.filemode.read.model import ModelDesc
-from kinverify.model.transforms import axis_angle_to_matrix, geodesic_distance, invert_transform, rotation_log
+from kinverify.model.transforms import axis_angle_to_matrix, geodesic_distance, invert_transform, matrix_to_quat, rotation_log
 
 INERTIAL_ANGLE = 1e-6  # rad: an inertia tensor's orientation is known to about this, beyond the written precision
 
@@ -50,6 +50,7 @@ class Attribution:
     turn: np.ndarray | None = None
     parent_frame: str = ""
     folded: float = 0.0  # the zero offset the fit took, part of its frame's turn (said there; the joint map's is then 0)
+    tilt_twist: tuple[float, float] = (0.0, 0.0)  # of a turn: how far it tilts the joint's axis, and turns about it [rad]
     contents: int = 0  # what the body holds (centre of mass, inertia, named frames) that still differs after the carry
 
     @property
@@ -187,7 +188,12 @@ def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child
     if float(np.linalg.norm(delta)) > body.ptol:
         att.moved = base[:3, :3].T @ delta
     if angle > body.rtol:
-        att.turn = rotation_log(pose_u[:3, :3].T @ seen[:3, :3])
+        turn = pose_u[:3, :3].T @ seen[:3, :3]
+        att.turn = rotation_log(turn)
+        axis = pose_u[:3, :3].T @ body.own[0][1][0]  # the joint's axis in its own (URDF) axes
+        q = matrix_to_quat(turn)
+        tilt = float(np.arctan2(np.linalg.norm(np.cross(axis, turn @ axis)), float(axis @ turn @ axis)))
+        att.tilt_twist = (tilt, abs(2 * float(np.arctan2(float(q[1:] @ axis), q[0]))))
     att.carry = own
 
 

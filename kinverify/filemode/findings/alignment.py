@@ -50,13 +50,14 @@ def origin_findings(att, frames: list[str], names: dict) -> list[Finding]:
     if att.turn is not None:
         angle = float(np.linalg.norm(att.turn))
         axis = att.turn / angle
+        tilt, twist = (math.degrees(x) for x in att.tilt_twist)
+        folded = f"; the {att.folded:.6g} rad a zero offset would take is part of it" if att.folded else ""
         out.append(finding("joint_origin_turned", f"joint {names['joint']}/{names['mjcf_joint']}: its frame is turned by "
-                           f"{angle:.4g} rad ({math.degrees(angle):.4g}°) about {fmt(axis)} (its own axes) from the "
-                           f"URDF's{where}" + (f" (the {att.folded:.6g} rad about its axis that a zero offset would take is part of this turn)"
-                                                 if att.folded else "")
-                           + carried, {"angle_rad": angle, "zero_offset": att.folded, "axis": axis.tolist(),
-                                                       "rotation_vector": att.turn.tolist(), "frames": frames},
-                           magnitude=angle, unit="rad", **names))
+                           f"{angle:.4g} rad ({math.degrees(angle):.4g}°) about {fmt(axis)} (its own axes) from the URDF's{where} "
+                           f"(its axis tilted {tilt:.4g}° and turned {twist:.4g}° about itself{folded}){carried}",
+                           {"angle_rad": angle, "axis": axis.tolist(), "rotation_vector": att.turn.tolist(),
+                            "tilt_rad": att.tilt_twist[0], "twist_rad": att.tilt_twist[1], "zero_offset": att.folded,
+                            "frames": frames}, magnitude=angle, unit="rad", **names))
     return out
 
 

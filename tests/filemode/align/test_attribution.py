@@ -73,6 +73,9 @@ def test_a_frame_turned_about_another_axis_is_one_turn_with_its_axis_and_angle(t
     turn = finding(diag, "joint_origin_turned")
     assert turn.magnitude == pytest.approx(math.radians(7), abs=1e-9)
     assert turn.values["axis"] == pytest.approx(axis.tolist(), abs=1e-9)
+    half = math.radians(3.5)  # the twist about joint 5's axis (the body's z): its part of the turn's quaternion
+    assert turn.values["twist_rad"] == pytest.approx(2 * math.atan2(math.sin(half) / math.sqrt(2), math.cos(half)), abs=1e-9)
+    assert turn.values["tilt_rad"] > math.radians(4)
 
 
 def test_a_tilt_below_a_turned_parent_is_measured_in_its_own_right(tmp_path):
