@@ -28,6 +28,8 @@ import numpy as np
 import kinverify.filemode.findings.accepted as acc
 from kinverify.backends import ModelSources, names_reading
 from kinverify.errors import InputError, KinverifyError
+from kinverify.filemode.align.attribution import attribute
+from kinverify.filemode.align.run import unmoved_world
 from kinverify.filemode.align.floating import base_findings, base_samples
 from kinverify.filemode.align.geometry import reach
 from kinverify.filemode.align.match import match
@@ -80,15 +82,18 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     lower, upper, revolute = sample_ranges(u, matching.independent)
     q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)
     al, poses = run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal, base_fixes_frame=base.floating)
-    poses_u, poses_m = zero_poses(poses, al)
-    info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), poses_u, poses_m,
+    info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), *zero_poses(poses, al),
                         frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original) if kinds[1] == "mjcf" else "radian",
                         base_coordinates=base.floating)
+    if not base.floating:  # a world transform that only stands for the first joints' own change: not taken
+        info = _guarded(internal, "attribution", lambda: unmoved_world(info, poses, q), info)
+    al = info.alignment
 
     tol = info.tol
     twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: frame_twins(info, tol), ([], []))
     matching.frames += new_pairs
     add_frames(al, new_pairs)
+    al.attribution = _guarded(internal, "attribution", lambda: attribute(info), {})
     compared = [a for a, _, _ in matching.frames]
     if base.kind:
         findings.append(finding(base.kind, base.message, {"urdf": base.urdf.kind, "urdf_root": base.urdf.root,

@@ -149,7 +149,7 @@ def test_masses_in_grams_are_one_finding(tmp_path):
     (P.heavier_link, "mass_difference", "panda_link4", 0.2 * 3.587895),
     (P.upper_limit, "limit_difference", "panda_joint2", 0.2),
     (P.friction_added, "friction_difference", "panda_joint5", 0.3),
-    (P.moved_axis, "axis_position", "panda_joint3", 1e-3),
+    (P.moved_axis, "joint_origin_moved", "panda_joint3", 1e-3),
 ])
 def test_a_real_difference_fails_with_one_error_finding_by_value(tmp_path, edit, kind, subject, magnitude):
     result = run(tmp_path, edit)

@@ -181,17 +181,19 @@ def test_every_pair_reaches_its_verdict_with_every_failing_check_explained(robot
 
 
 def test_a1_hips_sit_2_5_mm_further_out_on_all_four_legs():
-    """The base bodies fix the frame (both float): the hips 2.5 mm further out along x, front and
-    rear alike, are said of all four legs, with the trunk 1.288 kg lighter in the MJCF."""
-    assert serious("a1") == [("axis_position", "error"), ("com_difference", "error"), ("com_difference", "error"),
-                             ("com_difference", "error"), ("damping_difference", "error"), ("damping_difference", "error"),
-                             ("inexpressible", "warning"), ("mass_difference", "error")]
+    """The base bodies fix the frame (both float): the hips 2.5 mm further out along x (their own
+    axis), front and rear alike, and the thighs 1.25 mm further out along y (theirs), each said once
+    of all four legs as a moved joint frame (nothing they carry blamed for it), with the trunk
+    1.288 kg lighter in the MJCF."""
+    assert serious("a1") == [("damping_difference", "error"), ("damping_difference", "error"), ("inexpressible", "warning"),
+                             ("joint_origin_moved", "error"), ("joint_origin_moved", "error"), ("mass_difference", "error")]
     assert not findings("a1", "base_frame_offset")
-    axes = one("a1", "axis_position")
-    assert axes.subject == "FL_thigh_joint, FR_thigh_joint, RL_thigh_joint, RR_thigh_joint"
-    assert axes.magnitude == pytest.approx(2.5e-3, abs=1e-9)
-    coms = {f.subject.split(",")[0]: f.magnitude for f in findings("a1", "com_difference")}
-    assert coms == pytest.approx({"FL_hip": 2.5e-3, "FL_thigh": 1.25e-3, "FL_calf": 1.25e-3}, abs=1e-9)
+    hips, thighs = sorted(findings("a1", "joint_origin_moved"), key=lambda f: f.magnitude, reverse=True)
+    assert hips.subject == "FL_hip_joint, FR_hip_joint, RL_hip_joint, RR_hip_joint"
+    assert hips.magnitude == pytest.approx(2.5e-3, abs=1e-9)
+    assert sum(hips.values["xyz_each"], []) == pytest.approx([2.5e-3, 0, 0] * 2 + [-2.5e-3, 0, 0] * 2, abs=1e-9)
+    assert thighs.subject == "FL_thigh_joint, FR_thigh_joint, RL_thigh_joint, RR_thigh_joint"
+    assert sum(thighs.values["xyz_each"], []) == pytest.approx([0, 1.25e-3, 0, 0, -1.25e-3, 0] * 2, abs=1e-9)
     trunk = one("a1", "mass_difference")
     assert (trunk.subject, trunk.values["urdf"]["mass"], trunk.values["mjcf"]["mass"]) == ("trunk", 6.001, 4.713)
     assert trunk.values["com_distance_m"] < 1e-6  # the trunk's centre of mass is where it is in both
@@ -232,17 +234,20 @@ def test_leap_hand_fingers_matched_by_place_differ_in_centres_of_mass_and_two_th
 
 def test_ur5e_world_turned_forearm_longer_and_every_link_a_different_mass():
     """ur_description against Menagerie: the world turned by π, wrist 1's axis 0.2 mm further
-    (forearm 0.3922 against 0.392 m), and every link's mass; the wrist bodies' centres of mass
-    16-21 mm apart in the world, and wrist 1's inertia turned about its centre of mass."""
-    assert serious("ur5e") == [("axis_position", "error"), ("base_inertial_difference", "warning"),
-                               ("base_transform", "error"), ("inexpressible", "warning"),
-                               ("limit_difference", "error")] + [("mass_difference", "error")] * 6
+    (forearm 0.3922 against 0.392 m), wrist 2's 0.7 mm further along the parallel axes (d4 0.1333
+    against 0.138 − 0.131 + 0.127 m) and wrist 3's 0.3 mm (d5 0.0997 against 0.1 m), each measured
+    in its own right, and every link's mass; the wrist bodies' centres of mass 16-21 mm apart, and
+    wrist 1's inertia turned about its centre of mass."""
+    assert serious("ur5e") == [("axis_position", "error")] * 3 + [("base_inertial_difference", "warning"),
+                                                                  ("base_transform", "error"), ("inexpressible", "warning"),
+                                                                  ("limit_difference", "error")] + [("mass_difference", "error")] * 6
     turn = one("ur5e", "base_transform")
     assert turn.values["rotation_rad"] == pytest.approx(math.pi, abs=1e-9)
-    assert one("ur5e", "axis_position").magnitude == pytest.approx(2e-4, abs=1e-9)
+    axes = {f.subject: f.magnitude for f in findings("ur5e", "axis_position")}
+    assert axes == pytest.approx({"wrist_1_joint": 2e-4, "wrist_2_joint": 7e-4, "wrist_3_joint": 3e-4}, abs=1e-9)
     coms = {f.subject: f.values["com_distance_m"] for f in findings("ur5e", "mass_difference")}
     assert coms == pytest.approx({"shoulder_link": 0.02568, "upper_arm_link": 0.02464, "forearm_link": 0.05015,
-                                  "wrist_1_link": 0.01653, "wrist_2_link": 0.01647, "wrist_3_link": 0.02057}, abs=1e-5)
+                                  "wrist_1_link": 0.01653, "wrist_2_link": 0.01647, "wrist_3_link": 0.02127}, abs=1e-5)
     wrist = next(f for f in findings("ur5e", "mass_difference") if f.subject == "wrist_1_link")
     assert wrist.values["inertia_difference_kgm2"] == pytest.approx(3.657e-4, rel=1e-3) and "turned 90°" in wrist.message
 

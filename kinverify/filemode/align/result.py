@@ -51,6 +51,7 @@ class Alignment:
     residual: tuple[float, float] = (0.0, 0.0)  # fit residual (m, rad) over the features kept
     candidate: str = ""
     unexplained: int = 0
+    attribution: dict = field(default_factory=dict)  # URDF joint -> align.attribution.Attribution (after the fit)
 
     def joint(self, urdf: str) -> JointMap:
         return next(j for j in self.joints if j.urdf == urdf)

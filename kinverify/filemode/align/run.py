@@ -3,12 +3,15 @@ an internal error, should it fail), and every frame of both files at the aligned
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import math
 
 import numpy as np
 
 from kinverify.errors import KinverifyError
-from kinverify.filemode.align.fit import align
+from kinverify.filemode.align.attribution import attribute, findings_count
+from kinverify.filemode.align.fit import TOL, Aligner, align
 from kinverify.filemode.align.match import Matching
 from kinverify.filemode.align.result import Alignment, FrameFit, JointMap, PairPoses
 from kinverify.filemode.read.model import ModelDesc
@@ -56,3 +59,25 @@ def add_frames(al: Alignment, pairs) -> None:
     """Frames matched after the alignment (same place, no same-named twin): they coincide."""
     for fu, fm, why in pairs:
         al.frames.append(FrameFit(fu, fm, why, 0.0, 0.0, np.eye(4), 0.0, 0.0, False))
+
+
+def unmoved_world(info, poses: PairPoses, samples: np.ndarray):
+    """``info`` (:class:`kinverify.filemode.compare.context.FileModeInfo`), or the same files aligned
+    with the worlds as they are (no world transform) when that leaves fewer differences to report:
+    a fixed-base robot whose base the MJCF merges into its world has nothing but its joints to
+    place that world by, and a fitted turn may only stand for the first joint's own change (its
+    axis tilted, its frame moved), which attribution then says once. Ties keep the fit."""
+    t = info.alignment.T
+    if float(np.abs(t[:3, 3]).max()) <= TOL and float(np.abs(t[:3, :3] - np.eye(3)).max()) <= TOL:
+        return info
+    alt = Aligner(poses, info.matching, info.floors, samples).solve(candidates=[("identity", np.eye(4))], refit=False)
+    other = dataclasses.replace(info, alignment=alt, notes=list(info.notes))
+    other.poses_u, other.poses_m = zero_poses(poses, alt)
+    return other if _count(other) < _count(info) else info
+
+
+def _count(info) -> int:
+    """:func:`findings_count` of ``info``, its alignment left as it is (attribution may fold a zero offset)."""
+    trial = dataclasses.replace(info, alignment=copy.deepcopy(info.alignment))
+    trial.alignment.attribution = attribute(trial)
+    return findings_count(trial)

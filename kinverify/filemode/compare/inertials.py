@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kinverify.filemode.align.geometry import project_on_line, rotation_between
 from kinverify.filemode.compare.context import aligned_poses
 from kinverify.filemode.read.model import BodyInertial, ModelDesc
+from kinverify.model.transforms import geodesic_distance
 
 ROOT = "(base)"
 
@@ -70,7 +70,7 @@ class Group:
     urdf: list[Part]
     mjcf: list[Part]
     fixed_base_root: bool  # welded to the world of a fixed-base robot: no effect on its motion
-    seated: tuple[float, float] = (0.0, 0.0)  # its joint's axis lines differed by (rad, m): compared seated on it
+    seated: tuple[float, float] = (0.0, 0.0)  # (rad, m) of the carry its MJCF parts were compared after (see carry_to_joints)
 
     def total(self, side: str, leave_out=()) -> Inertial:
         parts = self.urdf if side == "urdf" else self.mjcf
@@ -245,42 +245,21 @@ class GroupResult:
         return value / self.tol[k] if self.tol[k] > 0 else (math.inf if value > 0 else 0.0)
 
 
-def _joint_line(desc: ModelDesc, joint: str, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A joint's axis direction and a point of its axis with its moving frame at ``pose``."""
-    j = desc.joint(joint)
-    t0 = desc.frames[j.child]
-    rot = pose[:3, :3] @ t0[:3, :3].T
-    return rot @ j.axis, rot @ (j.anchor - t0[:3, 3]) + pose[:3, 3]
-
-
-def seat_on_joints(grps: list[Group], info, poses_m: dict) -> None:
-    """A rigid body whose joint the kinematics already place differently (an axis upstream, or its
-    own, differs: a finding of the alignment says so) is compared seated on its joint: the MJCF's
-    parts are moved by the smallest rigid motion that lays its joint's axis line onto the URDF's,
-    so its inertial is not blamed for where the chain puts it. Where the axis lines agree, this is
-    the identity: the bodies are compared where they are, in the URDF's world at the aligned zero.
-    Link frames are never used: each file chooses them freely (see :mod:`kinverify.filemode.align.fit`).
-    ``poses_m``: the MJCF's frames at the aligned zero, in the URDF's world."""
+def carry_to_joints(grps: list[Group], info) -> None:
+    """Each rigid body compared in the frame it hangs from: the MJCF's parts moved by its joint's
+    carry (:mod:`kinverify.filemode.align.attribution`), which takes out what the joints above it
+    change (and its own frame, when that moved or turned with everything it holds), so a body is
+    not blamed for where the chain puts it. Where nothing above differs, this is the identity: the
+    bodies are compared where they are, in the URDF's world at the aligned zero."""
     for g in grps:
-        if g.key == ROOT:
+        att = info.alignment.attribution.get(g.key)
+        if att is None or np.allclose(att.carry, np.eye(4), rtol=0.0, atol=1e-15):
             continue
-        ju, jm = info.u.joint(g.key), info.m.joint(info.matching.mjcf_name(g.key))
-        if ju.child not in info.poses_u or jm.child not in poses_m:
-            continue
-        au, pu = _joint_line(info.u, ju.name, info.poses_u[ju.child])
-        am, pm = _joint_line(info.m, jm.name, poses_m[jm.child])
-        am = am * info.alignment.joint(g.key).sign
-        ptol, rtol = info.tol(ju.child)
-        angle = math.atan2(float(np.linalg.norm(np.cross(am, au))), float(am @ au))
-        gap = float(np.linalg.norm(pm - project_on_line(pm, pu, au)))
-        if angle <= rtol and gap <= ptol:
-            continue
-        rot = rotation_between(am, au)
-        seat = project_on_line(pm, pu, au)
+        rot = att.carry[:3, :3]
         for part in g.mjcf:
-            part.com = rot @ (part.com - pm) + seat
+            part.com = rot @ part.com + att.carry[:3, 3]
             part.inertia = rot @ part.inertia @ rot.T
-        g.seated = (angle, gap)
+        g.seated = (float(geodesic_distance(rot, np.eye(3))), float(np.linalg.norm(att.carry[:3, 3])))
 
 
 def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
@@ -291,7 +270,7 @@ def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
     fl = info.floors
     out = []
     if info.file_mode:
-        seat_on_joints(grps, info, aligned_poses(info.alignment, info.poses_m))
+        carry_to_joints(grps, info)
     for g in grps:
         a, b = g.total("urdf"), g.total("mjcf")
         frames = [p.name for p in g.urdf]

@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 
-from kinverify.filemode.align.geometry import line_distance
 from kinverify.filemode.align.match import Matching
 from kinverify.filemode.align.result import Alignment
 from kinverify.filemode.findings.table import finding, fmt, unit_factor
@@ -36,34 +35,60 @@ def _downstream(u: ModelDesc, joint: str) -> list[str]:
     return [f for f, owner in u.frame_owner.items() if below(owner)]
 
 
-def _to_parent(desc: ModelDesc, joint: str) -> tuple[float, float]:
-    """How a joint's axis line lies on its parent joint's: the distance between the two lines [m]
-    and the angle between them [rad, 0 to π/2, whichever way each axis points]. Both are fixed in
-    the body between the two joints: no joint value, zero offset or world transform changes them."""
-    j = desc.joint(joint)
-    assert j.parent is not None  # asked only of a joint moved by an upstream joint
-    p = desc.joint(j.parent)
-    angle = math.atan2(float(np.linalg.norm(np.cross(p.axis, j.axis))), abs(float(p.axis @ j.axis)))  # exact near 0
-    return line_distance(p.anchor, p.axis, j.anchor, j.axis), angle
+def origin_findings(att, frames: list[str], names: dict) -> list[Finding]:
+    """A joint's frame that sits elsewhere on its parent (see :mod:`kinverify.filemode.align.attribution`):
+    one finding for where it moved (the full offset vector, along its axis too), one for how it turned
+    (axis and angle: the tilt of its axis and the twist about it together); what it carries moved with it."""
+    out = []
+    where = f" on {att.parent_frame}" if att.parent_frame else " in the world"
+    carried = ": everything it carries moved with it" if len(frames) > 1 else ""
+    if att.moved is not None:
+        size = float(np.linalg.norm(att.moved))
+        out.append(finding("joint_origin_moved", f"joint {names['joint']}/{names['mjcf_joint']}: its frame sits {size:.4g} m "
+                           f"from the URDF's{where} (moved by xyz {fmt(att.moved)} m in {att.parent_frame or 'world'} axes)"
+                           f"{carried}", {"xyz": att.moved.tolist(), "distance_m": size, "frames": frames},
+                           magnitude=size, unit="m", **names))
+    if att.turn is not None:
+        angle = float(np.linalg.norm(att.turn))
+        axis = att.turn / angle
+        tilt, twist = (math.degrees(x) for x in att.tilt_twist)
+        folded = f"; the {att.folded:.6g} rad a zero offset would take is part of it" if att.folded else ""
+        out.append(finding("joint_origin_turned", f"joint {names['joint']}/{names['mjcf_joint']}: its frame is turned by "
+                           f"{angle:.4g} rad ({math.degrees(angle):.4g}°) about {fmt(axis)} (its own axes) from the URDF's{where} "
+                           f"(its axis tilted {tilt:.4g}° and turned {twist:.4g}° about itself{folded}){carried}",
+                           {"angle_rad": angle, "axis": axis.tolist(), "rotation_vector": att.turn.tolist(),
+                            "tilt_rad": att.tilt_twist[0], "twist_rad": att.tilt_twist[1], "zero_offset": att.folded,
+                            "frames": frames}, magnitude=angle, unit="rad", **names))
+    return out
+
+
+ALIKE = ("axis_position", "axis_direction", "joint_origin_moved", "joint_origin_turned")
 
 
 def _alike_axes(findings: list[Finding]) -> list[Finding]:
-    """Joints whose axes differ the same way (the four legs of a robot, to 4 significant digits)
-    as one finding naming them all."""
+    """Joints whose axes or frames differ the same way (the four legs of a robot, to 4 significant
+    digits) as one finding naming them all (a moved frame's offset vector of each in ``xyz_each``)."""
     groups: dict[tuple, list[Finding]] = {}
     for f in findings:
-        if f.kind in ("axis_position", "axis_direction") and "on its parent" not in f.message:
+        if f.kind in ALIKE:
             groups.setdefault((f.kind, float(f"{f.magnitude:.4g}")), []).append(f)
     out = []
     for f in findings:
-        same = groups.get((f.kind, float(f"{f.magnitude:.4g}")), [f]) if f.kind in ("axis_position", "axis_direction") else [f]
+        same = groups.get((f.kind, float(f"{f.magnitude:.4g}")), [f]) if f.kind in ALIKE else [f]
         if len(same) < 2 or f not in same:
             out.append(f)
         elif f is same[0]:
             joints, others = [x.subject for x in same], [x.other for x in same]
             what = f.message.split(": ", 1)[1]
-            out.append(finding(f.kind, f"{len(same)} joints alike: {', '.join(joints)}: {what}",
-                               {**f.values, "frames": [fr for x in same for fr in x.values["frames"]]},
+            values = {**f.values, "frames": [fr for x in same for fr in x.values["frames"]]}
+            if f.kind == "joint_origin_moved":
+                what = f"each frame sits {f.magnitude:.4g} m from the URDF's on its parent (xyz " + ", ".join(
+                    fmt(x.values["xyz"]) for x in same) + " m in the parents' axes)"
+                values["xyz_each"] = [x.values["xyz"] for x in same]
+            elif f.kind == "joint_origin_turned":
+                what = f"each frame is turned by {f.magnitude:.4g} rad ({math.degrees(f.magnitude):.4g}°) from the URDF's"
+                values["axis_each"] = [x.values["axis"] for x in same]
+            out.append(finding(f.kind, f"{len(same)} joints alike: {', '.join(joints)}: {what}", values,
                                magnitude=f.magnitude, unit=f.unit, joint=joints, mjcf_joint=others))
     return out
 
@@ -98,6 +123,7 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
             out.append(finding("axis_sign_flip", f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
                                "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else ""),
                                {"sign": -1, "moves": frames}, magnitude=1, unit="", **names))
+        att = al.attribution.get(j.urdf)
         if j.offset:
             unit = "rad" if j.type == "revolute" else "m"
             deg = f" ({math.degrees(j.offset):.4g}°)" if j.type == "revolute" else ""
@@ -109,21 +135,19 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
         upstream = uj.parent
         while upstream is not None and upstream not in differs:
             upstream = u.joint(upstream).parent
-        after = " (and everything it moves with it)" if any(f != uj.child for f in frames) else ""
-        if upstream is not None:  # moved by a joint that differs, said there: only how it sits on its parent
-            differs.add(j.urdf)
-            (du, au), (dm, am) = _to_parent(u, j.urdf), _to_parent(m, j.mjcf)
-            angle, distance = abs(au - am), abs(du - dm)
-            how = (f" on its parent joint {uj.parent} ({du:.6g} m and {math.degrees(au):.4g}° from its axis in the URDF, "
-                   f"{dm:.6g} m and {math.degrees(am):.4g}° in the MJCF), besides what {upstream} already moves")
-        elif uj.type != mj.type:
+        if uj.type != mj.type:
             differs.add(j.urdf)
             out.append(finding("type_difference", f"joint {j.urdf}/{j.mjcf}: {uj.type} in the URDF, {mj.type} in the MJCF",
                                {"urdf": uj.type, "mjcf": mj.type, "frames": frames}, **names))
             continue
-        else:
-            angle, distance = al.axis_errors.get(j.urdf, (0.0, 0.0))
-            how = f" after alignment{after}"
+        if att is not None and att.changed:
+            differs.add(j.urdf)
+            out += origin_findings(att, frames, names)
+        after = " (and everything it moves with it)" if any(f != uj.child for f in frames) else ""
+        angle, distance = att.axis if att is not None else al.axis_errors.get(j.urdf, (0.0, 0.0))
+        how = f" after alignment{after}"
+        if upstream is not None and att is not None:  # measured in its own right: what the joints above change taken out
+            how = f" in its own right, after what {upstream} changes above it{after}"
         ptol, rtol = tol(uj.child)
         if angle > rtol:
             differs.add(j.urdf)

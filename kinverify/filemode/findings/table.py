@@ -21,7 +21,7 @@ from kinverify.suites.base import Finding, Severity
 SEVERITY: dict[str, Severity] = {
     # kinematics
     "base_transform": "error", "zero_offset": "error", "axis_sign_flip": "error", "axis_direction": "error",
-    "axis_position": "error", "type_difference": "error", "frame_offset": "error", "disagreement_starts": "error",
+    "axis_position": "error", "joint_origin_moved": "error", "joint_origin_turned": "error", "type_difference": "error", "frame_offset": "error", "disagreement_starts": "error",
     "coupling_difference": "error", "extra_parts": "error", "length_units": "error", "mass_units": "error",
     "floating_one_file": "error",
     # limits, inertials, joint dynamics

@@ -1,6 +1,6 @@
 """Rigid bodies compared where they are: each decision pinned by a pair built for it. Link frames
 turned (as UR-style files turn them by rpy in the URDF, by quaternions in the MJCF) never move an
-inertial; a body whose joint an upstream difference displaces is compared seated on its joint;
+inertial; a body whose joint an upstream difference displaces is compared in the frame it hangs from;
 what a joint in one file only moves is said once, with that joint; a mass from an absent mesh is
 not compared; an inertial one file leaves unset is a warning."""
 
@@ -35,14 +35,14 @@ def moved_com(mjcf: str, body: str, dx: float) -> str:
 
 def test_link_frames_turned_and_an_axis_upstream_moved_leave_each_centre_of_mass_its_own(tmp_path):
     """The MJCF turns panda_link5's and panda_link6's frames about their joints (a choice), moves
-    joint 3's axis 1 mm (a difference upstream of every wrist body) and moves panda_link6's centre
-    of mass 2 cm along its own x (a difference of that body): one axis finding, one centre-of-mass
-    finding of 2 cm, nothing on the other bodies the axis carries."""
+    joint 3's frame and axis 1 mm (a difference upstream of every wrist body) and moves panda_link6's
+    centre of mass 2 cm along its own x (a difference of that body): one finding of the moved frame,
+    one centre-of-mass finding of 2 cm, nothing on the other bodies the frame carries."""
     urdf, mjcf = P.moved_axis(*P.generated_pair("panda"))
     mjcf = moved_com(mjcf, "panda_link6", 0.02)  # before turning the frame: 2 cm along the link's own x
     mjcf = P.reframed_body(P.reframed_body(mjcf, "panda_link5", math.pi / 2), "panda_link6", -math.pi / 3)
     result = run(tmp_path, urdf, mjcf)
-    assert serious(result) == [("axis_position", "panda_joint3"), ("com_difference", "panda_link6")]
+    assert serious(result) == [("com_difference", "panda_link6"), ("joint_origin_moved", "panda_joint3")]
     (com,) = [f for f in result.findings if f.kind == "com_difference"]
     assert com.magnitude == pytest.approx(0.02, abs=1e-9)
 

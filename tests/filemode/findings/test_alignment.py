@@ -1,5 +1,5 @@
 """Findings of the alignment, each decision pinned by a pair built for it: a joint below a joint
-that differs is judged on its parent, a zero offset of a whole turn's difference is no limit
+that differs is measured in its own right, a zero offset of a whole turn's difference is no limit
 difference, a constant turn of a link frame about its own joint is a convention, a floating
 robot's base frames fix the frame."""
 
@@ -31,18 +31,19 @@ def shifted(mjcf: str, body: str, dx: float) -> str:
     return P.body_attr(mjcf, body, "pos", P.nums(lambda v: [v[0] + dx, v[1], v[2]]))
 
 
-def test_a_joint_below_one_that_differs_is_judged_on_its_parent(tmp_path):
+def test_a_joint_below_one_that_differs_is_measured_in_its_own_right(tmp_path):
     """The MJCF's panda_link3 sits 1 mm further along x, and panda_link5 2 mm further again (two
-    link lengths): two axis findings with their own sizes, the second measured on its parent
-    joint's axis, not 1 + 2 mm from where the first one left it."""
+    link lengths): two moved joint frames, each with its own offset vector in its parent link's
+    axes, the second not 1 + 2 mm from where the first one left it, and nothing they carry blamed."""
     urdf, mjcf = P.generated_pair("panda")
     mjcf = shifted(shifted(mjcf, "panda_link3", 1e-3), "panda_link5", 2e-3)
     result = run(tmp_path, urdf, mjcf)
-    found = {f.subject: f for f in result.findings if f.kind == "axis_position"}
-    assert sorted(found) == ["panda_joint3", "panda_joint5"], serious(result)
+    assert serious(result) == [("joint_origin_moved", "panda_joint3"), ("joint_origin_moved", "panda_joint5")]
+    found = {f.subject: f for f in result.findings if f.kind == "joint_origin_moved"}
     assert found["panda_joint3"].magnitude == pytest.approx(1e-3, abs=1e-9)
     assert found["panda_joint5"].magnitude == pytest.approx(2e-3, abs=1e-9)
-    assert "on its parent joint panda_joint4" in found["panda_joint5"].message
+    assert found["panda_joint5"].values["xyz"] == pytest.approx([2e-3, 0.0, 0.0], abs=1e-9)
+    assert "on panda_link4" in found["panda_joint5"].message
 
 
 def test_limits_through_a_zero_offset_are_compared_up_to_whole_turns(tmp_path):
@@ -84,16 +85,19 @@ def quadruped(dx: float = 0.0) -> dict:
 
 
 def test_two_floating_bases_fix_the_frame_and_a_difference_is_reported_where_it_is(tmp_path):
-    """The MJCF's four hips sit 2.5 mm further out along x, front and rear alike: each leg is
-    2.5 mm off, and the base frames are not said to differ (a fitted world would have moved the
+    """The MJCF's four hips sit 2.5 mm further out along x, front and rear alike: each hip's frame is
+    2.5 mm off (along its axis: one finding for the four, nothing on what they carry), and the base
+    frames are not said to differ (a fitted world would have moved the
     difference onto the rear legs, 5 mm, and called the base frames apart)."""
     urdf = generate_urdf(spec_from_dict(quadruped()))
     mjcf = generate_mjcf(spec_from_dict(quadruped(2.5e-3)))
     result = run(tmp_path, urdf, mjcf)
     assert not [f for f in result.findings if f.kind in ("base_frame_offset", "base_transform")]
-    (axes,) = [f for f in result.findings if f.kind == "axis_position"]  # four legs alike: one finding
-    assert axes.subject == "FL_thigh, FR_thigh, RL_thigh, RR_thigh" and axes.message.startswith("4 joints alike")
-    assert axes.magnitude == pytest.approx(2.5e-3, abs=1e-9)
+    (hips,) = [f for f in result.findings if f.kind == "joint_origin_moved"]  # four legs alike: one finding
+    assert hips.subject == "FL_hip, FR_hip, RL_hip, RR_hip" and hips.message.startswith("4 joints alike")
+    assert hips.magnitude == pytest.approx(2.5e-3, abs=1e-9)
+    assert [abs(x) for xyz in hips.values["xyz_each"] for x in xyz] == pytest.approx([2.5e-3, 0, 0] * 4, abs=1e-9)
+    assert not [f for f in result.findings if f.kind in ("axis_position", "axis_direction")]
 
 
 def test_an_orientation_rounded_upstream_is_a_rounding_note_not_a_zero_offset(tmp_path):
