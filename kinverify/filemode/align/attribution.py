@@ -26,6 +26,7 @@ second change below another is measured in its own right.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -74,11 +75,12 @@ def _inertial(desc: ModelDesc, owner: str, poses: dict) -> tuple[float, np.ndarr
     """Mass, centre of mass and inertia about it (world) of the bodies moving with ``owner`` only."""
     parts = [(b.mass, _apply(poses[b.name], b.com_local), poses[b.name][:3, :3] @ b.inertia_local @ poses[b.name][:3, :3].T)
              for b in desc.bodies if b.owner == owner and b.mass > 0 and b.name in poses]
-    mass = sum(p[0] for p in parts)
+    mass = float(sum(p[0] for p in parts))
     if mass <= 0:
         return None
-    com = sum(p[0] * p[1] for p in parts) / mass
-    inertia = sum(i + m * (float((c - com) @ (c - com)) * np.eye(3) - np.outer(c - com, c - com)) for m, c, i in parts)
+    com: np.ndarray = sum((p[0] * p[1] for p in parts), np.zeros(3)) / mass
+    inertia: np.ndarray = sum((i + m * (float((c - com) @ (c - com)) * np.eye(3) - np.outer(c - com, c - com)) for m, c, i in parts),
+                              np.zeros((3, 3)))
     return mass, com, inertia
 
 
@@ -90,7 +92,8 @@ class _Body:
         ju = u.joint(a)
         self.ptol, self.rtol = info.tol(ju.child)
         sign = info.alignment.joint(a).sign
-        self.own, self.next = [], []
+        self.own: list[tuple[str, Any, Any]] = []
+        self.next: list[tuple[str, Any, Any]] = []
         au, pu = joint_line(u, a, info.poses_u[ju.child])
         am, pmm = joint_line(m, b, pm[m.joint(b).child])
         self.own.append(("line", (au, pu), (sign * am, pmm)))

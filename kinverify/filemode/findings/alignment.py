@@ -86,7 +86,7 @@ def _alike_axes(findings: list[Finding]) -> list[Finding]:
                     fmt(x.values["xyz"]) for x in same) + " m in the parents' axes)"
                 values["xyz_each"] = [x.values["xyz"] for x in same]
             elif f.kind == "joint_origin_turned":
-                what = f"each frame is turned by {f.magnitude:.4g} rad ({math.degrees(f.magnitude):.4g}°) from the URDF's"
+                what = f"each frame is turned by {f.magnitude:.4g} rad ({math.degrees(f.magnitude or 0.0):.4g}°) from the URDF's"
                 values["axis_each"] = [x.values["axis"] for x in same]
             out.append(finding(f.kind, f"{len(same)} joints alike: {', '.join(joints)}: {what}", values,
                                magnitude=f.magnitude, unit=f.unit, joint=joints, mjcf_joint=others))
