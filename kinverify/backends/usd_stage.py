@@ -189,11 +189,14 @@ def _tree(path, label, stage, art, bodies_all: dict, joints: list[UsdJoint], wor
     root: str | None
     if to_world:
         root = to_world[0].body1 or to_world[0].body0
-    else:
-        root = next((r for r in roots if r in bodies_all), None)
-        if root is None:
-            held = {j.body1 for j in tree_joints} | {j.body0 for j in tree_joints}
-            root = next((b for b in sorted(members) if b in held), next(iter(sorted(members)), None))
+    else:  # floating: the tree's root is the body no joint moves (never a joint's body1; PhysX's own root
+        # choice, art.rootPrims, may be another body, such as the one with the most joints); else the root
+        # the parse names, else any body a joint holds
+        children = {j.body1 for j in tree_joints}
+        held = children | {j.body0 for j in tree_joints}
+        root = next((b for b in sorted(members) if b in held and b not in children),
+                    next((r for r in roots if r in bodies_all),
+                         next((b for b in sorted(members) if b in held), next(iter(sorted(members)), None))))
     if root is None:
         raise InputError(f"{label}: {path}: articulation {art.primPath} has no rigid body")
     order, parent_joint, flipped, queue = [root], {}, set(), [root]

@@ -178,7 +178,7 @@ def _plant(tmp_path, joint: str | None, old: str, new: str) -> str:
 
 @pytest.mark.parametrize("joint, old, new, kind, subject, size", [
     ("iiwa_joint_4", 'physics:axis = "Z"', 'physics:axis = "X"', "axis_direction", "iiwa_joint_4", math.pi / 2),
-    ("iiwa_joint_3", "0.2045, 1.2325952e-32)", "0.2145, 1.2325952e-32)", "axis_position", "iiwa_joint_4", 0.01),
+    ("iiwa_joint_3", "0.2045, 1.2325952e-32)", "0.2145, 1.2325952e-32)", "joint_origin_moved", "iiwa_joint_3", 0.01),
     ("iiwa_joint_2", "upperLimit = 120", "upperLimit = 110", "limit_difference", "iiwa_joint_2", math.radians(10)),
     (None, "float physics:mass = 3.5\n", "float physics:mass = 4\n", "mass_difference", "iiwa_link_3", 0.5),
     ("iiwa_joint_1", "custom float urdf:limit:effort = 320", "float drive:angular:physics:maxForce = 300", "effort_difference",

@@ -190,8 +190,8 @@ def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child
     base = info.poses_u[info.u.joint(parent).child] if parent is not None else np.eye(4)
     if float(np.linalg.norm(delta)) > body.ptol:
         att.moved = base[:3, :3].T @ delta
-    if angle > body.rtol:
-        turn = pose_u[:3, :3].T @ seen[:3, :3]
+    turn = pose_u[:3, :3].T @ seen[:3, :3]
+    if angle > body.rtol and float(np.linalg.norm(rotation_log(turn))) > body.rtol:
         att.turn = rotation_log(turn)
         axis = pose_u[:3, :3].T @ body.own[0][1][0]  # the joint's axis in its own (URDF) axes
         q = matrix_to_quat(turn)
@@ -234,6 +234,7 @@ def findings_count(info) -> int:
     al = info.alignment
     t = al.T
     n = int(float(np.abs(t[:3, 3]).max()) > 1e-9 or float(geodesic_distance(t[:3, :3], np.eye(3))) > 1e-9)
+    n += _base_frames_differ(info)
     for j in al.joints:
         att = al.attribution.get(j.urdf)
         n += (j.sign < 0) + bool(j.offset)
@@ -243,3 +244,22 @@ def findings_count(info) -> int:
         n += (att.moved is not None) + (att.turn is not None) + (att.axis[0] > rtol or att.axis[1] > ptol)
         n += att.contents
     return n
+
+
+def _base_frames_differ(info) -> int:
+    """1 when a frame that no joint moves in either file (a fixed base's links, bodies or sites),
+    matched in both, sits elsewhere under the alignment: a world transform that misplaces the
+    base's own frames is a difference of its own, so a first joint's moved or turned frame is
+    not taken for the world's (the worlds as they are keep such frames together)."""
+    u, m = info.u, info.m
+    tinv = invert_transform(info.alignment.T)
+    for fu, fm, _ in info.matching.frames:
+        if u.frame_owner.get(fu, "") is not None or m.frame_owner.get(fm, "") is not None:
+            continue
+        if fu not in info.poses_u or fm not in info.poses_m:
+            continue
+        ptol, rtol = info.tol(fu)
+        x, y = info.poses_u[fu], tinv @ info.poses_m[fm]
+        if float(np.linalg.norm(x[:3, 3] - y[:3, 3])) > ptol or float(geodesic_distance(x[:3, :3], y[:3, :3])) > rtol:
+            return 1
+    return 0

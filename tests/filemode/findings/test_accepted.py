@@ -128,7 +128,7 @@ def test_written_names_and_messages_with_quotes_backslashes_and_newlines_stay_on
     assert text.splitlines()[:2] == ["# kinverify accepted differences for u + m", "# Each entry accepts one finding (kind + subject) "
                                      "at its magnitude; review every one and say why."]
     assert '# tcp moved\\nby "1 cm" \\ there' in text.splitlines()  # the newline shown as an escape: one comment line
-    assert load(tmp_path / "a.toml") == [Entry("frame_offset", 'tcp "a" \\ b c', 0.01, 'm "SI"')]
+    assert load(tmp_path / "a.toml") == [Entry("frame_offset", 'tcp "a" \\ b\nc', 0.01, 'm "SI"')]  # the name exactly
 
 
 def test_an_unreadable_or_too_deep_accepted_file_is_named_with_its_flag(tmp_path):
