@@ -242,3 +242,18 @@ def test_check_baseline_joint_count_changed_or_nothing_compared(arm3):
                               "(save the baseline again)")
     removed = check_baseline(spec, {**data, "records": [], "frames": [*data["frames"], "gone"]})
     assert (removed.compared, removed.frames_removed, removed.passed) == (0, ["gone"], False)
+
+
+def test_ik_solved_for_the_stored_targets_not_new_ones(arm3):
+    spec, data = arm3
+    ik = [r for r in data["records"] if r["property"].startswith("ik.")]
+    result = check_baseline(spec, {**data, "q": [[0.0, 0.0, 0.0]], "records": ik})  # targets stay where they were saved
+    assert (result.passed, result.compared) == (True, len(ik)) and ik
+
+
+def test_check_refuses_a_baseline_of_another_model(arm3, tmp_path):
+    spec, data = arm3
+    path = tmp_path / "b.json"
+    path.write_text(dumps_baseline({**data, "model": "other"}))
+    with pytest.raises(InputError, match="other"):
+        check_path(spec, path)
