@@ -50,8 +50,8 @@ def rounded_constants(urdf_text: str, mjcf_text: str):
                 yield ("URDF", joint.get("name"), word, *hit)
     root = ET.fromstring(mjcf_text)
     compiler = root.find("compiler")
-    if compiler is not None and compiler.get("angle", "degree") == "degree":
-        return  # MJCF angles in degrees: whole numbers are exact
+    if (compiler.get("angle", "degree") if compiler is not None else "degree") == "degree":
+        return  # MJCF angles in degrees (MuJoCo's default, also without <compiler>): whole numbers are exact
     for body in root.iter("body"):
         hit = _quat(body.get("quat", ""))
         if hit:
