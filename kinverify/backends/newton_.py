@@ -106,7 +106,7 @@ class NewtonBackend(BackendBase):
             self._iv.append(int(qd_start[j]))
         self._targets = self._frame_targets(m)  # (body index, 4×4 offset) per frame
         self._q0 = m.joint_q.numpy().astype(np.float64)
-        self._com = m.body_com.numpy().astype(np.float64)  # body-frame centre of mass
+        self._com = np.vstack([m.body_com.numpy().astype(np.float64), np.zeros(3)])  # body frame; the world's last
         builder = newton.ModelBuilder()
         builder.replicate(robot, COPIES)
         self.model = builder.finalize(device="cpu", requires_grad=False)
@@ -133,7 +133,8 @@ class NewtonBackend(BackendBase):
             s = _find(shapes, frame, sites)
             if s is None:
                 raise UnknownNameError("frame", frame, [_short(x) for x in bodies] + [_short(shapes[i]) for i in sorted(sites)])
-            out.append((int(m.shape_body.numpy()[s]), _matrices(m.shape_transform.numpy()[s:s + 1])[0]))
+            body = int(m.shape_body.numpy()[s])  # -1: a site of the world (MJCF <worldbody>), index n_body here
+            out.append((self.n_body if body < 0 else body, _matrices(m.shape_transform.numpy()[s:s + 1])[0]))
         return out
 
     def _joint_q(self, q: np.ndarray) -> np.ndarray:
@@ -149,11 +150,12 @@ class NewtonBackend(BackendBase):
         return full
 
     def _run(self, q: np.ndarray, with_jacobians: bool):
-        """Body poses ``(N, B, 4, 4)`` and, when asked, link Jacobians ``(N, B, 6, n_qd)`` (COM twist)."""
+        """Body poses ``(N, B + 1, 4, 4)`` and, when asked, link Jacobians ``(N, B + 1, 6, n_qd)`` (COM
+        twist); the last is the world (identity, no motion), which holds the MJCF's world sites."""
         full = self._joint_q(q)
         n = len(q)
-        poses = np.empty((n, self.n_body, 4, 4))
-        jac = np.zeros((n, self.n_body, 6, self.n_qd)) if with_jacobians else None
+        poses = np.tile(np.eye(4), (n, self.n_body + 1, 1, 1))  # the last: the world, for its sites
+        jac = np.zeros((n, self.n_body + 1, 6, self.n_qd)) if with_jacobians else None
         buf = np.zeros((COPIES, self.n_q), dtype=np.float32)
         m, st = self.model, self.state
         for start in range(0, n, COPIES):
@@ -163,10 +165,10 @@ class NewtonBackend(BackendBase):
             m.joint_q.assign(buf.reshape(-1))
             newton.eval_fk(m, m.joint_q, m.joint_qd, st)
             body_q = st.body_q.numpy().astype(np.float64).reshape(COPIES, self.n_body, 7)[:k]
-            poses[start:start + k] = _matrices(body_q)
+            poses[start:start + k, :self.n_body] = _matrices(body_q)
             if with_jacobians:
                 J = newton.eval_jacobian(m, st).numpy().astype(np.float64)[:k]  # (k, links·6, dofs)
-                jac[start:start + k] = J[:, :self.n_body * 6, :self.n_qd].reshape(k, self.n_body, 6, self.n_qd)
+                jac[start:start + k, :self.n_body] = J[:, :self.n_body * 6, :self.n_qd].reshape(k, self.n_body, 6, self.n_qd)
         return poses, jac
 
     def poses(self, q: np.ndarray) -> np.ndarray:

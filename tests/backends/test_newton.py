@@ -144,3 +144,16 @@ def test_newton_reads_each_shared_file_as_pinocchio_and_mujoco_do_within_its_flo
         pos, rot, lin, ang = _errors(newton_.evaluate(q), ref.evaluate(q))
         for prop, err in (("fk.position", pos), ("fk.rotation", rot), ("jacobian.linear", lin), ("jacobian.angular", ang)):
             assert err <= pair_floor(prop, newton_), (robot, name, prop, err)
+
+
+@needs_newton
+def test_a_site_of_the_mjcf_worldbody_stays_where_mujoco_puts_it():
+    """Newton hangs a <worldbody> site on body -1 (the world): the adapter keeps it there."""
+    sources = ModelSources.from_spec(load_spec("models/panda.toml"))
+    joints, frames = sources.joint_names, ("target", "flange")
+    q = spec_samples(load_spec("models/panda.toml"), 5, seed=4)
+    newton_ = backend_info("newton-mjcf").backend_class.from_mjcf(sources.mjcf, joints, frames)
+    ref = MujocoBackend.from_mjcf(sources.mjcf, joints, frames)
+    pos, rot, lin, ang = _errors(newton_.evaluate(q), ref.evaluate(q))
+    assert pos <= pair_floor("fk.position", newton_) and lin <= pair_floor("jacobian.linear", newton_), (pos, lin)
+    assert np.abs(newton_.evaluate(q).jacobians[:, 0]).max() == 0.0  # the world's site does not move
