@@ -28,6 +28,8 @@ convention is not needed).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import warp as wp
 
@@ -42,10 +44,10 @@ from kinverify.model.transforms import matrix_to_quat, quat_to_matrix
 COPIES = 64  # configurations per kernel launch (copies of the robot in one model)
 # About twice the largest difference measured (Newton 1.8.0, Warp 1.19.0) between Newton's float32
 # readings and Pinocchio's (same URDF) or MuJoCo's (same MJCF), over the shipped specs (200 samples
-# each) and the eight shared real-robot pairs (file mode): position 1.9e-6 m (models/panda.toml's
-# MJCF), rotation 1.6e-6 rad (leap_hand's MJCF), Jacobian linear rows 6.6e-6 and angular rows
-# 1.1e-5 (Frobenius; the Panda MJCFs, see quirks.py), Jacobian against finite differences of its
-# own FK 5.5e-5 (iiwa14). docs/performance.md lists them per robot.
+# each) and the eight shared real-robot pairs (200 in-range samples, every body, link and site):
+# position 1.9e-6 m (models/panda.toml's MJCF), rotation 9.2e-7 rad (ur5e's URDF), Jacobian linear
+# rows 6.9e-6 and angular rows 1.1e-5 (Frobenius; the Panda MJCFs, see quirks.py), Jacobian against
+# finite differences of its own FK 5.1e-5. docs/performance.md lists them per robot.
 FLOOR = {"fk.position": 4e-6, "fk.rotation": 3e-6, "jacobian.linear": 1.5e-5, "jacobian.angular": 2.5e-5,
          "jacobian.fd": 1.5e-4}
 FLOOR["ik.cross_fk"] = 1e-6 + max(FLOOR["fk.position"], FLOOR["fk.rotation"])  # IK's own tolerance + Newton's FK error
@@ -84,7 +86,10 @@ class NewtonBackend(BackendBase):
             READERS[source](robot, text, self.floating)
         except Exception as err:
             raise BackendError(name, f"cannot load the {source.upper()}: {type(err).__name__}: {err}") from None
-        self.one = robot.finalize(device="cpu", requires_grad=False)
+        with warnings.catch_warnings(record=True) as caught:  # e.g. "Inertia validation corrected 5 bodies"
+            warnings.simplefilter("always")
+            self.one = robot.finalize(device="cpu", requires_grad=False)
+        self.parser_warnings = [str(w.message) for w in caught]  # kept, not printed
         m = self.one
         self.n_q, self.n_qd, self.n_body = m.joint_coord_count, m.joint_dof_count, m.body_count
         labels = list(m.joint_label)
@@ -109,7 +114,9 @@ class NewtonBackend(BackendBase):
         self._com = np.vstack([m.body_com.numpy().astype(np.float64), np.zeros(3)])  # body frame; the world's last
         builder = newton.ModelBuilder()
         builder.replicate(robot, COPIES)
-        self.model = builder.finalize(device="cpu", requires_grad=False)
+        with warnings.catch_warnings():  # the same warnings again, once per copy
+            warnings.simplefilter("ignore")
+            self.model = builder.finalize(device="cpu", requires_grad=False)
         self.state = self.model.state()
 
     @classmethod

@@ -85,6 +85,9 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
          "the shared real robots; docs/performance.md); finite-difference checks of its Jacobian use a step of 1e-2"),
         ("eval_jacobian gives each link's twist at its centre of mass (v_com, ω), not at the link origin",
          "the adapter moves the linear rows to the frame origin: v_o = v_com + ω × (p_o − p_com)"),
+        ("ModelBuilder.finalize() changes inertias it finds invalid, with a NewtonWarning (\"Inertia validation "
+         "corrected 5 bodies\" on ANYmal C's URDF, none on the Panda's files): Newton's mass matrix is of the corrected bodies",
+         "the warnings are kept on the backend (parser_warnings), not printed; kinematics does not depend on them"),
     ],
     "newton-mjcf": [
         ("Newton 1.8.0 keeps quaternions unnormalised: its MJCF importer leaves each joint's parent-frame "

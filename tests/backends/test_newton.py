@@ -111,23 +111,28 @@ PAIRS = {"panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_
 QUICK = ("panda", "go2")  # the others with -m slow (each pair builds two Newton models)
 
 
-def _urdf_names(text: str) -> tuple[list[str], list[str]]:
+def _urdf_names(text: str) -> tuple[list[str], list[str], np.ndarray]:
+    """Moving joints (no mimic followers), links, and each joint's range (±π where none is written)."""
     root = ET.fromstring(text)
-    joints = [j.get("name") for j in root.findall("joint")
-              if j.get("type") in ("revolute", "continuous", "prismatic") and j.find("mimic") is None]
-    return joints, [link.get("name") for link in root.findall("link")]
+    moving = [j for j in root.findall("joint") if j.get("type") in ("revolute", "continuous", "prismatic") and j.find("mimic") is None]
+    ranges = [[float(j.find("limit").get(k, d)) if j.find("limit") is not None and j.get("type") != "continuous" else d
+               for k, d in (("lower", -np.pi), ("upper", np.pi))] for j in moving]
+    return [j.get("name") for j in moving], [link.get("name") for link in root.findall("link")], np.array(ranges)
 
 
-def _mjcf_names(text: str) -> tuple[list[str], list[str]]:
+def _mjcf_names(text: str) -> tuple[list[str], list[str], np.ndarray]:
+    """Hinge and slide joints, bodies and sites, and each joint's range (±π where it is not limited)."""
     m = mujoco.MjModel.from_xml_string(text)
-    joints = [m.joint(i).name for i in range(m.njnt) if m.jnt_type[i] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)]
-    return joints, [n for n in [m.body(i).name for i in range(1, m.nbody)] + [m.site(i).name for i in range(m.nsite)] if n]
+    moving = [i for i in range(m.njnt) if int(m.jnt_type[i]) in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))]
+    ranges = np.array([m.jnt_range[i] if m.jnt_limited[i] else (-np.pi, np.pi) for i in moving])
+    frames = [n for n in [m.body(i).name for i in range(1, m.nbody)] + [m.site(i).name for i in range(m.nsite)] if n]
+    return [m.joint(i).name for i in moving], frames, ranges
 
 
 @needs_newton
 @pytest.mark.parametrize("robot", [pytest.param(r, marks=() if r in QUICK else pytest.mark.slow) for r in PAIRS])
 def test_newton_reads_each_shared_file_as_pinocchio_and_mujoco_do_within_its_floor(robot):
-    """Every body, link and site of each shared file, at random joint values: Newton against the
+    """Every body, link and site of each shared file, at random joint values in range: Newton against the
     file's primary reader (Pinocchio for the URDF, MuJoCo for the MJCF), FK and Jacobians."""
     folder = REAL_ROBOTS / robot
     if not folder.is_dir():
@@ -137,10 +142,11 @@ def test_newton_reads_each_shared_file_as_pinocchio_and_mujoco_do_within_its_flo
     rng = np.random.default_rng(0)
     for text, load, names, ref_cls, name in ((urdf, "from_urdf", _urdf_names, PinocchioBackend, "newton-urdf"),
                                             (mjcf, "from_mjcf", _mjcf_names, MujocoBackend, "newton-mjcf")):
-        joints, frames = names(text)
+        joints, frames, ranges = names(text)
+        assert joints and frames, (robot, name)
         newton_ = getattr(backend_info(name).backend_class, load)(text, joints, frames, name=name)
         ref = getattr(ref_cls, load)(text, joints, frames)
-        q = rng.uniform(-1.5, 1.5, (12, len(joints)))
+        q = rng.uniform(ranges[:, 0], ranges[:, 1], (12, len(joints)))  # within the joints' ranges
         pos, rot, lin, ang = _errors(newton_.evaluate(q), ref.evaluate(q))
         for prop, err in (("fk.position", pos), ("fk.rotation", rot), ("jacobian.linear", lin), ("jacobian.angular", ang)):
             assert err <= pair_floor(prop, newton_), (robot, name, prop, err)
