@@ -98,5 +98,9 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
          "(up to 1.1e-5 on the Panda of models/panda.toml, against 2.2e-6 from its URDF)",
          "the adapter normalises each body quaternion (in double) before making its rotation matrix; the "
          "Jacobian is Newton's own, held to Newton's agreement floor"),
+        ("Newton 1.8.0's MJCF importer makes one joint of several joints in one body, named by joining their "
+         "names (hinges extra and panda_joint4 become one joint extra_panda_joint4), as Pinocchio's makes a "
+         "composite joint",
+         "such a file's joints are unknown to newton-mjcf: a parser_refused warning names it, as for pinocchio-mjcf"),
     ],
 }

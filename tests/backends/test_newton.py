@@ -17,6 +17,7 @@ import pytest
 from kinverify import load_spec
 from kinverify.backends import ModelSources, backend_info, build_backend
 from kinverify.backends.base import pair_floor
+from kinverify.errors import UnknownNameError
 from kinverify.backends.mujoco_ import MujocoBackend
 from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.filemode.read.files import read_mjcf, read_urdf
@@ -178,3 +179,14 @@ def test_verify_the_panda_passes_with_the_newton_backends(tmp_path):
     assert code == 0 and result["verdict"] == "pass"
     assert {c["property"] for c in newton_checks} >= {"fk.position", "jacobian.angular", "jacobian.fd", "ik.cross_fk"}
     assert any(c["max_error"] > 1e-9 and c["passed"] for c in newton_checks)  # held to its floor, not to 1e-9
+
+
+@needs_newton
+def test_quirk_newton_mjcf_makes_one_joint_of_two_in_one_body():
+    """backends/quirks.py, newton-mjcf: two hinges in one body become one joint named by joining theirs."""
+    sources = ModelSources.from_spec(load_spec("models/panda.toml"))
+    two = sources.mjcf.replace('<joint name="panda_joint4" ',
+                               '<joint name="extra" type="hinge" axis="1 0 0" range="-1 1"/><joint name="panda_joint4" ', 1)
+    with pytest.raises(UnknownNameError) as err:
+        backend_info("newton-mjcf").backend_class.from_mjcf(two, ["extra"], ["flange"])
+    assert "extra_panda_joint4" in err.value.available and "panda_joint4" not in err.value.available

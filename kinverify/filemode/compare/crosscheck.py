@@ -89,7 +89,7 @@ def majority(poses: dict, tol, backends=None) -> tuple[list[str], dict[str, tupl
 
     def close(a, b) -> bool:
         pos, rot = pose_errors(poses[a], poses[b])
-        ptol, rtol = _tol(tol, backends.get(a), backends.get(b))
+        ptol, rtol = floored_tol(tol, backends.get(a), backends.get(b))
         return bool(pos.max() <= ptol and rot.max() <= rtol)
 
     groups = [[b for b in names if b == a or close(a, b)] for a in names]
@@ -102,7 +102,7 @@ def majority(poses: dict, tol, backends=None) -> tuple[list[str], dict[str, tupl
     return agree, apart
 
 
-def _tol(tol, *backends) -> tuple[float, float]:
+def floored_tol(tol, *backends) -> tuple[float, float]:
     """``tol`` (position, rotation) raised to the agreement floor of ``backends``."""
     return max(tol[0], pair_floor("fk.position", *backends)), max(tol[1], pair_floor("fk.rotation", *backends))
 
