@@ -92,13 +92,18 @@ def majority(poses: dict, tol, backends=None) -> tuple[list[str], dict[str, tupl
         ptol, rtol = floored_tol(tol, backends.get(a), backends.get(b))
         return bool(pos.max() <= ptol and rot.max() <= rtol)
 
-    groups = [[b for b in names if b == a or close(a, b)] for a in names]
+    # a reading with an agreement floor (float32) does not vote: it cannot tell apart readings closer than its floor
+    voters = [n for n in names if not getattr(backends.get(n), "agreement_floor", None)] or names
+    groups = [[b for b in voters if b == a or close(a, b)] for a in voters]
     agree = max(groups, key=len)  # max keeps the first of equal sizes: the reference's group on a tie
     apart = {}
     for name in names:
-        if name not in agree:
+        if name not in agree and (name in voters or not close(agree[0], name)):
             pos, rot = pose_errors(poses[agree[0]], poses[name])
             apart[name] = (float(pos.max()), float(rot.max()))
+    # a float32 reading close to the majority is named with it when it tells each reading apart from it
+    agree += [n for n in names if n not in voters and n not in apart and n not in agree
+              and all(not close(n, other) for other in apart)]
     return agree, apart
 
 
