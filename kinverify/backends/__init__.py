@@ -65,6 +65,9 @@ _ENTRIES = (
     ("drake-mjcf", ".drake_", "DrakeBackend", "mjcf", "drake"),
     ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake"),
     ("usd", ".usd_", "UsdBackend", "usd", "usd"),
+    # Newton (float32, Warp on the CPU); "newton-usd" joins with a "usd" source (newton_.READERS)
+    ("newton-urdf", ".newton_", "NewtonBackend", "urdf", "newton"),
+    ("newton-mjcf", ".newton_", "NewtonBackend", "mjcf", "newton"),
 )
 PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf", "usd": "usd"}  # the reference reader of each file in file mode
 

@@ -8,6 +8,8 @@ A backend evaluates a batch of configurations ``q`` ``(N, n)`` (radians / metres
 
 Subclasses implement :meth:`BackendBase.poses` and, when the library offers one,
 :meth:`BackendBase.jacobians`; the rest (finite differences, combined evaluation) lives here.
+A backend whose library computes in lower precision declares ``agreement_floor`` (see
+:func:`pair_floor`).
 """
 
 from __future__ import annotations
@@ -78,13 +80,18 @@ class BackendBase:
     has_rotation: bool = True
     jacobian_method: str | None = "analytic"
     slow: bool = False
+    fd_step: float = FD_STEP  # step of its finite-difference Jacobians (a float32 library needs a larger one)
+    # Per kinematics property, the least error this backend's comparisons are held to (a library
+    # computing in float32, like Newton, cannot agree to the double-precision 1e-9): a check of a
+    # pair holding it gets max(the property's tolerance, this floor). Empty: no floor.
+    agreement_floor: dict[str, float] = {}
 
     def poses(self, q: np.ndarray) -> np.ndarray:
         raise NotImplementedError
 
     def jacobians(self, q: np.ndarray) -> np.ndarray:
         """Finite-difference Jacobians unless the subclass has analytic ones."""
-        return finite_difference_jacobians(self.poses, self._check(q))
+        return finite_difference_jacobians(self.poses, self._check(q), self.fd_step)
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         q = self._check(q)
@@ -112,3 +119,8 @@ class EvaluatingBackend(BackendBase):
         jac = self.evaluate(q).jacobians
         assert jac is not None  # evaluated with Jacobians
         return jac
+
+
+def pair_floor(prop: str, *backends) -> float:
+    """The largest floor any of ``backends`` declares for kinematics property ``prop`` (0: none)."""
+    return max([float(getattr(b, "agreement_floor", {}).get(prop, 0.0)) for b in backends if b is not None] or [0.0])

@@ -1,7 +1,7 @@
 """Known quirks of the libraries behind the backends, in one table (shown in reports).
 
 Each entry: backend name -> list of (what happens, what kinverify does about it). Drake's were
-seen in Drake 1.51.1.
+seen in Drake 1.51.1, Newton's in Newton 1.8.0 with Warp 1.19.0.
 """
 
 from __future__ import annotations
@@ -77,5 +77,30 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
         ("the SDFormat parser in Drake 1.51.1 refuses a subnormal number (below 2.2e-308 in size) with "
          "'Error reading element'",
          "generated SDFormat writes subnormal numbers as 0 (every other number exactly)"),
+    ],
+    "newton-urdf": [
+        ("Newton computes in float32 (Warp kernels): its FK, Jacobians and mass matrix agree with the "
+         "double-precision libraries to about 1e-7 relative, not to 1e-9",
+         "its backends carry an agreement floor of their own (newton_.FLOOR, measured on the shipped specs and "
+         "the shared real robots; docs/performance.md); finite-difference checks of its Jacobian use a step of 1e-2"),
+        ("eval_jacobian gives each link's twist at its centre of mass (v_com, ω), not at the link origin",
+         "the adapter moves the linear rows to the frame origin: v_o = v_com + ω × (p_o − p_com)"),
+        ("ModelBuilder.finalize() changes inertias it finds invalid, with a NewtonWarning (\"Inertia validation "
+         "corrected 5 bodies\" on ANYmal C's URDF, none on the Panda's files): Newton's mass matrix is of the corrected bodies",
+         "the warnings are kept on the backend (parser_warnings), not printed; kinematics does not depend on them"),
+    ],
+    "newton-mjcf": [
+        ("Newton 1.8.0 keeps quaternions unnormalised: its MJCF importer leaves each joint's parent-frame "
+         "quaternion (joint_X_p) off unit length by float32 round-off that grows along the chain (6.6e-7 on the "
+         "Panda of models/panda.toml, 3.6e-7 on Menagerie's ANYmal C), and eval_fk composes them without "
+         "renormalising, so body quaternions end up to 2.0e-6 off unit (1.4e-6 on Menagerie's Panda); "
+         "eval_jacobian rotates joint axes with them, so its angular columns are longer than 1 by twice that "
+         "(up to 1.1e-5 on the Panda of models/panda.toml, against 2.2e-6 from its URDF)",
+         "the adapter normalises each body quaternion (in double) before making its rotation matrix; the "
+         "Jacobian is Newton's own, held to Newton's agreement floor"),
+        ("Newton 1.8.0's MJCF importer makes one joint of several joints in one body, named by joining their "
+         "names (hinges extra and panda_joint4 become one joint extra_panda_joint4), as Pinocchio's makes a "
+         "composite joint",
+         "such a file's joints are unknown to newton-mjcf: a parser_refused warning names it, as for pinocchio-mjcf"),
     ],
 }

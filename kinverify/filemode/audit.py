@@ -31,7 +31,7 @@ from kinverify.filemode.align.geometry import reach
 from kinverify.filemode.align.match import match
 from kinverify.filemode.align.run import identity_alignment, sample_ranges
 from kinverify.filemode.compare.audit_dynamics import PAIRS, AuditDynamicsSuite, inertial_findings
-from kinverify.filemode.compare.crosscheck import cross_check, pose_errors, top_level_pose
+from kinverify.filemode.compare.crosscheck import cross_check, floored_tol, pose_errors, top_level_pose
 from kinverify.filemode.compare.libraries import build_backends, rebuild_mjcf
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
@@ -100,6 +100,7 @@ def _first_element(kind: str, desc, ref, other, q: np.ndarray, tol: tuple[float,
     both = np.concatenate([zero, q])
     pos, rot = pose_errors(ref.poses(both)[:, cols_r], other.poses(both)[:, cols_o])
     pos0, rot0 = pose_errors(ref.poses(zero)[:, cols_r], other.poses(zero)[:, cols_o])
+    tol = floored_tol(tol, ref, other)  # a float32 library (Newton) at its agreement floor
     bad = [k for k in range(len(common)) if pos[k] > tol[0] or rot[k] > tol[1]]
     if not bad:
         return None

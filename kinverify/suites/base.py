@@ -18,7 +18,7 @@ from __future__ import annotations
 import builtins
 import math
 from abc import ABC, abstractmethod
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from typing import TYPE_CHECKING, Any, Callable, ClassVar, Literal, cast
 
 import numpy as np
@@ -280,6 +280,17 @@ def value_check(p: Property, options: VerifyOptions | None, subject: str, pair: 
     error = float(error)
     return Check(p.name, subject, cast(tuple[str, str], tuple(pair)), error, error, tol, within(error, tol), tuple(float(v) for v in worst_q),
                  unit or p.unit, samples, (), note, p.kind, gated(options, p))
+
+
+def floored(check: Check, backends) -> Check:
+    """``check`` held to the agreement floor of a backend of its pair whose library computes in
+    lower precision (:attr:`~kinverify.backends.base.BackendBase.agreement_floor`), when above its tolerance."""
+    floors = [(float(getattr(b, "agreement_floor", {}).get(check.property, 0.0)), b.name) for b in backends if b is not None]
+    floor, name = max(floors, default=(0.0, ""))
+    if floor <= check.tolerance:
+        return check
+    note = f"tolerance raised to {name}'s agreement floor ({floor:.2g}: its library computes in float32)"
+    return replace(check, tolerance=floor, passed=within(check.max_error, floor), note="; ".join(x for x in (check.note, note) if x))
 
 
 def tolerance(options: VerifyOptions | None, prop: Property) -> float:

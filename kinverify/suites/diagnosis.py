@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from kinverify.backends.base import pair_floor
 from kinverify.model.transforms import geodesic_distance, rotation_log
 from kinverify.suites.base import Section, Suite, SuiteResult, VerifyContext, tolerance
 
@@ -176,7 +177,8 @@ def diagnosis(ctx: VerifyContext) -> SuiteResult:
     for name, backend in ctx.backends.items():
         if name == opts.reference or len(q) == 0:
             continue
-        found = diagnose_pair(ref, backend, q, ctx.sources.frames, list(ctx.sources.joint_names), tol_pos, tol_rot)
+        found = diagnose_pair(ref, backend, q, ctx.sources.frames, list(ctx.sources.joint_names),
+                              max(tol_pos, pair_floor("fk.position", ref, backend)), max(tol_rot, pair_floor("fk.rotation", ref, backend)))
         if found is not None:
             pairs.append(found)
     hints = [f"{' vs '.join(p['backends'])}: {p['hint']['text']}" for p in pairs if p["hint"]]

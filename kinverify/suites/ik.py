@@ -15,7 +15,8 @@ import numpy as np
 
 from kinverify.errors import InputError
 from kinverify.model.floating import has_base
-from kinverify.suites.base import AGREEMENT, PERFORMANCE, Check, Finding, Property, Section, Suite, SuiteResult, VerifyContext
+from kinverify.suites.base import (AGREEMENT, PERFORMANCE, Check, Finding, Property, Section, Suite, SuiteResult, VerifyContext,
+                                   floored)
 from kinverify.ik.closed_form import Arm3ClosedForm
 from kinverify.ik.figures import ik_figures, solver_data
 from kinverify.ik.frame_model import FrameModel, residuals
@@ -72,7 +73,8 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     position_only = dof < 6
     lower, upper = np.asarray(src.lower), np.asarray(src.upper)
     q_gen, targets = reachable_targets(ctx.backends[opts.reference], frame, lower, upper, n, opts.seed + 4)
-    solvers = [b for b in ctx.backends.values() if b.jacobian_method == "analytic"]
+    # solvers: analytic Jacobians in double precision (a float32 library, like Newton, confirms only)
+    solvers = [b for b in ctx.backends.values() if b.jacobian_method == "analytic" and not getattr(b, "agreement_floor", None)]
     models = _models(solvers, frame, src.revolute, opts.reference)
     closed = suite.closed_form(src, frame)
     checks, rows, failures, plotted, solved_by = [], [], [], [], {}
@@ -224,8 +226,9 @@ def _cross_checks(ctx, sol, ok, targets, backends, frame) -> list[Check]:
         poses = other.evaluate(q, with_jacobians=False).poses[:, other.frames.index(frame)]
         pos, rot = residuals(poses, targets[ok], sol.position_only or not other.has_rotation)
         err = np.maximum(pos, rot)
-        out.append(IKSuite.check(ctx.options, "ik.cross_fk", frame, (sol.backend, name), _stats(err, q),
-                                 "max(position [m], rotation [rad]) error of the solutions through this backend's FK"))
+        out.append(floored(IKSuite.check(ctx.options, "ik.cross_fk", frame, (sol.backend, name), _stats(err, q),
+                                         "max(position [m], rotation [rad]) error of the solutions through this backend's FK"),
+                           [other]))
     return out
 
 

@@ -15,7 +15,7 @@ from kinverify.backends.base import Backend
 from kinverify.pipeline.parallel import run_chunks
 from kinverify.pipeline.sampling import ChunkRanges
 from kinverify.pipeline.stats import ErrorStats
-from kinverify.suites.base import Property, Suite, SuiteResult, VerifyContext, VerifyOptions, tolerance, within
+from kinverify.suites.base import Property, Suite, SuiteResult, VerifyContext, VerifyOptions, floored, tolerance, within
 from kinverify.suites.measures import finite_difference_errors, fk_errors, jacobian_errors
 
 
@@ -134,5 +134,6 @@ class KinematicsSuite(Suite):
             if fd_note:  # a finite-difference Jacobian is held to the finite-difference tolerance
                 tol = tolerance(opts, self.property("jacobian.fd"))
                 check = dataclasses.replace(check, tolerance=tol, passed=within(check.max_error, tol))
-            checks.append(check)
+            checks.append(floored(check, [ctx.backends.get(n) for n in pair]))
         return SuiteResult(checks)
+

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from kinverify.backends.base import Backend, Evaluation, finite_difference_jacobians
+from kinverify.backends.base import FD_STEP, Backend, Evaluation, finite_difference_jacobians
 from kinverify.model.transforms import geodesic_distance
 
 
@@ -62,6 +62,6 @@ def jacobian_errors(reference: Evaluation, other: Evaluation, rows: slice | None
 def finite_difference_errors(backend: Backend, q: np.ndarray, jacobians: np.ndarray) -> dict[tuple[str, str], np.ndarray]:
     """Errors ``(N,)`` of ``jacobians`` (the backend's own, at ``q``) against central differences
     of the same backend's FK."""
-    fd = finite_difference_jacobians(backend.poses, q)
+    fd = finite_difference_jacobians(backend.poses, q, getattr(backend, "fd_step", FD_STEP))
     diff = np.linalg.norm(jacobians - fd, axis=(-2, -1))  # (N, F)
     return {("jacobian.fd", frame): diff[:, f] for f, frame in enumerate(backend.frames)}

@@ -28,6 +28,7 @@ import zlib
 
 import numpy as np
 
+from kinverify.backends.base import pair_floor
 from kinverify.errors import library_reason
 from kinverify.suites.base import Figure, Section, Suite, SuiteResult, VerifyContext, tolerance
 
@@ -214,10 +215,11 @@ def skeleton_data(ctx: VerifyContext, home: np.ndarray) -> dict:
         pos, rot = _errors(ref_poses[:, ri], backend.poses(q)[:, oi])
         if not backend.has_rotation:
             rot = np.zeros_like(rot)
-        worst_ratio = max(float(pos.max()) / tol_p, float(rot.max()) / tol_r)
+        tp, tr = max(tol_p, pair_floor("fk.position", ref, backend)), max(tol_r, pair_floor("fk.rotation", ref, backend))
+        worst_ratio = max(float(pos.max()) / tp, float(rot.max()) / tr)
         # the worst configuration is where the frames are farthest apart (a visible difference)
         # unless only orientations differ
-        ratio = pos / tol_p if pos.max() > tol_p else rot / tol_r
+        ratio = pos / tp if pos.max() > tp else rot / tr
         i, f = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
         overall = max(overall, (float(pos[i, f]), int(i)))
         if worst_ratio > 1:

@@ -30,6 +30,8 @@ class AlignedBackend(BackendBase):
         self.joint_names = BASE_COORDINATES * self.floating + tuple(alignment.independent)
         self.has_rotation, self.jacobian_method = inner.has_rotation, inner.jacobian_method
         self.slow = getattr(inner, "slow", False)
+        self.fd_step = getattr(inner, "fd_step", self.fd_step)
+        self.agreement_floor = getattr(inner, "agreement_floor", {})
         self.left = np.eye(4) if left is None else np.asarray(left, dtype=float)
         self.constants = None if constants is None else np.asarray(constants, dtype=float)  # (F, 4, 4)
         names = [j.urdf for j in alignment.joints]

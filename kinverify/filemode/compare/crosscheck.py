@@ -18,6 +18,7 @@ import mujoco
 import numpy as np
 
 from kinverify.backends import names_reading
+from kinverify.backends.base import pair_floor
 from kinverify.errors import library_reason
 from kinverify.filemode.findings.table import finding
 from kinverify.model.transforms import geodesic_distance, invert_transform
@@ -77,26 +78,38 @@ def refusal_findings(backends: dict, kinds) -> list:
     return out
 
 
-def majority(poses: dict, tol) -> tuple[list[str], dict[str, tuple[float, float]]]:
+def majority(poses: dict, tol, backends=None) -> tuple[list[str], dict[str, tuple[float, float]]]:
     """``(agree, apart)``: the largest group of readings that agree with each other within ``tol``
     (the first listed reading's group on a tie), and each other reading with its largest position
     [m] and rotation [rad] difference from that group's first member. ``poses``: name -> (N, F, 4, 4)
-    on the same frames, in reading order."""
+    on the same frames, in reading order; ``backends``: name -> backend, whose agreement floor
+    (a float32 library's) raises ``tol`` for the pairs it is in."""
     names = list(poses)
-    ptol, rtol = tol
+    backends = backends or {}
 
     def close(a, b) -> bool:
         pos, rot = pose_errors(poses[a], poses[b])
+        ptol, rtol = floored_tol(tol, backends.get(a), backends.get(b))
         return bool(pos.max() <= ptol and rot.max() <= rtol)
 
-    groups = [[b for b in names if b == a or close(a, b)] for a in names]
+    # a reading with an agreement floor (float32) does not vote: it cannot tell apart readings closer than its floor
+    voters = [n for n in names if not getattr(backends.get(n), "agreement_floor", None)] or names
+    groups = [[b for b in voters if b == a or close(a, b)] for a in voters]
     agree = max(groups, key=len)  # max keeps the first of equal sizes: the reference's group on a tie
     apart = {}
     for name in names:
-        if name not in agree:
+        if name not in agree and (name in voters or not close(agree[0], name)):
             pos, rot = pose_errors(poses[agree[0]], poses[name])
             apart[name] = (float(pos.max()), float(rot.max()))
+    # a float32 reading close to the majority is named with it when it tells each reading apart from it
+    agree += [n for n in names if n not in voters and n not in apart and n not in agree
+              and all(not close(n, other) for other in apart)]
     return agree, apart
+
+
+def floored_tol(tol, *backends) -> tuple[float, float]:
+    """``tol`` (position, rotation) raised to the agreement floor of ``backends``."""
+    return max(tol[0], pair_floor("fk.position", *backends)), max(tol[1], pair_floor("fk.rotation", *backends))
 
 
 def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose: np.ndarray | None, rebuild):
@@ -143,7 +156,7 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                          "rotation_rad": float(rot.max()), "top_level_xyz": top_pose[:3, 3].tolist(), "issue": QUIRK_ISSUE},
                         magnitude=max(shift, angle), unit="m|rad"))
             readings[name] = p1
-        agree, apart = majority(readings, tol)
+        agree, apart = majority(readings, tol, backends)
         for name, (pos, rot) in apart.items():  # type: ignore[assignment]  # floats here, arrays above
             keep.pop(name, None)
             values = {"file": side, "backends": [agree[0], name], "agree": agree, "apart": name, "position_m": pos,
