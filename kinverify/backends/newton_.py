@@ -36,10 +36,10 @@ import warp as wp
 wp.config.log_level = wp.LOG_WARNING  # set before Newton loads kernels: no "Module ... load" line per module
 import newton  # noqa: E402
 
-from kinverify.backends.base import BackendBase, Evaluation
-from kinverify.errors import BackendError, UnknownNameError
-from kinverify.model.floating import base_transforms, has_base, rate_matrices
-from kinverify.model.transforms import matrix_to_quat, quat_to_matrix
+from kinverify.backends.base import BackendBase, Evaluation  # noqa: E402
+from kinverify.errors import BackendError, UnknownNameError  # noqa: E402
+from kinverify.model.floating import base_transforms, has_base, rate_matrices  # noqa: E402
+from kinverify.model.transforms import matrix_to_quat, quat_to_matrix  # noqa: E402
 
 COPIES = 64  # configurations per kernel launch (copies of the robot in one model)
 # About twice the largest difference measured (Newton 1.8.0, Warp 1.19.0) between Newton's float32
@@ -150,6 +150,7 @@ class NewtonBackend(BackendBase):
         """Newton's ``joint_q`` rows ``(N, n_q)`` for our configurations ``(N, n)``."""
         full = np.tile(self._q0, (len(q), 1))
         if self.floating:
+            assert self._free is not None  # a floating base has its free joint
             t = base_transforms(q[:, :6])
             wxyz = matrix_to_quat(t[:, :3, :3])
             iq = self._free[0]
@@ -175,7 +176,7 @@ class NewtonBackend(BackendBase):
             newton.eval_fk(m, m.joint_q, m.joint_qd, st)
             body_q = st.body_q.numpy().astype(np.float64).reshape(COPIES, self.n_body, 7)[:k]
             poses[start:start + k, :self.n_body] = _matrices(body_q)
-            if with_jacobians:
+            if jac is not None:
                 J = newton.eval_jacobian(m, st).numpy().astype(np.float64)[:k]  # (k, links·6, dofs)
                 jac[start:start + k, :self.n_body] = J[:, :self.n_body * 6, :self.n_qd].reshape(k, self.n_body, 6, self.n_qd)
         return poses, jac
@@ -184,7 +185,9 @@ class NewtonBackend(BackendBase):
         return self.evaluate(q, with_jacobians=False).poses
 
     def jacobians(self, q: np.ndarray) -> np.ndarray:
-        return self.evaluate(q).jacobians
+        jac = self.evaluate(q).jacobians
+        assert jac is not None  # evaluated with Jacobians
+        return jac
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
         q = self._check(q)
@@ -205,6 +208,7 @@ class NewtonBackend(BackendBase):
 
     def _base_columns(self, q: np.ndarray, body_poses: np.ndarray, poses: np.ndarray) -> np.ndarray:
         """``(N, F, 6, 6)``: each frame's twist per base coordinate rate (the robot moved rigidly)."""
+        assert self._free is not None  # asked of a floating base only
         p_base = body_poses[:, self._free[2], :3, 3]
         r = poses[..., :3, 3] - p_base[:, None]  # (N, F, 3)
         e = rate_matrices(q[:, :6])[:, None]  # world angular velocity per [roll, pitch, yaw] rate

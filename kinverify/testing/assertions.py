@@ -21,6 +21,7 @@ from typing import Sequence
 import numpy as np
 
 from kinverify.backends import Backend, ModelSources, build_backends
+from kinverify.backends.base import pair_floor
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 from kinverify.suites.measures import fk_errors
@@ -104,7 +105,7 @@ def assert_fk_agree(model, q, *, backends: Sequence[str] | None = None, position
     for b in built[1:]:
         errs = fk_errors(ref_eval, b.evaluate(q, with_jacobians=False), b.has_rotation)
         for (prop, frame), err in errs.items():
-            tol = position_tol if prop == "fk.position" else rotation_tol
+            tol = max(position_tol if prop == "fk.position" else rotation_tol, pair_floor(prop, b))  # its floor (float32)
             errors.append((prop, frame, f"{ref.name} vs {b.name}", err, tol, "m" if prop == "fk.position" else "rad", ""))
     _raise_first(errors, ref.frames, q, ref.joint_names)
 
@@ -126,7 +127,7 @@ def assert_jacobians_agree(model, q, *, backends: Sequence[str] | None = None, t
         limit, detail = (FD_TOLERANCE, f" ({b.name} Jacobian is finite-difference)") if fd else (tol, "")
         for (prop, frame), err in jacobian_errors(ref_eval, b.evaluate(q)).items():
             unit = "m/rad" if prop == "jacobian.linear" else "rad/rad"
-            errors.append((prop, frame, f"{ref.name} vs {b.name}", err, limit, unit, detail))
+            errors.append((prop, frame, f"{ref.name} vs {b.name}", err, max(limit, pair_floor(prop, b)), unit, detail))
     _raise_first(errors, ref.frames, q, ref.joint_names)
 
 

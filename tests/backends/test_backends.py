@@ -22,11 +22,12 @@ TOL = 1e-9
 
 
 def _agree(spec, q, float32=True):
-    """Every backend against the first; a float32 library (Newton) at its agreement floor, and
-    only when ``float32`` (random specs leave it to tests/backends/test_newton.py: each build costs ~1 s)."""
+    """Every backend against the first, each at its agreement floor (float32: Newton computes in it, a
+    USD stores its joint frames in it); Newton only when ``float32`` (random specs leave it to
+    tests/backends/test_newton.py: each build costs ~1 s)."""
     sources = ModelSources.from_spec(spec)
     backends = [b for b in build_backends(sources, [n for n in default_backend_names(sources)
-                                                    if float32 or not available_backends()[n].backend_class.agreement_floor])]
+                                                    if float32 or available_backends()[n].extra != "newton"])]
     assert {b.name for b in backends} >= {"analytic", "pinocchio-urdf", "pinocchio-mjcf", "mujoco", "yourdfpy"}
     ref = backends[0].evaluate(q)
     for b in backends[1:]:
