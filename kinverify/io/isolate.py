@@ -84,7 +84,7 @@ def in_child(fn: Callable[[], object], seconds: float | None = None, memory: int
     _, status = os.waitpid(pid, 0)
     if timed_out:
         raise LibraryDied(f"ran longer than {seconds:g} s (stopped)")
-    return _outcome(status, data, said, memory)
+    return _outcome(status, data, said, memory, seconds)
 
 
 def _child(fn, out_w: int, err_w: int, closing, ceiling: int, seconds: float) -> None:
@@ -152,11 +152,11 @@ def _collect(pid: int, out_r: int, err_r: int, seconds: float) -> tuple[bytes, b
     return b"".join(chunks[out_r]), b"".join(chunks[err_r])[-4096:], False
 
 
-def _outcome(status: int, data: bytes, said: bytes, memory: int):
+def _outcome(status: int, data: bytes, said: bytes, memory: int, seconds: float):
     words = last_words(said)
     if os.WIFSIGNALED(status):
         sig = os.WTERMSIG(status)
-        what = f"ran longer than {limits.LIBRARY_SECONDS:g} s of CPU (stopped)" if sig == signal.SIGXCPU \
+        what = f"ran longer than {seconds:g} s of CPU (stopped)" if sig == signal.SIGXCPU \
             else f"was killed by {signal.Signals(sig).name}"
         raise LibraryDied(f"{what}{': ' + words if words else ''}")
     if not data:

@@ -297,6 +297,16 @@ def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
             diff = difference(a, b)
         else:
             moved = []
+        # a body one file leaves unset (no inertial) weighs only in the other: when the stated ones
+        # differ on their own, their difference is the finding's, by the stated values alone (the unset
+        # one is said apart, as a warning)
+        unset = [p for p in g.urdf + g.mjcf if p.unset_twin and not any(p is x for x in moved)]
+        stated = [p for p in g.urdf + g.mjcf if p.mass > 0 and not any(p is x for x in moved + unset)]
+        # only where every stated part has its twin (the unset one's mass is not stated elsewhere in the body)
+        if unset and stated and all(p.twin is not None for p in stated) and not diff.within(*tol):
+            stated_u, stated_m = g.total("urdf", moved + unset), g.total("mjcf", moved + unset)
+            if not difference(stated_u, stated_m).within(*tol):
+                a, b, diff = stated_u, stated_m, difference(stated_u, stated_m)
         if not all(p.known for p in g.urdf + g.mjcf):  # a placeholder mass: nothing to say, either way
             result = GroupResult(g, a, b, diff, tol, "unknown", moved=moved)
         elif diff.within(*tol):
