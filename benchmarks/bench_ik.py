@@ -76,14 +76,17 @@ def compare_peers(args) -> int:
         try:
             solvers += make(problem, folder) if name != "TRAC-IK" else make(problem)
         except Exception as err:  # ImportError, or the library refusing the model
-            print(f"skipped {name}: {type(err).__name__}: {str(err).strip().splitlines()[0] if str(err).strip() else ''}"
-                  " (pip install -e .[bench])", flush=True)
+            print(
+                f"skipped {name}: {type(err).__name__}: {str(err).strip().splitlines()[0] if str(err).strip() else ''}"
+                " (pip install -e .[bench])",
+                flush=True,
+            )
     load = [os.getloadavg()[0]]
     for _label, run, _ in solvers:
         run(warm.targets, warm.q0)
     acc = {label: {"ok": [], "tight": [], "t": [], "cpu": [], "wall": [], "outside": 0, "none": 0} for label, _, _ in solvers}
     for r in range(args.rounds):
-        for label, run, _ in solvers[r % len(solvers):] + solvers[:r % len(solvers)]:
+        for label, run, _ in solvers[r % len(solvers) :] + solvers[: r % len(solvers)]:
             gc.collect()
             gc.disable()
             try:
@@ -114,37 +117,54 @@ def compare_peers(args) -> int:
 
 def _stats(a: dict) -> dict:
     t, c = np.concatenate(a["t"]), np.concatenate(a["cpu"])
-    return {"success": 100 * np.concatenate(a["ok"]).mean(), "tight": 100 * np.concatenate(a["tight"]).mean(),
-            "median": float(np.median(t)), "p99": float(np.percentile(t, 99)), "wall": float(np.median(a["wall"])),
-            "cpu_median": float(np.median(c)), "cpu_p99": float(np.percentile(c, 99)),
-            "outside": a["outside"], "none": a["none"]}
+    return {
+        "success": 100 * np.concatenate(a["ok"]).mean(),
+        "tight": 100 * np.concatenate(a["tight"]).mean(),
+        "median": float(np.median(t)),
+        "p99": float(np.percentile(t, 99)),
+        "wall": float(np.median(a["wall"])),
+        "cpu_median": float(np.median(c)),
+        "cpu_p99": float(np.percentile(c, 99)),
+        "outside": a["outside"],
+        "none": a["none"],
+    }
 
 
 def _table(rows: dict, ref: dict, ref_label: str, p, args, load) -> list[str]:
     when = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    lines = [f"{when}; {machine()}; load average (1 min) {', '.join(f'{x:.1f}' for x in load)} "
-             f"(start, after each round).",
-             "",
-             f"{os.path.relpath(p.urdf, ROOT)}, {p.base} -> {p.tip} ({len(p.joints)} joints), {len(p.targets)} reachable "
-             f"full-pose targets x {args.rounds} rounds, the same initial guesses for every solver; success: Pinocchio FK "
-             f"of the answer within {POS_TOL:g} m and {ROT_TOL:g} rad (and {ROT_TIGHT:g} rad) and inside the limits.",
-             "",
-             "| solver | success % (1e-6 m, 1e-4 rad) | success % (1e-6 m, 1e-6 rad) | median ms | p99 ms "
-             "| median / kinverify | p99 / kinverify | CPU median / p99 ms | call wall / N ms |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = [
+        f"{when}; {machine()}; load average (1 min) {', '.join(f'{x:.1f}' for x in load)} (start, after each round).",
+        "",
+        f"{os.path.relpath(p.urdf, ROOT)}, {p.base} -> {p.tip} ({len(p.joints)} joints), {len(p.targets)} reachable "
+        f"full-pose targets x {args.rounds} rounds, the same initial guesses for every solver; success: Pinocchio FK "
+        f"of the answer within {POS_TOL:g} m and {ROT_TOL:g} rad (and {ROT_TIGHT:g} rad) and inside the limits.",
+        "",
+        "| solver | success % (1e-6 m, 1e-4 rad) | success % (1e-6 m, 1e-6 rad) | median ms | p99 ms "
+        "| median / kinverify | p99 / kinverify | CPU median / p99 ms | call wall / N ms |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
     for label, r in rows.items():
         extra = f" ({r['none']} without answer)" if r["none"] else ""
         extra += f" ({r['outside']} outside the limits)" if r["outside"] else ""
-        lines.append(f"| {label}{extra} | {r['success']:.2f} | {r['tight']:.2f} | {r['median']:.3f} | {r['p99']:.3f} "
-                     f"| {r['median'] / ref['median']:.2f} | {r['p99'] / ref['p99']:.2f} "
-                     f"| {r['cpu_median']:.3f} / {r['cpu_p99']:.3f} | {r['wall']:.3f} |")
-    lines += ["", f"Ratios are to the first row ({ref_label}). Batched rows: time per target = batch time / N, so "
-              "median = p99. CPU: process CPU time per target (all threads), which leaves out the time the scheduler "
-              "gave other processes. 'call wall / N': the whole call's wall time per target, loop overhead included."]
+        lines.append(
+            f"| {label}{extra} | {r['success']:.2f} | {r['tight']:.2f} | {r['median']:.3f} | {r['p99']:.3f} "
+            f"| {r['median'] / ref['median']:.2f} | {r['p99'] / ref['p99']:.2f} "
+            f"| {r['cpu_median']:.3f} / {r['cpu_p99']:.3f} | {r['wall']:.3f} |"
+        )
+    lines += [
+        "",
+        f"Ratios are to the first row ({ref_label}). Batched rows: time per target = batch time / N, so "
+        "median = p99. CPU: process CPU time per target (all threads), which leaves out the time the scheduler "
+        "gave other processes. 'call wall / N': the whole call's wall time per target, loop overhead included.",
+    ]
     lm = next((r for label, r in rows.items() if "ik_LM" in label), None)
     trac = next((r for label, r in rows.items() if "TRAC-IK" in label), None)
-    checks = [("success >= 99.9 %", ref["success"] >= 99.9), ("median <= 0.3 ms", ref["median"] <= 0.3),
-              ("p99 <= 3 ms", ref["p99"] <= 3.0), ("CPU p99 <= 3 ms", ref["cpu_p99"] <= 3.0)]
+    checks = [
+        ("success >= 99.9 %", ref["success"] >= 99.9),
+        ("median <= 0.3 ms", ref["median"] <= 0.3),
+        ("p99 <= 3 ms", ref["p99"] <= 3.0),
+        ("CPU p99 <= 3 ms", ref["cpu_p99"] <= 3.0),
+    ]
     if lm:
         checks.append(("median <= RTB ik_LM's", ref["median"] <= lm["median"]))
     if trac:
@@ -165,11 +185,16 @@ def models_mode(args) -> int:
         backends = {b.name: b for b in build_backends(sources)}
         lower, upper = np.asarray(sources.lower), np.asarray(sources.upper)
         _, targets = reachable_targets(backends["analytic"], frame, lower, upper, args.targets, args.seed)
-        print(f"{name}: {args.targets} reachable {'position' if position_only else 'full-pose'} targets for {frame} "
-              f"({spec.dof} joints), success within {POS_TOL:g} m / {ROT_TIGHT:g} rad", flush=True)
+        print(
+            f"{name}: {args.targets} reachable {'position' if position_only else 'full-pose'} targets for {frame} "
+            f"({spec.dof} joints), success within {POS_TOL:g} m / {ROT_TIGHT:g} rad",
+            flush=True,
+        )
         analytic = FrameModel(backends["analytic"], frame, sources.revolute)
-        for label, model in ((f"lm on {args.backend}", FrameModel(build_backend(args.backend, sources), frame, sources.revolute)),
-                             ("lm on analytic (batched)", analytic)):
+        for label, model in (
+            (f"lm on {args.backend}", FrameModel(build_backend(args.backend, sources), frame, sources.revolute)),
+            ("lm on analytic (batched)", analytic),
+        ):
             model.seed_model = analytic
             sol = solve_lm(model, targets, lower, upper, position_only, IKOptions(seed=args.seed))
             _line(label, sol, sol.solved(POS_TOL, ROT_TIGHT), targets, backends, frame, position_only)
@@ -190,9 +215,12 @@ def _line(label, sol, ok, targets, backends, frame, position_only) -> None:
             pos, rot = residuals(poses, targets[ok], position_only or not other.has_rotation)
             confirmed[np.flatnonzero(ok)[np.maximum(pos, rot) > POS_TOL]] = False
     t = sol.time_s * 1e3
-    print(f"  {label:<26} solved {ok.sum():>6}/{len(sol)} ({100 * ok.mean():7.3f} %)  confirmed {confirmed.sum()}  "
-          f"median {np.median(t):.3f} ms  p99 {np.percentile(t, 99):.3f} ms  iterations median "
-          f"{np.median(sol.iterations):.0f} p99 {np.percentile(sol.iterations, 99):.0f}", flush=True)
+    print(
+        f"  {label:<26} solved {ok.sum():>6}/{len(sol)} ({100 * ok.mean():7.3f} %)  confirmed {confirmed.sum()}  "
+        f"median {np.median(t):.3f} ms  p99 {np.percentile(t, 99):.3f} ms  iterations median "
+        f"{np.median(sol.iterations):.0f} p99 {np.percentile(sol.iterations, 99):.0f}",
+        flush=True,
+    )
 
 
 def main(argv=None) -> int:

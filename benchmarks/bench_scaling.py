@@ -32,13 +32,29 @@ AXES = ([0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0])
 
 
 def chain_toml(n: int) -> str:
-    lines = [f'name = "chain{n}"', f'description = "serial chain of {n} revolute joints (scaling benchmark)"',
-             "[base]", "xyz = [0.0, 0.0, 0.0]", "[base.link]", 'name = "base"', "mass = 2.0"]
+    lines = [
+        f'name = "chain{n}"',
+        f'description = "serial chain of {n} revolute joints (scaling benchmark)"',
+        "[base]",
+        "xyz = [0.0, 0.0, 0.0]",
+        "[base.link]",
+        'name = "base"',
+        "mass = 2.0",
+    ]
     for i in range(n):
-        lines += ["[[joints]]", f'name = "j{i + 1}"', 'type = "revolute"', f"xyz = [0.0, 0.0, {0.1 if i == 0 else 0.12}]",
-                  f"axis = {AXES[i % 3]}", 'limits = { lower = -2.5, upper = 2.5, unit = "rad", velocity = 2.0, effort = 50.0 }',
-                  "damping = 0.1", "[joints.link]", f'name = "l{i + 1}"', "mass = 1.0",
-                  'geometry = { shape = "capsule", radius = 0.03, fromto = [0.0, 0.0, 0.02, 0.0, 0.0, 0.1] }']
+        lines += [
+            "[[joints]]",
+            f'name = "j{i + 1}"',
+            'type = "revolute"',
+            f"xyz = [0.0, 0.0, {0.1 if i == 0 else 0.12}]",
+            f"axis = {AXES[i % 3]}",
+            'limits = { lower = -2.5, upper = 2.5, unit = "rad", velocity = 2.0, effort = 50.0 }',
+            "damping = 0.1",
+            "[joints.link]",
+            f'name = "l{i + 1}"',
+            "mass = 1.0",
+            'geometry = { shape = "capsule", radius = 0.03, fromto = [0.0, 0.0, 0.02, 0.0, 0.0, 0.1] }',
+        ]
     lines += ["[[tools]]", 'name = "tool"', f'parent = "l{n}"', "xyz = [0.0, 0.0, 0.05]"]
     return "\n".join(lines) + "\n"
 
@@ -73,11 +89,23 @@ def main(argv=None) -> int:
             done = results[name]
             if name != "this checkout" and done and max(r["process_wall_s"] for r in done.values()) > args.timeout:
                 continue
-            argv = ["verify", str(spec), "--samples", str(args.samples), "--quiet", "--json", f"{folder}/c.json",
-                    "--report", f"{folder}/c.html"]
+            argv = [
+                "verify",
+                str(spec),
+                "--samples",
+                str(args.samples),
+                "--quiet",
+                "--json",
+                f"{folder}/c.json",
+                "--report",
+                f"{folder}/c.html",
+            ]
             done[n] = timed_run(tree, argv, folder)
-            print(f"{name}: {n} joints: {done[n]['process_wall_s']:.1f} s wall, {done[n]['process_cpu_s']:.1f} s CPU "
-                  f"(exit {done[n]['exit_code']})", flush=True)
+            print(
+                f"{name}: {n} joints: {done[n]['process_wall_s']:.1f} s wall, {done[n]['process_cpu_s']:.1f} s CPU "
+                f"(exit {done[n]['exit_code']})",
+                flush=True,
+            )
         load.append(os.getloadavg()[0])
     lines = table(results, args, load)
     print("\n".join(lines))
@@ -92,23 +120,36 @@ def main(argv=None) -> int:
 
 def table(results: dict, args, load) -> list[str]:
     when = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    out = [f"{when}; {machine()}; load average (1 min) {', '.join(f'{x:.1f}' for x in load)}.", "",
-           f"`kinverify verify chainN.toml --samples {args.samples}` (every suite), one fresh process per size.", ""]
+    out = [
+        f"{when}; {machine()}; load average (1 min) {', '.join(f'{x:.1f}' for x in load)}.",
+        "",
+        f"`kinverify verify chainN.toml --samples {args.samples}` (every suite), one fresh process per size.",
+        "",
+    ]
     for name, done in results.items():
         ns = sorted(done)
         suites = list(dict.fromkeys(s for r in done.values() for s in r["suites"]))
-        out += [f"{name}:", "", "| joints | wall s | CPU s | " + " | ".join(f"{s} CPU s" for s in suites) + " | report CPU s |",
-                "|---:|---:|---:|" + "---:|" * (len(suites) + 1)]
+        out += [
+            f"{name}:",
+            "",
+            "| joints | wall s | CPU s | " + " | ".join(f"{s} CPU s" for s in suites) + " | report CPU s |",
+            "|---:|---:|---:|" + "---:|" * (len(suites) + 1),
+        ]
         for n in ns:
             r = done[n]
-            out.append(f"| {n} | {r['process_wall_s']:.1f} | {r['process_cpu_s']:.1f} | "
-                       + " | ".join(f"{r['suites'].get(s, {}).get('cpu', 0.0):.2f}" for s in suites)
-                       + f" | {r['report']['cpu']:.2f} |")
+            out.append(
+                f"| {n} | {r['process_wall_s']:.1f} | {r['process_cpu_s']:.1f} | "
+                + " | ".join(f"{r['suites'].get(s, {}).get('cpu', 0.0):.2f}" for s in suites)
+                + f" | {r['report']['cpu']:.2f} |"
+            )
         if len(ns) >= 3:
             cpu = [done[n]["process_cpu_s"] for n in ns]
             work = [done[n]["process_cpu_s"] - done[n]["startup_s"] for n in ns]
-            out += ["", f"Growth exponent (log-log slope over the largest three sizes): whole process CPU "
-                    f"{exponent(ns, cpu):.2f}, without start-up {exponent(ns, work):.2f}."]
+            out += [
+                "",
+                f"Growth exponent (log-log slope over the largest three sizes): whole process CPU "
+                f"{exponent(ns, cpu):.2f}, without start-up {exponent(ns, work):.2f}.",
+            ]
         out.append("")
     return out
 

@@ -66,16 +66,24 @@ def table(runs: dict, args, load) -> list[str]:
         return float(np.median([get(r) for r in runs[name]]))
 
     when = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    out = [f"{when}; {machine()}; load average (1 min) {', '.join(f'{x:.1f}' for x in load)} (start, after each round).", "",
-           f"`kinverify verify {args.model}` at the default options, {args.rounds} rounds each, alternating; medians. "
-           f"CPU: the process and the renderers it waits for.", "",
-           "| | " + " | ".join(f"{n} wall s | {n} CPU s" for n in names) + " | wall after / before |",
-           "|---|" + "---:|" * (2 * len(names) + 1)]
-    rows = [(s, lambda r, s=s: r["suites"].get(s, {}).get("wall", 0.0), lambda r, s=s: r["suites"].get(s, {}).get("cpu", 0.0))
-            for s in suites]
-    rows += [("report (JSON + HTML)", lambda r: r["report"]["wall"], lambda r: r["report"]["cpu"]),
-             ("start-up (imports)", lambda r: r["startup_s"], lambda r: float("nan")),
-             ("**whole process**", lambda r: r["process_wall_s"], lambda r: r["process_cpu_s"])]
+    out = [
+        f"{when}; {machine()}; load average (1 min) {', '.join(f'{x:.1f}' for x in load)} (start, after each round).",
+        "",
+        f"`kinverify verify {args.model}` at the default options, {args.rounds} rounds each, alternating; medians. "
+        f"CPU: the process and the renderers it waits for.",
+        "",
+        "| | " + " | ".join(f"{n} wall s | {n} CPU s" for n in names) + " | wall after / before |",
+        "|---|" + "---:|" * (2 * len(names) + 1),
+    ]
+    rows = [
+        (s, lambda r, s=s: r["suites"].get(s, {}).get("wall", 0.0), lambda r, s=s: r["suites"].get(s, {}).get("cpu", 0.0))
+        for s in suites
+    ]
+    rows += [
+        ("report (JSON + HTML)", lambda r: r["report"]["wall"], lambda r: r["report"]["cpu"]),
+        ("start-up (imports)", lambda r: r["startup_s"], lambda r: float("nan")),
+        ("**whole process**", lambda r: r["process_wall_s"], lambda r: r["process_cpu_s"]),
+    ]
     for label, wall, cpu in rows:
         cells = []
         for n in names:
@@ -85,8 +93,10 @@ def table(runs: dict, args, load) -> list[str]:
         cells.append(f"{after / before:.2f}" if before > 0 else "-")
         out.append(f"| {label} | " + " | ".join(cells) + " |")
     codes = {n: sorted({r["exit_code"] for r in runs[n]}) for n in names}
-    out += ["", f"Exit codes: {codes}; kinverify imported from: "
-            + "; ".join(f"{n}: {runs[n][0]['kinverify']}" for n in names) + "."]
+    out += [
+        "",
+        f"Exit codes: {codes}; kinverify imported from: " + "; ".join(f"{n}: {runs[n][0]['kinverify']}" for n in names) + ".",
+    ]
     return out
 
 

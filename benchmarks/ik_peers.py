@@ -69,7 +69,9 @@ class Judge:
         if given.any():
             poses = self.backend.poses(q[given])[:, 0]
             pe[given] = np.linalg.norm(poses[:, :3, 3] - targets[given, :3, 3], axis=1)
-            re[given] = [np.linalg.norm(self.pin.log3(p[:3, :3].T @ t[:3, :3])) for p, t in zip(poses, targets[given], strict=True)]
+            re[given] = [
+                np.linalg.norm(self.pin.log3(p[:3, :3].T @ t[:3, :3])) for p, t in zip(poses, targets[given], strict=True)
+            ]
             inside[given] = np.all((q[given] >= lower - 1e-9) & (q[given] <= upper + 1e-9), axis=1)
         return pe, re, inside
 
@@ -105,11 +107,15 @@ def kinverify_solvers(p: Problem, pos_tol: float, rot_tols) -> list:
         for start in ("seeded", "given") if not asked else ("seeded",):
             opts = IKOptions(tol_pos=pos_tol, tol_rot=rot_tol, start=start)
             how = "from the better of q0 and its best seed" if start == "seeded" else "from q0"
-            for label, model, batch in ((f"kinverify, per target (Pinocchio), {how}{asked}", pin_model, False),
-                                        (f"kinverify, batched (numpy, batch time / N), {how}{asked}", chain_model, True)):
+            for label, model, batch in (
+                (f"kinverify, per target (Pinocchio), {how}{asked}", pin_model, False),
+                (f"kinverify, batched (numpy, batch time / N), {how}{asked}", chain_model, True),
+            ):
+
                 def run(targets, q0, model=model, batch=batch, opts=opts):
                     sol = solve_lm(model, targets, p.lower, p.upper, False, opts, q0=q0, batch=batch)
                     return sol.q, sol.time_s, sol.extra["cpu_s"]
+
                 out.append((label, run, {"batched": batch}))
     return out
 
@@ -150,8 +156,11 @@ def rtb_solvers(p: Problem, folder: str) -> list:
 
     def nr(k, t, q0):
         return ets.ik_NR(t, q0=q0, tol=5e-13).q
-    return [(f"RTB {rtb.__version__} ik_LM (C++, default method)", lambda T, Q: timed_loop(lm, T, Q), {}),
-            (f"RTB {rtb.__version__} ik_NR (C++)", lambda T, Q: timed_loop(nr, T, Q), {})]
+
+    return [
+        (f"RTB {rtb.__version__} ik_LM (C++, default method)", lambda T, Q: timed_loop(lm, T, Q), {}),
+        (f"RTB {rtb.__version__} ik_NR (C++)", lambda T, Q: timed_loop(nr, T, Q), {}),
+    ]
 
 
 def tracik_solvers(p: Problem, timeout: float = 0.005, eps: float = 5e-7) -> list:
@@ -172,7 +181,9 @@ def tracik_solvers(p: Problem, timeout: float = 0.005, eps: float = 5e-7) -> lis
             quat = quats[k]
             r = pytracik.ik(solver, q, t[0, 3], t[1, 3], t[2, 3], quat.x, quat.y, quat.z, quat.w)
             return r[1:] if r[0] >= 0 else None
+
         return timed_loop(one, targets, q0)
+
     return [(f"TRAC-IK (pytracik {importlib.metadata.version('pytracik')}), Speed, {timeout * 1e3:g} ms timeout", run, {})]
 
 
@@ -184,14 +195,18 @@ def ikpy_solvers(p: Problem, folder: str) -> list:
     keep = _links_between(p)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        chain = ikpy.chain.Chain.from_urdf_file(stripped_urdf(p, folder, keep), base_elements=[p.base],
-                                                active_links_mask=[False] + [True] * n + [False] * (len(keep) - n - 1))
+        chain = ikpy.chain.Chain.from_urdf_file(
+            stripped_urdf(p, folder, keep),
+            base_elements=[p.base],
+            active_links_mask=[False] + [True] * n + [False] * (len(keep) - n - 1),
+        )
     width = len(chain.links)
 
     def one(k, t, q0):
         init = np.zeros(width)
-        init[1:n + 1] = q0
-        return chain.inverse_kinematics_frame(t, initial_position=init, orientation_mode="all")[1:n + 1]
+        init[1 : n + 1] = q0
+        return chain.inverse_kinematics_frame(t, initial_position=init, orientation_mode="all")[1 : n + 1]
+
     return [(f"ikpy {ikpy.__version__} (scipy least squares, no restarts)", lambda T, Q: timed_loop(one, T, Q), {})]
 
 

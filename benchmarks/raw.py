@@ -69,5 +69,3 @@ def raw_for(backend):
     if name == "yourdfpy":
         return raw_yourdfpy
     return raw_analytic
-
-

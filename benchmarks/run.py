@@ -72,8 +72,10 @@ def cross_validation(sources, backends: dict, n: int, repeats: int) -> dict:
     for name, b in backends.items():
         raw = raw_for(b)
         fk_only = b.jacobian_method != "analytic"
+
         def adapt(b=b, fk_only=fk_only):
             return b.evaluate(q, with_jacobians=not fk_only)
+
         raw_t[name], adapt_t[name] = 1e30, 1e30
         for _ in range(repeats):  # interleaved: the machine's load hits both alike
             raw_t[name] = min(raw_t[name], best(lambda raw=raw, b=b: raw(b, q), 1))
@@ -166,24 +168,51 @@ def bench_model(path: Path, quick: bool, log, big: int) -> dict:
 
 def machine() -> dict:
     mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    return {"cpus": os.cpu_count(), "memory_gib": round(mem, 1), "python": platform.python_version(),
-            "platform": platform.platform(), "numpy": np.__version__}
+    return {
+        "cpus": os.cpu_count(),
+        "memory_gib": round(mem, 1),
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+        "numpy": np.__version__,
+    }
 
 
 def print_table(results: dict) -> None:
-    cols = ["model", "xval cfg/s", "overhead", "overhead w/o yourdfpy", "analytic FK / numpy", "peak MB 1e5",
-            "peak MB big", "jobs 2 speed-up"]
+    cols = [
+        "model",
+        "xval cfg/s",
+        "overhead",
+        "overhead w/o yourdfpy",
+        "analytic FK / numpy",
+        "peak MB 1e5",
+        "peak MB big",
+        "jobs 2 speed-up",
+    ]
     print(" | ".join(cols))
     for model, f in results["models"].items():
         big = next(v for k, v in f.items() if k.startswith("peak_mb.") and k != "peak_mb.1e5")
-        print(" | ".join([model, f"{f['cps.xval']:.0f}", f"{f['overhead']:.2f}", f"{f['overhead_no_yourdfpy']:.2f}",
-                          f"{f['analytic_fk_vs_numpy']:.2f}", f"{f['peak_mb.1e5']:.0f}", f"{big:.0f}",
-                          f"{f['jobs2_speedup']:.2f}"]))
+        print(
+            " | ".join(
+                [
+                    model,
+                    f"{f['cps.xval']:.0f}",
+                    f"{f['overhead']:.2f}",
+                    f"{f['overhead_no_yourdfpy']:.2f}",
+                    f"{f['analytic_fk_vs_numpy']:.2f}",
+                    f"{f['peak_mb.1e5']:.0f}",
+                    f"{big:.0f}",
+                    f"{f['jobs2_speedup']:.2f}",
+                ]
+            )
+        )
     print()
     print("configurations/s per backend (adapter / raw loop, ratio):")
     for model, f in results["models"].items():
-        parts = [f"{k[4:]} {f[k]:.0f}/{f['raw_' + k]:.0f} ({f['overhead.' + k[4:]]:.2f})"
-                 for k in f if k.startswith("cps.") and not k.startswith("cps.xval")]
+        parts = [
+            f"{k[4:]} {f[k]:.0f}/{f['raw_' + k]:.0f} ({f['overhead.' + k[4:]]:.2f})"
+            for k in f
+            if k.startswith("cps.") and not k.startswith("cps.xval")
+        ]
         print(f"  {model}: " + ", ".join(parts))
 
 
@@ -198,7 +227,9 @@ def compare(new: dict, old: dict) -> None:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="small sizes (1e6 instead of 1e7 for memory, 1000 configurations for rates)")
+    ap.add_argument(
+        "--quick", action="store_true", help="small sizes (1e6 instead of 1e7 for memory, 1000 configurations for rates)"
+    )
     ap.add_argument("--json", help="write the figures here (e.g. benchmarks/results/<date>.json)")
     ap.add_argument("--compare", help="a previous --json output: print new/old per figure")
     ap.add_argument("--models", nargs="*", help="model files (default models/*.toml)")

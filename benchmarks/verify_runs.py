@@ -49,13 +49,18 @@ def timed_run(tree: Path, argv: list[str], workdir: str, env_extra: dict | None 
     out = Path(workdir) / f"timing-{time.monotonic_ns()}.json"
     env = {**os.environ, "PYTHONPATH": str(tree), "OPENBLAS_NUM_THREADS": "1", **(env_extra or {})}
     before, t0 = resource.getrusage(resource.RUSAGE_CHILDREN), time.perf_counter()
-    proc = subprocess.run([sys.executable, str(HERE), str(out), "--", *argv], cwd=workdir, env=env, capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, str(HERE), str(out), "--", *argv], cwd=workdir, env=env, capture_output=True, text=True
+    )
     wall, after = time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_CHILDREN)
     if not out.is_file():
         raise RuntimeError(f"kinverify {' '.join(argv)} from {tree} failed ({proc.returncode}): {proc.stderr[-2000:]}")
     data = json.loads(out.read_text())
-    data.update(process_wall_s=wall, process_cpu_s=(after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime),
-                exit_code=proc.returncode)
+    data.update(
+        process_wall_s=wall,
+        process_cpu_s=(after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime),
+        exit_code=proc.returncode,
+    )
     return data
 
 
@@ -77,6 +82,7 @@ def _drive(out: str, argv: list[str]) -> None:
             finally:
                 record["wall"] += time.perf_counter() - t0
                 record["cpu"] += cpu_now() - c0
+
         return wrapper
 
     for cls in SUITES:
@@ -84,11 +90,21 @@ def _drive(out: str, argv: list[str]) -> None:
     kinverify.report.write_json = timed(kinverify.report.write_json, report)
     kinverify.report.html.write_html = timed(kinverify.report.html.write_html, report)
     code = kinverify.cli.main(argv)
-    Path(out).write_text(json.dumps({"kinverify": kinverify.__file__, "startup_s": t_imported - t_start, "suites": suites,
-                                     "report": report, "run_wall_s": time.perf_counter() - t_start,
-                                     "run_cpu_s": cpu_now() - c_start, "code": code}))
+    Path(out).write_text(
+        json.dumps(
+            {
+                "kinverify": kinverify.__file__,
+                "startup_s": t_imported - t_start,
+                "suites": suites,
+                "report": report,
+                "run_wall_s": time.perf_counter() - t_start,
+                "run_cpu_s": cpu_now() - c_start,
+                "code": code,
+            }
+        )
+    )
 
 
 if __name__ == "__main__":
     sep = sys.argv.index("--")
-    _drive(sys.argv[1], sys.argv[sep + 1:])
+    _drive(sys.argv[1], sys.argv[sep + 1 :])

@@ -13,14 +13,35 @@ from kinverify.mujoco_gl import install_guard  # noqa: E402
 
 install_guard()  # MuJoCo is imported when first needed; an unknown MUJOCO_GL must not stop the run, only the renderings
 
-__all__ = ["ArmSpec", "BackendError", "Geometry", "Inertial", "InputError", "Joint", "KinverifyError", "Limits",
-           "Link", "Origin", "SpecError", "Tool", "__version__", "load_spec", "spec_from_dict"]
+__all__ = [
+    "ArmSpec",
+    "BackendError",
+    "Geometry",
+    "Inertial",
+    "InputError",
+    "Joint",
+    "KinverifyError",
+    "Limits",
+    "Link",
+    "Origin",
+    "SpecError",
+    "Tool",
+    "__version__",
+    "load_spec",
+    "spec_from_dict",
+]
 
 # The names above are imported when first used (PEP 562): `import kinverify` stays light, so the
 # command line handles Ctrl-C from its first milliseconds (kinverify.cli.main) instead of after numpy.
-_HOMES = {"BackendError": "errors", "InputError": "errors", "KinverifyError": "errors", "SpecError": "errors",
-          "load_spec": "model.specfile", "spec_from_dict": "model.specfile",
-          **{name: "model.spec" for name in ("ArmSpec", "Geometry", "Inertial", "Joint", "Limits", "Link", "Origin", "Tool")}}
+_HOMES = {
+    "BackendError": "errors",
+    "InputError": "errors",
+    "KinverifyError": "errors",
+    "SpecError": "errors",
+    "load_spec": "model.specfile",
+    "spec_from_dict": "model.specfile",
+    **{name: "model.spec" for name in ("ArmSpec", "Geometry", "Inertial", "Joint", "Limits", "Link", "Origin", "Tool")},
+}
 
 
 def __getattr__(name: str):

@@ -26,11 +26,26 @@ COMMANDS = ("verify", "generate", "report", "ik", "track", "baseline", "diff", "
 ISSUES = "the kinverify issue tracker"
 # argument -> how messages name it; these name files a command reads
 # (files found while loading, such as an MJCF's includes, are added by the reader: kinverify.io.read)
-INPUTS = {"model": "the spec MODEL", "urdf": "--urdf", "mjcf": "--mjcf", "results": "RESULTS", "baseline": "--baseline",
-          "old": "OLD", "new": "NEW", "accept": "--accept", "targets": "--targets", "initial": "--initial",
-          "actuators": "--actuators"}
-OUTPUTS = {"json": "--json", "report": "--report", "junit": "--junit", "out": "--out",  # generate's --out is a directory
-           "write_accepted": "--write-accepted"}
+INPUTS = {
+    "model": "the spec MODEL",
+    "urdf": "--urdf",
+    "mjcf": "--mjcf",
+    "results": "RESULTS",
+    "baseline": "--baseline",
+    "old": "OLD",
+    "new": "NEW",
+    "accept": "--accept",
+    "targets": "--targets",
+    "initial": "--initial",
+    "actuators": "--actuators",
+}
+OUTPUTS = {
+    "json": "--json",
+    "report": "--report",
+    "junit": "--junit",
+    "out": "--out",  # generate's --out is a directory
+    "write_accepted": "--write-accepted",
+}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -41,8 +56,11 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="kinverify", description="Prove that a robot arm's models agree: "
-                     "analytic FK, Pinocchio (URDF and MJCF), MuJoCo and yourdfpy, property by property.")
+    parser = _Parser(
+        prog="kinverify",
+        description="Prove that a robot arm's models agree: "
+        "analytic FK, Pinocchio (URDF and MJCF), MuJoCo and yourdfpy, property by property.",
+    )
     parser.add_argument("--version", action="version", version=f"kinverify {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMANDS:
@@ -76,8 +94,11 @@ def check_args(args) -> None:
 def run_files(args) -> tuple[list, list]:
     """``(label, path)`` of the files ``args`` names: inputs, then outputs."""
     inputs = [(label, getattr(args, key)) for key, label in INPUTS.items() if isinstance(getattr(args, key, None), str)]
-    outputs = [(label, getattr(args, key)) for key, label in OUTPUTS.items()
-               if isinstance(getattr(args, key, None), str) and not (key == "out" and args.command == "generate")]
+    outputs = [
+        (label, getattr(args, key))
+        for key, label in OUTPUTS.items()
+        if isinstance(getattr(args, key, None), str) and not (key == "out" and args.command == "generate")
+    ]
     return inputs, outputs
 
 
@@ -85,7 +106,7 @@ def _one_line(err: BaseException, limit: int | None = None) -> str:
     from kinverify.text import shown
 
     text = shown(" ".join(str(err).split()) or type(err).__name__)
-    return text if limit is None or len(text) <= limit else text[:limit - 3] + "..."
+    return text if limit is None or len(text) <= limit else text[: limit - 3] + "..."
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -166,8 +187,11 @@ def _main(argv: list[str] | None) -> int:
             import traceback
 
             traceback.print_exc()
-        print(f"kinverify: internal error: {type(err).__name__}: {_one_line(err, 300)} (please report it at {ISSUES} "
-              "with the command line)", file=sys.stderr)
+        print(
+            f"kinverify: internal error: {type(err).__name__}: {_one_line(err, 300)} (please report it at {ISSUES} "
+            "with the command line)",
+            file=sys.stderr,
+        )
         return 3
 
 

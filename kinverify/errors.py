@@ -91,9 +91,9 @@ def library_reason(err: BaseException | str) -> str:
     for line in str(err).splitlines():
         line = " ".join(line.split())
         if line.lower().startswith("message:"):
-            line = line[len("message:"):].strip()
+            line = line[len("message:") :].strip()
         if line.startswith("Error:"):
-            line = line[len("Error:"):].strip()
+            line = line[len("Error:") :].strip()
         if line and not _SOURCE_LOCATION.match(line):
             lines.append(line)
     if lines:

@@ -100,15 +100,17 @@ def render_in_child(module: str, request: dict, timeout_s: float) -> tuple[list[
     env = dict(os.environ)
     env.setdefault("MUJOCO_GL", "egl")
     try:
-        proc = subprocess.run([sys.executable, "-m", module], input=json.dumps(request), capture_output=True,
-                              text=True, env=env, timeout=timeout_s)
+        proc = subprocess.run(
+            [sys.executable, "-m", module], input=json.dumps(request), capture_output=True, text=True, env=env, timeout=timeout_s
+        )
     except (OSError, subprocess.TimeoutExpired) as err:
         return [], f"rendering unavailable: {err}"
     if proc.returncode != 0:
         lines = [line for line in proc.stderr.strip().splitlines() if line.strip()]
         # a traceback ends with the exception: "Type: message" and the message's further lines
-        start = max((i for i, line in enumerate(lines) if re.match(r"[A-Za-z_][\w.]*(Error|Exception)\b", line)),
-                    default=len(lines) - 1)
+        start = max(
+            (i for i, line in enumerate(lines) if re.match(r"[A-Za-z_][\w.]*(Error|Exception)\b", line)), default=len(lines) - 1
+        )
         reason = library_reason("\n".join(lines[start:])) if lines else f"renderer exit code {proc.returncode}"
         return [], f"rendering unavailable (MUJOCO_GL={env['MUJOCO_GL']}): {reason}"
     try:

@@ -109,10 +109,12 @@ class VerifyResult:
     def from_dict(cls, d: dict[str, Any]) -> "VerifyResult":
         skip = ("checks", "sections", "findings")
         kwargs = {k: v for k, v in d.items() if k in cls.__dataclass_fields__ and k not in skip}
-        return cls(checks=[Check.from_dict(_renamed(c)) for c in d.get("checks", [])],
-                   findings=[Finding.from_dict(f) for f in d.get("findings", []) if isinstance(f, dict)],
-                   sections={k: Section.from_dict(s) for k, s in (d.get("sections") or {}).items() if isinstance(s, dict)},
-                   **kwargs)
+        return cls(
+            checks=[Check.from_dict(_renamed(c)) for c in d.get("checks", [])],
+            findings=[Finding.from_dict(f) for f in d.get("findings", []) if isinstance(f, dict)],
+            sections={k: Section.from_dict(s) for k, s in (d.get("sections") or {}).items() if isinstance(s, dict)},
+            **kwargs,
+        )
 
 
 def _renamed(check: dict[str, Any]) -> dict[str, Any]:

@@ -28,6 +28,7 @@ from kinverify.versions import library_versions
 
 __all__ = ["VerifyContext", "VerifyOptions", "SuiteResult", "model_info", "verify", "verify_spec"]
 
+
 def model_info(sources: ModelSources) -> dict[str, Any]:
     """Joint table, link masses and the model texts, for the report."""
     info: dict[str, Any] = {"urdf": sources.urdf or "", "mjcf": sources.mjcf or ""}
@@ -36,7 +37,7 @@ def model_info(sources: ModelSources) -> dict[str, Any]:
         for n, r, lo, up in zip(sources.joint_names, sources.revolute, sources.lower, sources.upper, strict=True)
     ]
     if sources.spec is not None:
-        rows = info["joints"][len(info["joints"]) - len(sources.spec.joints):]  # after a floating base's six coordinates
+        rows = info["joints"][len(info["joints"]) - len(sources.spec.joints) :]  # after a floating base's six coordinates
         for row, joint in zip(rows, sources.spec.joints, strict=True):
             row["axis"] = list(joint.axis)
         links = [sources.spec.base_link] + [j.link for j in sources.spec.joints]
@@ -51,8 +52,14 @@ def internal_error(where: str, err: BaseException) -> str:
     return f"{where}: {type(err).__name__}: {err}{at}"
 
 
-def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_backends=(), source: str = "",
-           command: str = "", progress: Callable[[str], None] | None = None) -> VerifyResult:
+def verify(
+    sources: ModelSources,
+    options: VerifyOptions | None = None,
+    extra_backends=(),
+    source: str = "",
+    command: str = "",
+    progress: Callable[[str], None] | None = None,
+) -> VerifyResult:
     """Run every registered suite on ``sources`` and return the results."""
     options = options or VerifyOptions()
     check_count(options.samples, "--samples", MAX_SAMPLES)
@@ -102,11 +109,27 @@ def verify(sources: ModelSources, options: VerifyOptions | None = None, extra_ba
         if result.section is not None:
             sections[suite_cls.name] = result.section
     return VerifyResult(
-        model=sources.name, source=source, seed=options.seed, samples=len(q), joint_names=list(sources.joint_names),
-        frames=list(sources.frames), backends=list(backends), checks=checks, versions=library_versions(),
-        command=command, started=started.isoformat(timespec="seconds"), duration_s=time.perf_counter() - t0,
-        lower=list(sources.lower), upper=list(sources.upper), sections=sections, model_info=model_info(sources),
-        findings=findings, timings=timings, cpu_timings=cpu, internal_errors=internal, notes=notes,
+        model=sources.name,
+        source=source,
+        seed=options.seed,
+        samples=len(q),
+        joint_names=list(sources.joint_names),
+        frames=list(sources.frames),
+        backends=list(backends),
+        checks=checks,
+        versions=library_versions(),
+        command=command,
+        started=started.isoformat(timespec="seconds"),
+        duration_s=time.perf_counter() - t0,
+        lower=list(sources.lower),
+        upper=list(sources.upper),
+        sections=sections,
+        model_info=model_info(sources),
+        findings=findings,
+        timings=timings,
+        cpu_timings=cpu,
+        internal_errors=internal,
+        notes=notes,
     )
 
 

@@ -80,8 +80,6 @@ def cycles() -> list[list[str]]:
     return out
 
 
-
-
 def test_no_module_imports_one_that_imports_it_back():
     found = cycles()
     detail = ["; ".join(f"{a} -> {b}" for a in c for b in sorted(GRAPH[a] & set(c))) for c in found]
@@ -90,8 +88,10 @@ def test_no_module_imports_one_that_imports_it_back():
 
 def test_the_pipeline_points_one_way():
     importers_of_run = sorted(n for n, deps in GRAPH.items() if "kinverify.run" in deps)
-    assert all(n.startswith(("kinverify.commands", "kinverify.filemode", "kinverify.testing", "kinverify.cli"))
-               or n == "kinverify" for n in importers_of_run), importers_of_run
+    assert all(
+        n.startswith(("kinverify.commands", "kinverify.filemode", "kinverify.testing", "kinverify.cli")) or n == "kinverify"
+        for n in importers_of_run
+    ), importers_of_run
     for name, deps in GRAPH.items():
         if name.startswith(("kinverify.backends", "kinverify.model", "kinverify.suites")):
             assert not any(d.startswith("kinverify.commands") for d in deps), (name, deps)

@@ -22,8 +22,18 @@ ARM3 = Path("models/arm3.toml").read_text()
 
 
 def test_verify_writes_json_and_html(tmp_path, capsys):
-    code = main(["verify", "models/arm3.toml", "--samples", "50", "--json", str(tmp_path / "r.json"),
-                 "--report", str(tmp_path / "r.html")])
+    code = main(
+        [
+            "verify",
+            "models/arm3.toml",
+            "--samples",
+            "50",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 0
     assert "verdict: PASS" in out
@@ -37,8 +47,22 @@ def test_verify_writes_json_and_html(tmp_path, capsys):
 
 def test_verify_exits_1_when_a_check_fails(tmp_path, capsys):
     # Jacobians agree with central differences to ~1e-10; demanding 1e-13 must fail.
-    code = main(["verify", "models/arm3.toml", "--samples", "20", "--backends", "analytic,mujoco",
-                 "--tolerance", "jacobian.fd=1e-13", "--json", str(tmp_path / "r.json"), "--report", str(tmp_path / "r.html")])
+    code = main(
+        [
+            "verify",
+            "models/arm3.toml",
+            "--samples",
+            "20",
+            "--backends",
+            "analytic,mujoco",
+            "--tolerance",
+            "jacobian.fd=1e-13",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 1
     assert "verdict: FAIL" in out and "first disagreeing frame" in out
@@ -70,15 +94,18 @@ def test_without_usd_core_generate_writes_three_files_and_says_why(tmp_path, cap
     assert ModelSources.from_spec(load_spec("models/arm3.toml")).usd is None
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["verify", "models/nope.toml"], "models/nope.toml: cannot read spec file"),
-    (["verify", "models/arm3.toml", "--backends", "pybullet"], "unknown backend 'pybullet'; available backends:"),
-    (["verify", "models/arm3.toml", "--skip", "everything"], "unknown suite"),
-    (["verify"], "give a spec MODEL"),
-    (["verify", "models/arm3.toml", "--tolerance", "fk.position=abc"], "is not PROPERTY=NUMBER"),
-    (["verify", "models/arm3.toml", "--tolerance", "fk.speed=1"], "unknown property 'fk.speed'"),
-    (["verify", "models/arm3.toml", "--gate", "ik.success_rate"], "'ik.success_rate' is now named 'ik.failure_rate'"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["verify", "models/nope.toml"], "models/nope.toml: cannot read spec file"),
+        (["verify", "models/arm3.toml", "--backends", "pybullet"], "unknown backend 'pybullet'; available backends:"),
+        (["verify", "models/arm3.toml", "--skip", "everything"], "unknown suite"),
+        (["verify"], "give a spec MODEL"),
+        (["verify", "models/arm3.toml", "--tolerance", "fk.position=abc"], "is not PROPERTY=NUMBER"),
+        (["verify", "models/arm3.toml", "--tolerance", "fk.speed=1"], "unknown property 'fk.speed'"),
+        (["verify", "models/arm3.toml", "--gate", "ik.success_rate"], "'ik.success_rate' is now named 'ik.failure_rate'"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_2(argv, words, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
@@ -106,13 +133,15 @@ def mangled_specs(draw) -> bytes:
         matches = list(NUMBER.finditer(text))
         m = draw(st.sampled_from(matches))
         new = draw(st.sampled_from(["nan", "inf", "1e308", "-1e308", '"text"', "true", "[]", "{}", "-0.5"]))
-        return (text[: m.start()] + new + text[m.end():]).encode()
+        return (text[: m.start()] + new + text[m.end() :]).encode()
     if kind == "line":
         lines = text.splitlines()
         del lines[draw(st.integers(0, len(lines) - 1))]
         return "\n".join(lines).encode()
     if kind == "key":
-        return text.replace(draw(st.sampled_from(["name", "axis", "limits", "lower", "xyz", "type", "geometry"])), "bogus", 1).encode()
+        return text.replace(
+            draw(st.sampled_from(["name", "axis", "limits", "lower", "xyz", "type", "geometry"])), "bogus", 1
+        ).encode()
     return draw(st.binary(min_size=0, max_size=200))
 
 
@@ -127,6 +156,7 @@ def test_mangled_spec_files_give_one_line_and_exit_2(capsys, raw):
         out, err = capsys.readouterr()
     if code == 0:  # the mangling happened to keep a valid spec (e.g. removed a comment line)
         from kinverify import load_spec
+
         assert load_spec is not None and err == ""
         return
     assert code == 2
@@ -135,12 +165,14 @@ def test_mangled_spec_files_give_one_line_and_exit_2(capsys, raw):
 
 
 def test_argument_errors_are_one_line_and_exit_2(capsys):
-    for argv, words in ((["verify", "models/arm3.toml", "--seed", "-1"], "--seed must be >= 0, got -1"),
-                        (["verify", "models/arm3.toml", "--samples", "abc"], "argument --samples: expected a whole number"),
-                        (["verify", "models/arm3.toml", "--seed", str(2**64)], "--seed 18446744073709551616 is above the maximum"),
-                        (["diff", "models/arm3.toml", "models/arm3.toml", "--samples", "-5"], "--samples must be >= 0"),
-                        (["baseline", "save", "models/arm3.toml", "--out", "b.json", "--seed", "-3"], "--seed must be >= 0"),
-                        (["nonsense"], "invalid choice")):
+    for argv, words in (
+        (["verify", "models/arm3.toml", "--seed", "-1"], "--seed must be >= 0, got -1"),
+        (["verify", "models/arm3.toml", "--samples", "abc"], "argument --samples: expected a whole number"),
+        (["verify", "models/arm3.toml", "--seed", str(2**64)], "--seed 18446744073709551616 is above the maximum"),
+        (["diff", "models/arm3.toml", "models/arm3.toml", "--samples", "-5"], "--samples must be >= 0"),
+        (["baseline", "save", "models/arm3.toml", "--out", "b.json", "--seed", "-3"], "--seed must be >= 0"),
+        (["nonsense"], "invalid choice"),
+    ):
         if argv[-1] in ("abc", "nonsense"):  # argparse's own errors exit 2 through SystemExit
             with pytest.raises(SystemExit) as exc:
                 main(argv)
@@ -152,8 +184,9 @@ def test_argument_errors_are_one_line_and_exit_2(capsys):
 
 
 def test_seed_minus_one_through_the_module_entry_point():
-    proc = subprocess.run([sys.executable, "-m", "kinverify", "verify", "models/arm3.toml", "--seed", "-1"],
-                          capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "kinverify", "verify", "models/arm3.toml", "--seed", "-1"], capture_output=True, text=True
+    )
     assert proc.returncode == 2 and proc.stderr == "kinverify: error: --seed must be >= 0, got -1\n"
 
 
@@ -178,8 +211,24 @@ def test_an_internal_error_in_a_suite_still_writes_the_report(tmp_path, capsys, 
         return 1 / 0
 
     monkeypatch.setattr(WorkspaceSuite, "run", broken)
-    code = main(["verify", "models/arm3.toml", "--samples", "5", "--skip", "ik", "--skip", "tracking", "--skip", "pictures",
-                 "--json", str(tmp_path / "r.json"), "--report", str(tmp_path / "r.html")])
+    code = main(
+        [
+            "verify",
+            "models/arm3.toml",
+            "--samples",
+            "5",
+            "--skip",
+            "ik",
+            "--skip",
+            "tracking",
+            "--skip",
+            "pictures",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+        ]
+    )
     assert code == 3
     data = json.loads((tmp_path / "r.json").read_text())
     assert data["verdict"] == "error" and data["internal_errors"][0].startswith("suite workspace: ZeroDivisionError")
@@ -208,5 +257,8 @@ def test_an_output_folder_the_system_refuses_exits_2_in_one_line(capsys):
     """/sys refuses new files even to root (EPERM), as a read-only folder refuses them (EACCES)."""
     assert main(["generate", "models/arm3.toml", "--out", "/sys/kinverify-test"]) == 2
     err = capsys.readouterr().err
-    assert re.fullmatch(r"kinverify: error: /sys/kinverify-test/arm3\.urdf: cannot write: "
-                        r"(Operation not permitted|Permission denied|Read-only file system)\n", err), err
+    assert re.fullmatch(
+        r"kinverify: error: /sys/kinverify-test/arm3\.urdf: cannot write: "
+        r"(Operation not permitted|Permission denied|Read-only file system)\n",
+        err,
+    ), err

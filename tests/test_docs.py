@@ -42,8 +42,10 @@ def test_every_runnable_block_is_checked():
         text = path.read_text()
         for m in re.finditer(r"^```(\w+)\n", text, re.M):
             if m[1] in RUNNABLE:
-                before = text[:m.start()].rstrip().splitlines()[-1]
-                assert before.startswith("<!-- checked: "), f"{path.name}: a {m[1]} block without a checked marker: {text[m.end():][:60]!r}"
+                before = text[: m.start()].rstrip().splitlines()[-1]
+                assert before.startswith("<!-- checked: "), (
+                    f"{path.name}: a {m[1]} block without a checked marker: {text[m.end() :][:60]!r}"
+                )
     assert SHELL and PYTHON
 
 
@@ -128,8 +130,10 @@ def test_adding_a_suite_is_one_module_and_one_registry_line(monkeypatch):
     suites = (*registry.SUITES, module.ReachSuite)  # the one registry line
     monkeypatch.setattr(registry, "SUITES", suites)
     monkeypatch.setattr(kinverify.run, "SUITES", suites)
-    result = verify(ModelSources.from_spec(load_spec(ROOT / "models" / "arm3.toml")),
-                    VerifyOptions(samples=20, suites=["kinematics", "reach"]))
+    result = verify(
+        ModelSources.from_spec(load_spec(ROOT / "models" / "arm3.toml")),
+        VerifyOptions(samples=20, suites=["kinematics", "reach"]),
+    )
     reach = [c for c in result.checks if c.property == "reach.tool"]
     assert {c.backends[1] for c in reach} == set(result.backends) - {"analytic"} and all(c.passed for c in reach)
     assert max(c.max_error for c in reach) < 1e-12

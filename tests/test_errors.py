@@ -55,13 +55,21 @@ def test_pinocchio_mjcf_refusal_keeps_the_message_not_the_cpp_location():
     assert "no body found" in message and "From file" not in message and "in function" not in message
 
 
-@pytest.mark.parametrize("said, reason", [
-    ("Error: size 0 must be positive in geom\nElement name 'tip', id 25, line 199\n",
-     "size 0 must be positive in geom; Element name 'tip', id 25, line 199"),
-    ("From file: /x/mjcf-graph.cpp\nin function: void f()\nat line: 962\nmessage:\nNot a standard model.\n", "Not a standard model."),
-    ("Error:   Joint [j] has no limits\n         at line 607 in /p/joint.cpp\n", "Joint [j] has no limits"),
-    ("XML Error: unknown element\n  line 3", "XML Error: unknown element; line 3"),
-])
+@pytest.mark.parametrize(
+    "said, reason",
+    [
+        (
+            "Error: size 0 must be positive in geom\nElement name 'tip', id 25, line 199\n",
+            "size 0 must be positive in geom; Element name 'tip', id 25, line 199",
+        ),
+        (
+            "From file: /x/mjcf-graph.cpp\nin function: void f()\nat line: 962\nmessage:\nNot a standard model.\n",
+            "Not a standard model.",
+        ),
+        ("Error:   Joint [j] has no limits\n         at line 607 in /p/joint.cpp\n", "Joint [j] has no limits"),
+        ("XML Error: unknown element\n  line 3", "XML Error: unknown element; line 3"),
+    ],
+)
 def test_library_reason_joins_lines_and_drops_source_locations(said, reason):
     assert library_reason(ValueError(said)) == reason
 

@@ -35,7 +35,8 @@ def test_every_shipped_model_passes_and_prints_at_80_columns(name):
     assert result.verdict == "pass", [(c.property, c.backends, c.frame, c.max_error) for c in result.failed]
     floating = load_spec(MODELS / f"{name}.toml").floating  # no IK or velocity terms for a floating base
     assert {c.property for c in result.checks} >= {"fk.position", "jacobian.linear", "dynamics.gravity"} | (
-        set() if floating else {"dynamics.inverse", "ik.cross_fk", "ik.failure_rate"})
+        set() if floating else {"dynamics.inverse", "ik.cross_fk", "ik.failure_rate"}
+    )
     ik = [c for c in result.checks if c.property.startswith("ik.")]
     assert all(c.passed for c in ik) and not result.findings, [(c.property, c.backends, c.max_error) for c in ik if not c.passed]
     for terminal in (True, False):

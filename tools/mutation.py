@@ -28,10 +28,17 @@ def narrowed(pyproject: str, module: str, tests: list[str]) -> str:
     head, sep, _ = pyproject.partition("[tool.mutmut]")
     if not sep:
         raise SystemExit("pyproject.toml has no [tool.mutmut] table")
-    return head + "\n".join([
-        "[tool.mutmut]", 'source_paths = ["kinverify"]', f"only_mutate = {json.dumps([module])}",
-        'also_copy = ["models"]', 'pytest_add_cli_args = ["-p", "no:cacheprovider", "-n", "0"]',
-        f"pytest_add_cli_args_test_selection = {json.dumps(tests)}", ""])
+    return head + "\n".join(
+        [
+            "[tool.mutmut]",
+            'source_paths = ["kinverify"]',
+            f"only_mutate = {json.dumps([module])}",
+            'also_copy = ["models"]',
+            'pytest_add_cli_args = ["-p", "no:cacheprovider", "-n", "0"]',
+            f"pytest_add_cli_args_test_selection = {json.dumps(tests)}",
+            "",
+        ]
+    )
 
 
 def main(argv: list[str]) -> int:

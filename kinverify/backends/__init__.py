@@ -16,9 +16,21 @@ from kinverify.backends.base import Backend, BackendBase, Evaluation, finite_dif
 from kinverify.backends.function import FunctionBackend
 from kinverify.backends.sources import ModelSources
 
-__all__ = ["Backend", "BackendBase", "BackendInfo", "Evaluation", "FunctionBackend", "ModelSources",
-           "available_backends", "backend_info", "build_backend", "build_backends", "finite_difference_jacobians", "libraries",
-           "names_reading"]
+__all__ = [
+    "Backend",
+    "BackendBase",
+    "BackendInfo",
+    "Evaluation",
+    "FunctionBackend",
+    "ModelSources",
+    "available_backends",
+    "backend_info",
+    "build_backend",
+    "build_backends",
+    "finite_difference_jacobians",
+    "libraries",
+    "names_reading",
+]
 
 
 @dataclass(frozen=True)
@@ -69,7 +81,12 @@ _ENTRIES = (
     ("newton-urdf", ".newton_", "NewtonBackend", "urdf", "newton"),
     ("newton-mjcf", ".newton_", "NewtonBackend", "mjcf", "newton"),
 )
-PRIMARY = {"urdf": "pinocchio-urdf", "mjcf": "mujoco", "sdf": "drake-sdf", "usd": "usd"}  # the reference reader of each file in file mode
+PRIMARY = {
+    "urdf": "pinocchio-urdf",
+    "mjcf": "mujoco",
+    "sdf": "drake-sdf",
+    "usd": "usd",
+}  # the reference reader of each file in file mode
 
 
 @lru_cache(maxsize=None)

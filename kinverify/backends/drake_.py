@@ -24,8 +24,15 @@ from pydrake.multibody.tree import JacobianWrtVariable
 
 from kinverify.backends.base import EvaluatingBackend, Evaluation
 from kinverify.backends.drake_dynamics import DrakeDynamics
-from kinverify.backends.drake_plant import (base_positions, base_velocity_map, floating_joint, frame_named, load_plant,
-                                            one_dof_joint, refused_elements)
+from kinverify.backends.drake_plant import (
+    base_positions,
+    base_velocity_map,
+    floating_joint,
+    frame_named,
+    load_plant,
+    one_dof_joint,
+    refused_elements,
+)
 from kinverify.model.floating import has_base
 
 
@@ -49,7 +56,7 @@ class DrakeBackend(EvaluatingBackend):
         if self.floating:
             joint = floating_joint(plant, name)
             self._free = (joint.position_start(), joint.velocity_start())
-        joints = [one_dof_joint(plant, j, name) for j in self.joint_names[6 if self.floating else 0:]]
+        joints = [one_dof_joint(plant, j, name) for j in self.joint_names[6 if self.floating else 0 :]]
         self._idx_q = [j.position_start() for j in joints]
         self._idx_v = [j.velocity_start() for j in joints]
         self._frames = [frame_named(plant, f) for f in self.frames]
@@ -77,7 +84,7 @@ class DrakeBackend(EvaluatingBackend):
         if self.floating:
             assert self._free is not None  # set whenever the base floats
             iq = self._free[0]
-            full[:, iq:iq + 7] = base_positions(q[:, :6])
+            full[:, iq : iq + 7] = base_positions(q[:, :6])
             q = q[:, 6:]
         full[:, self._idx_q] = q
         return full
@@ -105,6 +112,6 @@ class DrakeBackend(EvaluatingBackend):
             if self.floating:
                 assert self._free is not None  # set whenever the base floats
                 iv = self._free[1]
-                base = full[..., iv:iv + 6] @ base_velocity_map(q[:, :6])[:, None]
+                base = full[..., iv : iv + 6] @ base_velocity_map(q[:, :6])[:, None]
                 jac = np.concatenate([base, jac], axis=-1)
         return Evaluation(self.name, self.frames, poses, jac)

@@ -34,7 +34,7 @@ class DrakeDynamics:
         if self.floating:
             joint = floating_joint(plant, name)
             self._free = (joint.position_start(), joint.velocity_start())
-        joints = [one_dof_joint(plant, j, name) for j in joint_names[6 if self.floating else 0:]]
+        joints = [one_dof_joint(plant, j, name) for j in joint_names[6 if self.floating else 0 :]]
         self.idx_q = np.array([j.position_start() for j in joints], dtype=int)
         self.idx_v = np.array([j.velocity_start() for j in joints], dtype=int)
         self.damping = np.array([float(j.default_damping()) for j in joints])
@@ -51,7 +51,7 @@ class DrakeDynamics:
             if v is not None:
                 raise ValueError("velocity-dependent dynamics of a floating base are not compared")
             assert self._free is not None  # set whenever the base floats
-            full[self._free[0]:self._free[0] + 7] = base_positions(q[:6])[0]
+            full[self._free[0] : self._free[0] + 7] = base_positions(q[:6])[0]
             q = q[6:]
         full[self.idx_q] = q
         self.plant.SetPositions(self.context, full)

@@ -68,8 +68,12 @@ def load_plant(text: str, source: str, floating: bool = False, name: str = "drak
 def _build(text: str, source: str, floating: bool, name: str) -> tuple:
     plant, instances, warnings = _parse(text, source, name)
     children = {plant.get_joint(j).child_body().index() for j in plant.GetJointIndices()}
-    roots = [plant.get_body(b) for m in instances for b in plant.GetBodyIndices(m)
-             if b not in children and b != plant.world_body().index()]
+    roots = [
+        plant.get_body(b)
+        for m in instances
+        for b in plant.GetBodyIndices(m)
+        if b not in children and b != plant.world_body().index()
+    ]
     if not floating:
         for body in roots:
             plant.WeldFrames(plant.world_frame(), body.body_frame(), RigidTransform())
@@ -104,7 +108,9 @@ def _add_sites(plant, mjcf_text: str, name: str) -> None:
         parent = plant.world_frame() if m.site_bodyid[s] == 0 else _body_frame(plant, body)
         if parent is None:
             continue
-        pose = RigidTransform(RotationMatrix(Quaternion(np.asarray(m.site_quat[s], dtype=float))), np.asarray(m.site_pos[s], dtype=float))
+        pose = RigidTransform(
+            RotationMatrix(Quaternion(np.asarray(m.site_quat[s], dtype=float))), np.asarray(m.site_pos[s], dtype=float)
+        )
         plant.AddFrame(FixedOffsetFrame(site, parent, pose))
 
 
@@ -141,12 +147,20 @@ def one_dof_joint(plant, name: str, backend: str):
 
 def floating_joint(plant, backend: str):
     """The free base's ``QuaternionFloatingJoint`` (between the world and the base body's frame)."""
-    free = [plant.get_joint(j) for j in plant.GetJointIndices()
-            if plant.get_joint(j).type_name() == "quaternion_floating" and plant.get_joint(j).parent_body().index() == 0]
+    free = [
+        plant.get_joint(j)
+        for j in plant.GetJointIndices()
+        if plant.get_joint(j).type_name() == "quaternion_floating" and plant.get_joint(j).parent_body().index() == 0
+    ]
     if len(free) != 1:
-        raise BackendError(backend, f"the configuration has a floating base but Drake's model has {len(free)} free bodies (expected one)")
+        raise BackendError(
+            backend, f"the configuration has a floating base but Drake's model has {len(free)} free bodies (expected one)"
+        )
     joint = free[0]
-    if joint.frame_on_parent().index() != plant.world_frame().index() or joint.frame_on_child().index() != joint.child_body().body_frame().index():
+    if (
+        joint.frame_on_parent().index() != plant.world_frame().index()
+        or joint.frame_on_child().index() != joint.child_body().body_frame().index()
+    ):
         raise BackendError(backend, "the free body's floating joint is not between the world and the body's own frame")
     return joint
 

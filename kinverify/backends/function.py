@@ -16,8 +16,7 @@ class FunctionBackend(BackendBase):
     Its Jacobians, when compared, are finite differences of ``fk``.
     """
 
-    def __init__(self, name: str, fk: Callable, joint_names, frames, batched: bool = True,
-                 jacobians: bool = False) -> None:
+    def __init__(self, name: str, fk: Callable, joint_names, frames, batched: bool = True, jacobians: bool = False) -> None:
         self.name, self.fk, self.batched = name, fk, batched
         self.joint_names, self.frames = tuple(joint_names), tuple(frames)
         self.jacobian_method = "finite-difference" if jacobians else None
@@ -29,7 +28,9 @@ class FunctionBackend(BackendBase):
         if out.ndim == 2:  # a single frame given as (N, 3)
             out = out[:, None, :]
         if out.shape[:2] != (q.shape[0], len(self.frames)) or out.shape[2:] not in ((3,), (4, 4)):
-            raise ValueError(f"{self.name}: fk returned shape {out.shape}; expected (N, {len(self.frames)}, 3) or (N, {len(self.frames)}, 4, 4)")
+            raise ValueError(
+                f"{self.name}: fk returned shape {out.shape}; expected (N, {len(self.frames)}, 3) or (N, {len(self.frames)}, 4, 4)"
+            )
         return out
 
     def poses(self, q: np.ndarray) -> np.ndarray:

@@ -31,13 +31,19 @@ class MujocoBackend(EvaluatingBackend):
         self._qadr, self._vadr = [], []
         self.floating = has_base(self.joint_names)
         if self.floating:
-            free = [j for j in range(model.njnt) if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)
-                    and model.body_parentid[model.jnt_bodyid[j]] == 0]
+            free = [
+                j
+                for j in range(model.njnt)
+                if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE) and model.body_parentid[model.jnt_bodyid[j]] == 0
+            ]
             if len(free) != 1:
-                raise BackendError(name, "the configuration has a floating base but the model has "
-                                   f"{len(free)} free joints on top-level bodies (expected one)")
+                raise BackendError(
+                    name,
+                    "the configuration has a floating base but the model has "
+                    f"{len(free)} free joints on top-level bodies (expected one)",
+                )
             self._free = (int(model.jnt_qposadr[free[0]]), int(model.jnt_dofadr[free[0]]))
-        for joint in self.joint_names[6 if self.floating else 0:]:
+        for joint in self.joint_names[6 if self.floating else 0 :]:
             jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
             if jid < 0:
                 raise UnknownNameError("joint", joint, joints)
@@ -95,6 +101,7 @@ class MujocoBackend(EvaluatingBackend):
             com_pos(m, d)
             jac_fn(m, d, jacp, jacr, oid)
             return rot, pos, jac_full if whole else jac_full[:, vadr]
+
         return fk, log3
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
@@ -122,7 +129,7 @@ class MujocoBackend(EvaluatingBackend):
             joints = q[:, 6:]
         for k in range(n_cfg):
             if self.floating:
-                qpos[self._free[0]:self._free[0] + 7] = free[k]
+                qpos[self._free[0] : self._free[0] + 7] = free[k]
             qpos[qadr] = joints[k]
             kin(m, d)
             if bid:
@@ -149,7 +156,7 @@ class MujocoBackend(EvaluatingBackend):
             jac = full if self._vadr == list(range(m.nv)) else full[..., self._vadr]
             if self.floating:  # free joint: world linear, body angular velocity
                 iv = self._free[1]
-                base = full[..., iv:iv + 6] @ velocity_map(q[:, :6], linear_in_body=False)[:, None]
+                base = full[..., iv : iv + 6] @ velocity_map(q[:, :6], linear_in_body=False)[:, None]
                 jac = np.concatenate([base, jac], axis=-1)
         return Evaluation(self.name, self.frames, poses, jac)
 

@@ -50,8 +50,7 @@ COPIES = 64  # configurations per kernel launch (copies of the robot in one mode
 # finite differences of its own FK 5.1e-5. docs/performance.md lists them per robot.
 # A world turned 45° about z and moved 0.37 m (tests/filemode/test_audit.py) took the Panda MJCF's
 # position to 4.9e-6 m: hence 1e-5.
-FLOOR = {"fk.position": 1e-5, "fk.rotation": 5e-6, "jacobian.linear": 3e-5, "jacobian.angular": 3e-5,
-         "jacobian.fd": 1.5e-4}
+FLOOR = {"fk.position": 1e-5, "fk.rotation": 5e-6, "jacobian.linear": 3e-5, "jacobian.angular": 3e-5, "jacobian.fd": 1.5e-4}
 FLOOR["ik.cross_fk"] = 1e-6 + max(FLOOR["fk.position"], FLOOR["fk.rotation"])  # IK's own tolerance + Newton's FK error
 # Finite differences of float32 FK: round-off ~1e-7 m / h, truncation ~h²/6; measured on the Panda: h = 1e-3
 # gives 4.6e-4 (Frobenius, 7 joints), 3e-3 1.6e-4, 1e-2 5.2e-5, 2e-2 9.8e-5.
@@ -63,8 +62,9 @@ def _import_urdf(builder, text: str, floating: bool) -> None:
 
 
 def _import_mjcf(builder, text: str, floating: bool) -> None:
-    builder.add_mjcf(text, floating=True if floating else None, parse_visuals=False, parse_meshes=False,
-                     ignore_inertial_definitions=False)
+    builder.add_mjcf(
+        text, floating=True if floating else None, parse_visuals=False, parse_meshes=False, ignore_inertial_definitions=False
+    )
 
 
 # One importer per source kind; "usd" (ModelBuilder.add_usd) joins when kinverify reads USD.
@@ -103,7 +103,7 @@ class NewtonBackend(BackendBase):
                 raise BackendError(name, f"the configuration has a floating base but the model has {len(free)} free root joints")
             self._free = (int(q_start[free[0]]), int(qd_start[free[0]]), int(m.joint_child.numpy()[free[0]]))
         self._iq, self._iv = [], []
-        for joint in self.joint_names[6 if self.floating else 0:]:
+        for joint in self.joint_names[6 if self.floating else 0 :]:
             j = _find(labels, joint)
             if j is None:
                 raise UnknownNameError("joint", joint, [_short(x) for x in labels])
@@ -143,7 +143,7 @@ class NewtonBackend(BackendBase):
             if s is None:
                 raise UnknownNameError("frame", frame, [_short(x) for x in bodies] + [_short(shapes[i]) for i in sorted(sites)])
             body = int(m.shape_body.numpy()[s])  # -1: a site of the world (MJCF <worldbody>), index n_body here
-            out.append((self.n_body if body < 0 else body, _matrices(m.shape_transform.numpy()[s:s + 1])[0]))
+            out.append((self.n_body if body < 0 else body, _matrices(m.shape_transform.numpy()[s : s + 1])[0]))
         return out
 
     def _joint_q(self, q: np.ndarray) -> np.ndarray:
@@ -154,7 +154,7 @@ class NewtonBackend(BackendBase):
             t = base_transforms(q[:, :6])
             wxyz = matrix_to_quat(t[:, :3, :3])
             iq = self._free[0]
-            full[:, iq:iq + 3], full[:, iq + 3:iq + 6], full[:, iq + 6] = t[:, :3, 3], wxyz[:, 1:], wxyz[:, 0]
+            full[:, iq : iq + 3], full[:, iq + 3 : iq + 6], full[:, iq + 6] = t[:, :3, 3], wxyz[:, 1:], wxyz[:, 0]
             q = q[:, 6:]
         full[:, self._iq] = q
         return full
@@ -169,16 +169,16 @@ class NewtonBackend(BackendBase):
         buf = np.zeros((COPIES, self.n_q), dtype=np.float32)
         m, st = self.model, self.state
         for start in range(0, n, COPIES):
-            rows = full[start:start + COPIES]
+            rows = full[start : start + COPIES]
             k = len(rows)
             buf[:k] = rows
             m.joint_q.assign(buf.reshape(-1))
             newton.eval_fk(m, m.joint_q, m.joint_qd, st)
             body_q = st.body_q.numpy().astype(np.float64).reshape(COPIES, self.n_body, 7)[:k]
-            poses[start:start + k, :self.n_body] = _matrices(body_q)
+            poses[start : start + k, : self.n_body] = _matrices(body_q)
             if jac is not None:
                 J = newton.eval_jacobian(m, st).numpy().astype(np.float64)[:k]  # (k, links·6, dofs)
-                jac[start:start + k, :self.n_body] = J[:, :self.n_body * 6, :self.n_qd].reshape(k, self.n_body, 6, self.n_qd)
+                jac[start : start + k, : self.n_body] = J[:, : self.n_body * 6, : self.n_qd].reshape(k, self.n_body, 6, self.n_qd)
         return poses, jac
 
     def poses(self, q: np.ndarray) -> np.ndarray:
@@ -229,12 +229,12 @@ class NewtonBackend(BackendBase):
         buf = np.zeros((COPIES, self.n_q), dtype=np.float32)
         m, st = self.model, self.state
         for start in range(0, n, COPIES):
-            k = len(full[start:start + COPIES])
-            buf[:k] = full[start:start + COPIES]
+            k = len(full[start : start + COPIES])
+            buf[:k] = full[start : start + COPIES]
             m.joint_q.assign(buf.reshape(-1))
             newton.eval_fk(m, m.joint_q, m.joint_qd, st)
             H = newton.eval_mass_matrix(m, st).numpy().astype(np.float64)[:k]
-            out[start:start + k] = H[:, self._iv][:, :, self._iv]
+            out[start : start + k] = H[:, self._iv][:, :, self._iv]
         return out
 
 

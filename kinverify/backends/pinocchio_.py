@@ -16,8 +16,7 @@ from kinverify.backends.base import EvaluatingBackend, Evaluation
 
 
 # A URDF may name a joint and a link alike: a frame name is looked up with its type, links first.
-FRAME_TYPES = (pin.FrameType.BODY, pin.FrameType.OP_FRAME, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT,
-               pin.FrameType.SENSOR)
+FRAME_TYPES = (pin.FrameType.BODY, pin.FrameType.OP_FRAME, pin.FrameType.FIXED_JOINT, pin.FrameType.JOINT, pin.FrameType.SENSOR)
 
 
 def frame_id(model: "pin.Model", name: str) -> int:
@@ -78,7 +77,7 @@ class PinocchioBackend(EvaluatingBackend):
             if root is None or model.joints[root].shortname() != "JointModelFreeFlyer":
                 raise BackendError(name, "the configuration has a floating base but the model's root joint is not floating")
             self._ff = (model.joints[root].idx_q, model.joints[root].idx_v, model.jointPlacements[root].inverse().homogeneous)
-        for joint in self.joint_names[6 if self.floating else 0:]:
+        for joint in self.joint_names[6 if self.floating else 0 :]:
             if not model.existJointName(joint):
                 raise UnknownNameError("joint", joint, available)
             jmodel = model.joints[model.getJointId(joint)]
@@ -116,8 +115,8 @@ class PinocchioBackend(EvaluatingBackend):
         if self.floating:
             iq, _, placement_inv = self._ff
             t = placement_inv @ base_transforms(q[:, :6])  # the free-flyer's own motion
-            full[:, iq:iq + 3] = t[:, :3, 3]
-            full[:, iq + 3:iq + 7] = np.roll(matrix_to_quat(t[:, :3, :3]), -1, axis=-1)  # wxyz -> xyzw
+            full[:, iq : iq + 3] = t[:, :3, 3]
+            full[:, iq + 3 : iq + 7] = np.roll(matrix_to_quat(t[:, :3, :3]), -1, axis=-1)  # wxyz -> xyzw
             q = q[:, 6:]
         full[:, self._idx_q] = q
         return full
@@ -129,7 +128,7 @@ class PinocchioBackend(EvaluatingBackend):
         if not self.floating:
             return joints
         iv = self._ff[1]
-        base = full[..., iv:iv + 6] @ velocity_map(q[:, :6], linear_in_body=True)[:, None]
+        base = full[..., iv : iv + 6] @ velocity_map(q[:, :6], linear_in_body=True)[:, None]
         return np.concatenate([base, joints], axis=-1)
 
     def frame_kinematics(self, frame_index: int):
@@ -156,14 +155,18 @@ class PinocchioBackend(EvaluatingBackend):
             return rot, pos, cfj(model, data, q, fid, lwa)
 
         if model.nv == 1:  # computeFrameJacobian returns a (6,) vector then
+
             def fk(q, inner=fk):
                 r, p, jac = inner(q)
                 return r, p, jac.reshape(6, 1)
+
         fk(pin.neutral(model))
         if not np.array_equal(pos, data.oMf[fid].translation):  # not by reference in this pin: fetch it
+
             def fk(q, inner=fk):
                 jac = inner(q)[2]
                 return data.oMf[fid].rotation, data.oMf[fid].translation, jac
+
         return fk, pin.log3
 
     def evaluate(self, q: np.ndarray, with_jacobians: bool = True) -> Evaluation:
@@ -178,7 +181,12 @@ class PinocchioBackend(EvaluatingBackend):
             full = np.empty((n_cfg, len(frames), 6, model.nv))
             # with nv == 1 getFrameJacobian returns a (6,) vector: write through a (..., 6) view
             target = full[..., 0] if model.nv == 1 else full
-            cjj, ufp, gfj, lwa = pin.computeJointJacobians, pin.updateFramePlacements, pin.getFrameJacobian, pin.LOCAL_WORLD_ALIGNED
+            cjj, ufp, gfj, lwa = (
+                pin.computeJointJacobians,
+                pin.updateFramePlacements,
+                pin.getFrameJacobian,
+                pin.LOCAL_WORLD_ALIGNED,
+            )
             for k, qk in enumerate(self._full_q(q)):
                 cjj(model, data, qk)  # also runs forward kinematics
                 ufp(model, data)
@@ -195,4 +203,3 @@ class PinocchioBackend(EvaluatingBackend):
                 for f, fid in frames:
                     pk[f] = oMf[fid].homogeneous
         return Evaluation(self.name, self.frames, poses, jac)
-

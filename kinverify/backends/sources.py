@@ -45,7 +45,18 @@ class ModelSources:
         names = prim_names(spec) if usd is not None else {}
         joints = tuple(names.get(n, n) for n in spec.coordinate_names)  # the base's coordinates keep theirs
         frames = tuple(names.get(n, n) for n in spec.frame_names)
-        return cls(spec.name, spec.coordinate_names, spec.frame_names, tuple(lower), tuple(upper),
-                   spec.coordinate_revolute, spec, generate_urdf(spec), generate_mjcf(spec), sdf=generate_sdf(spec),
-                   usd=usd, usd_joint_names=joints if joints != spec.coordinate_names else None,
-                   usd_frames=frames if frames != spec.frame_names else None)
+        return cls(
+            spec.name,
+            spec.coordinate_names,
+            spec.frame_names,
+            tuple(lower),
+            tuple(upper),
+            spec.coordinate_revolute,
+            spec,
+            generate_urdf(spec),
+            generate_mjcf(spec),
+            sdf=generate_sdf(spec),
+            usd=usd,
+            usd_joint_names=joints if joints != spec.coordinate_names else None,
+            usd_frames=frames if frames != spec.frame_names else None,
+        )

@@ -46,13 +46,21 @@ def _check_layer(path: str, label: str, named_by: str | None) -> None:
     except OSError as err:
         raise InputError(f"{where}: cannot read: {err.strerror}") from None
     if not stat.S_ISREG(st.st_mode):
-        what = ("a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else "a device" if stat.S_ISCHR(st.st_mode)
-                or stat.S_ISBLK(st.st_mode) else "a directory" if stat.S_ISDIR(st.st_mode) else "not a regular file")
+        what = (
+            "a FIFO (named pipe)"
+            if stat.S_ISFIFO(st.st_mode)
+            else "a device"
+            if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode)
+            else "a directory"
+            if stat.S_ISDIR(st.st_mode)
+            else "not a regular file"
+        )
         raise InputError(f"{where} is {what}, not a regular file")
     limit = MAX_DATA_BYTES if path.endswith(".usdc") else MAX_MODEL_BYTES
     if st.st_size > limit:
-        raise InputError(f"{where} is {st.st_size / 2**20:.1f} MB, above the {limit // 2**20} MB kinverify reads "
-                         "(see docs/robustness.md)")
+        raise InputError(
+            f"{where} is {st.st_size / 2**20:.1f} MB, above the {limit // 2**20} MB kinverify reads (see docs/robustness.md)"
+        )
     note_input(Path(path), "a USD layer:")
 
 
@@ -99,6 +107,8 @@ def open_stage(path: str, label: str = "--usd") -> tuple[Usd.Stage, list[str], l
         if isinstance(error, (Pcp.ErrorArcCycle, Pcp.ErrorSublayerCycle)):
             site = getattr(error, "rootSite", None)
             prim = getattr(site, "path", "") if site is not None else ""
-            raise InputError(f"{label}: {path}: composition cycle at prim {prim or '/'}: a layer sublayers or references "
-                             "itself (pxr: " + str(error).strip().splitlines()[0] + ")")
+            raise InputError(
+                f"{label}: {path}: composition cycle at prim {prim or '/'}: a layer sublayers or references "
+                "itself (pxr: " + str(error).strip().splitlines()[0] + ")"
+            )
     return stage, sorted(set(absent)), layers

@@ -27,8 +27,15 @@ except ImportError:  # pragma: no cover - exercised without the extra (open_stag
     Gf = Sdf = UsdGeom = UsdPhysics = None
 
 MOVABLE = ("revolute", "prismatic")
-KINDS = {"RevoluteJoint": "revolute", "PrismaticJoint": "prismatic", "FixedJoint": "fixed", "SphericalJoint": "spherical",
-         "D6Joint": "d6", "DistanceJoint": "distance", "CustomJoint": "custom"}
+KINDS = {
+    "RevoluteJoint": "revolute",
+    "PrismaticJoint": "prismatic",
+    "FixedJoint": "fixed",
+    "SphericalJoint": "spherical",
+    "D6Joint": "d6",
+    "DistanceJoint": "distance",
+    "CustomJoint": "custom",
+}
 Y_UP = np.array([[1.0, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]])  # +90° about x: a Y-up world's y is z
 
 
@@ -126,8 +133,9 @@ def read_robot(path: str, label: str = "--usd") -> UsdRobot:
     objects = {name: parsed.get(getattr(types, name), ([], [])) for name in ("Articulation", "RigidBody", "Scene", *KINDS)}
     articulations = objects["Articulation"][1]
     if not articulations:
-        raise InputError(f"{label}: {path}: no articulation (no prim has PhysicsArticulationRootAPI): kinverify compares "
-                         "articulated robots")
+        raise InputError(
+            f"{label}: {path}: no articulation (no prim has PhysicsArticulationRootAPI): kinverify compares articulated robots"
+        )
     art = articulations[0]
     bodies_all = {str(p): d for p, d in zip(*objects["RigidBody"], strict=True)}
     joints: list[UsdJoint] = []
@@ -142,11 +150,29 @@ def read_robot(path: str, label: str = "--usd") -> UsdRobot:
                     raise InputError(f"{label}: {path}: joint {prim}: physics:body{side} names {target}, which does not exist")
                 if str(body) and str(body) not in bodies_all:
                     raise InputError(f"{label}: {path}: joint {prim}: physics:body{side} {body} is not a rigid body")
-            _finite(label, prim, "physics:localPos0/localRot0/localPos1/localRot1",
-                    [*d.localPose0Position, *d.localPose1Position, *d.localPose0Orientation.imaginary,
-                     d.localPose0Orientation.real, *d.localPose1Orientation.imaginary, d.localPose1Orientation.real])
-            j = UsdJoint(p.name, prim, kind, str(d.body0), str(d.body1), frame_matrix(d.localPose0Position, d.localPose0Orientation,
-                         meters), frame_matrix(d.localPose1Position, d.localPose1Orientation, meters), excluded=bool(d.excludeFromArticulation))
+            _finite(
+                label,
+                prim,
+                "physics:localPos0/localRot0/localPos1/localRot1",
+                [
+                    *d.localPose0Position,
+                    *d.localPose1Position,
+                    *d.localPose0Orientation.imaginary,
+                    d.localPose0Orientation.real,
+                    *d.localPose1Orientation.imaginary,
+                    d.localPose1Orientation.real,
+                ],
+            )
+            j = UsdJoint(
+                p.name,
+                prim,
+                kind,
+                str(d.body0),
+                str(d.body1),
+                frame_matrix(d.localPose0Position, d.localPose0Orientation, meters),
+                frame_matrix(d.localPose1Position, d.localPose1Orientation, meters),
+                excluded=bool(d.excludeFromArticulation),
+            )
             if kind in MOVABLE:
                 j.axis = {"X": 0, "Y": 1, "Z": 2}.get(str(d.axis), 0)
                 if d.limit.enabled:
@@ -161,13 +187,20 @@ def read_robot(path: str, label: str = "--usd") -> UsdRobot:
         if names[j.name] > 1:
             j.name = j.path
     if len([j for j in joints if j.kind in MOVABLE]) > MAX_JOINTS or len(bodies_all) > MAX_LINKS:
-        raise InputError(f"{label}: {path} has {len(joints)} joints and {len(bodies_all)} rigid bodies, above the "
-                         f"{MAX_JOINTS} movable joints and {MAX_LINKS} bodies kinverify compares (see docs/robustness.md)")
+        raise InputError(
+            f"{label}: {path} has {len(joints)} joints and {len(bodies_all)} rigid bodies, above the "
+            f"{MAX_JOINTS} movable joints and {MAX_LINKS} bodies kinverify compares (see docs/robustness.md)"
+        )
     robot = _tree(path, label, stage, art, bodies_all, [j for j in joints if j.kind != "distance"], world)
     robot.meters, robot.kilograms, robot.up, robot.absent = meters, kilograms, up, absent
-    robot.notes += [f"the stage states no {key}: USD's fallback, {value}, is used" for key, value in
-                    (("upAxis", up), ("metersPerUnit", meters)) if not stage.HasAuthoredMetadata(key)]
-    robot.authored = {b: world @ frame_matrix(np.array(bodies_all[b].position), bodies_all[b].rotation, meters) for b in robot.bodies}
+    robot.notes += [
+        f"the stage states no {key}: USD's fallback, {value}, is used"
+        for key, value in (("upAxis", up), ("metersPerUnit", meters))
+        if not stage.HasAuthoredMetadata(key)
+    ]
+    robot.authored = {
+        b: world @ frame_matrix(np.array(bodies_all[b].position), bodies_all[b].rotation, meters) for b in robot.bodies
+    }
     scenes = objects["Scene"][1]
     if scenes:
         g = np.array(scenes[0].gravityDirection, dtype=float)
@@ -194,9 +227,13 @@ def _tree(path, label, stage, art, bodies_all: dict, joints: list[UsdJoint], wor
         # the parse names, else any body a joint holds
         children = {j.body1 for j in tree_joints}
         held = children | {j.body0 for j in tree_joints}
-        root = next((b for b in sorted(members) if b in held and b not in children),
-                    next((r for r in roots if r in bodies_all),
-                         next((b for b in sorted(members) if b in held), next(iter(sorted(members)), None))))
+        root = next(
+            (b for b in sorted(members) if b in held and b not in children),
+            next(
+                (r for r in roots if r in bodies_all),
+                next((b for b in sorted(members) if b in held), next(iter(sorted(members)), None)),
+            ),
+        )
     if root is None:
         raise InputError(f"{label}: {path}: articulation {art.primPath} has no rigid body")
     order, parent_joint, flipped, queue = [root], {}, set(), [root]
@@ -209,16 +246,17 @@ def _tree(path, label, stage, art, bodies_all: dict, joints: list[UsdJoint], wor
             other = j.body1 if j.body0 == body else j.body0
             used.add(id(j))
             if other in parent_joint or other == root:
-                raise InputError(f"{label}: {path}: joint {j.path} closes a loop (body {other} is reached twice); mark "
-                                 "the loop-closing joint physics:excludeFromArticulation = true")
+                raise InputError(
+                    f"{label}: {path}: joint {j.path} closes a loop (body {other} is reached twice); mark "
+                    "the loop-closing joint physics:excludeFromArticulation = true"
+                )
             parent_joint[other] = j
             if other == j.body0:
                 flipped.add(j.path)
             order.append(other)
             queue.append(other)
     extra = [j for j in to_world[1:]]
-    notes = [f"joint {j.path} also holds body {j.body1 or j.body0} to the world: not compared (the tree holds it)"
-             for j in extra]
+    notes = [f"joint {j.path} also holds body {j.body1 or j.body0} to the world: not compared (the tree holds it)" for j in extra]
     pose = np.eye(4)
     floating = not to_world
     if to_world:
@@ -230,8 +268,20 @@ def _tree(path, label, stage, art, bodies_all: dict, joints: list[UsdJoint], wor
     for b in order:
         name = b.rsplit("/", 1)[-1]
         names[b] = name if name not in names.values() else b
-    return UsdRobot(path, stage, order, names, [j for j in joints if id(j) in used or j in to_world[:1]], parent_joint,
-                    flipped, root, floating, world @ pose, {}, notes=notes)
+    return UsdRobot(
+        path,
+        stage,
+        order,
+        names,
+        [j for j in joints if id(j) in used or j in to_world[:1]],
+        parent_joint,
+        flipped,
+        root,
+        floating,
+        world @ pose,
+        {},
+        notes=notes,
+    )
 
 
 def motion(kind: str, axis: int, q: np.ndarray) -> np.ndarray:
@@ -270,8 +320,7 @@ def _sites(stage, robot: UsdRobot, world: np.ndarray) -> dict[str, tuple[str, np
     members = set(robot.bodies)
     for prim in stage.Traverse():
         site = any("SiteAPI" in s for s in applied_schemas(prim))
-        if not site and (prim.GetTypeName() != "Xform" or str(prim.GetPath()) in members
-                         or prim.HasAPI(UsdPhysics.RigidBodyAPI)):
+        if not site and (prim.GetTypeName() != "Xform" or str(prim.GetPath()) in members or prim.HasAPI(UsdPhysics.RigidBodyAPI)):
             continue
         body = prim.GetParent()
         while body and body.IsValid() and str(body.GetPath()) not in members:

@@ -38,10 +38,10 @@ class YourdfpyBackend(BackendBase):
         self.joint_names, self.frames = tuple(joint_names), tuple(frames)
         self.floating = has_base(self.joint_names)
         actuated = list(robot.actuated_joint_names)
-        for joint in self.joint_names[6 if self.floating else 0:]:
+        for joint in self.joint_names[6 if self.floating else 0 :]:
             if joint not in actuated:
                 raise UnknownNameError("joint", joint, actuated)
-        self._order = [actuated.index(j) for j in self.joint_names[6 if self.floating else 0:]]
+        self._order = [actuated.index(j) for j in self.joint_names[6 if self.floating else 0 :]]
         links = list(robot.link_map)
         for frame in self.frames:
             if frame not in robot.link_map:

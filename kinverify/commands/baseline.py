@@ -13,7 +13,6 @@ import argparse
 from kinverify.commands import count as _count
 
 
-
 def _positive(text: str) -> float:
     try:
         value = float(text)
@@ -25,18 +24,25 @@ def _positive(text: str) -> float:
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("baseline", help="save a model's baseline (FK, Jacobians, IK, dynamics), or check a model against one",
-                       description="Save what a model computes at a fixed seeded sample set, or check that nothing moved.")
+    p = sub.add_parser(
+        "baseline",
+        help="save a model's baseline (FK, Jacobians, IK, dynamics), or check a model against one",
+        description="Save what a model computes at a fixed seeded sample set, or check that nothing moved.",
+    )
     actions = p.add_subparsers(dest="action", required=True, metavar="ACTION")
     save = actions.add_parser("save", help="write a baseline JSON", description="Write MODEL's baseline to --out.")
     save.add_argument("model", help="spec file (models/*.toml)")
     save.add_argument("--out", required=True, help="baseline file to write (JSON)")
-    save.add_argument("--samples", type=_count, default=None,
-                      help="uniform configurations after the edge configurations (default 30)")
+    save.add_argument(
+        "--samples", type=_count, default=None, help="uniform configurations after the edge configurations (default 30)"
+    )
     save.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    check = actions.add_parser("check", help="compare a model with a baseline",
-                               description="Re-evaluate MODEL at the baseline's configurations. Exit 0 when nothing "
-                               "moved beyond tolerance, 1 when something did, 2 on bad input.")
+    check = actions.add_parser(
+        "check",
+        help="compare a model with a baseline",
+        description="Re-evaluate MODEL at the baseline's configurations. Exit 0 when nothing "
+        "moved beyond tolerance, 1 when something did, 2 on bad input.",
+    )
     check.add_argument("model", help="spec file (models/*.toml)")
     check.add_argument("--baseline", required=True, help="baseline JSON written by `kinverify baseline save`")
     check.add_argument("--report", help="also write the result: HTML, or JSON if PATH ends in .json")

@@ -24,19 +24,34 @@ ACCEPTED = "kinverify-accepted.toml"
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("check", help="a quick verdict per changed model (specs, URDF/MJCF pairs): for pre-commit and CI",
-                       description="Verify each spec (.toml) with modest samples and check it against its baseline when "
-                       "one exists; verify each URDF or MJCF against its same-stem partner in file mode, or audit it alone when it has "
-                       "none (every library that reads it, compared). One line per "
-                       "model, nothing written. Exit 0 all agree, 1 a model disagrees or moved, 2 bad input.")
-    p.add_argument("files", nargs="+", metavar="FILE", help="specs (.toml), URDFs (.urdf), MJCFs (.xml), "
-                   f"{ACCEPTED} files; other files are skipped with a line")
+    p = sub.add_parser(
+        "check",
+        help="a quick verdict per changed model (specs, URDF/MJCF pairs): for pre-commit and CI",
+        description="Verify each spec (.toml) with modest samples and check it against its baseline when "
+        "one exists; verify each URDF or MJCF against its same-stem partner in file mode, or audit it alone when it has "
+        "none (every library that reads it, compared). One line per "
+        "model, nothing written. Exit 0 all agree, 1 a model disagrees or moved, 2 bad input.",
+    )
+    p.add_argument(
+        "files",
+        nargs="+",
+        metavar="FILE",
+        help=f"specs (.toml), URDFs (.urdf), MJCFs (.xml), {ACCEPTED} files; other files are skipped with a line",
+    )
     p.add_argument("--samples", type=_count, default=100, help="uniform random configurations per model (default 100)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--suites", default=DEFAULT_SUITES, help=f"comma-separated property suites to run (default {DEFAULT_SUITES}; "
-                   "'all' for every suite, as kinverify verify runs)")
-    p.add_argument("--baselines", metavar="DIR", help="folder of baselines named <spec stem>.json (default: baselines/ "
-                   "beside the spec, else baselines/ in the current folder)")
+    p.add_argument(
+        "--suites",
+        default=DEFAULT_SUITES,
+        help=f"comma-separated property suites to run (default {DEFAULT_SUITES}; "
+        "'all' for every suite, as kinverify verify runs)",
+    )
+    p.add_argument(
+        "--baselines",
+        metavar="DIR",
+        help="folder of baselines named <spec stem>.json (default: baselines/ "
+        "beside the spec, else baselines/ in the current folder)",
+    )
     return p
 
 
@@ -54,7 +69,9 @@ def jobs(files: list[str]) -> list[tuple[str, Path, Path | None]]:
     for name in files:
         path = Path(name)
         if path.name == ACCEPTED:
-            pairs = [("pair", u, u.with_suffix(".xml")) for u in sorted(path.parent.glob("*.urdf")) if u.with_suffix(".xml").is_file()]
+            pairs = [
+                ("pair", u, u.with_suffix(".xml")) for u in sorted(path.parent.glob("*.urdf")) if u.with_suffix(".xml").is_file()
+            ]
             out += pairs or [("skip", path, None)]
         elif path.suffix == ".toml":
             out.append(("spec", path, None))
@@ -74,8 +91,9 @@ def _first_failure(result) -> str:
     failures = result.first_failures()
     if failures:
         c = failures[0]
-        return (f"{c.property} at {c.frame} ({c.backends[0]} vs {c.backends[1]}): {c.max_error:.3g} {c.unit} "
-                f"> {c.tolerance:g}").replace("  ", " ")
+        return (
+            f"{c.property} at {c.frame} ({c.backends[0]} vs {c.backends[1]}): {c.max_error:.3g} {c.unit} > {c.tolerance:g}"
+        ).replace("  ", " ")
     if result.failing_findings:
         f = result.failing_findings[0]
         return f"{f.kind} ({f.label}): {f.message}"
@@ -107,10 +125,15 @@ def check_spec(path: Path, options, args) -> tuple[int, str]:
             line += f"; baseline {baseline}: nothing moved"
         else:
             code = max(code, 1)
-            first = f", first {moved.moved[0].property} at {moved.moved[0].frame} by {moved.moved[0].delta:.3g} " \
-                    f"{moved.moved[0].unit}" if moved.moved else ""
-            line += (f"; baseline {baseline}: {len(moved.moved)} quantities moved{first} "
-                     f"(details: kinverify baseline check {path} --baseline {baseline})")
+            first = (
+                f", first {moved.moved[0].property} at {moved.moved[0].frame} by {moved.moved[0].delta:.3g} {moved.moved[0].unit}"
+                if moved.moved
+                else ""
+            )
+            line += (
+                f"; baseline {baseline}: {len(moved.moved)} quantities moved{first} "
+                f"(details: kinverify baseline check {path} --baseline {baseline})"
+            )
     if result.exit_code:
         line += f"; details: kinverify verify {path}"
     return code, f"{STATUS[code]}: {line}"
@@ -167,8 +190,13 @@ def run(args) -> int:
             print(f"{label}: skipped (not a spec .toml, a URDF or an MJCF)", flush=True)
             continue
         try:
-            code, line = (check_spec(path, options, args) if kind == "spec" else check_pair(path, other, options) if kind == "pair"  # type: ignore[arg-type]
-                          else check_audit(path, options))
+            code, line = (
+                check_spec(path, options, args)
+                if kind == "spec"
+                else check_pair(path, other, options)  # type: ignore[arg-type]  # a pair has its other file
+                if kind == "pair"
+                else check_audit(path, options)
+            )
         except KinverifyError as err:  # the message names the file
             message = shown(" ".join(str(err).split()))
             print(f"error: {message}" if shown(path) in message else f"{label}: error: {message}", file=sys.stderr, flush=True)

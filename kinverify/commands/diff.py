@@ -13,18 +13,31 @@ import argparse
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("diff", help="parameter- and behaviour-level differences between two versions of a model",
-                       description="Compare two versions of a model: two spec files, two URDFs or two MJCFs. Exit 0 "
-                       "when they behave identically and no parameter differs, 1 when something changed, 2 on bad input.")
+    p = sub.add_parser(
+        "diff",
+        help="parameter- and behaviour-level differences between two versions of a model",
+        description="Compare two versions of a model: two spec files, two URDFs or two MJCFs. Exit 0 "
+        "when they behave identically and no parameter differs, 1 when something changed, 2 on bad input.",
+    )
     p.add_argument("old", help="old spec file (.toml), URDF or MJCF")
     p.add_argument("new", help="new file, of the same kind")
     p.add_argument("--samples", type=int, default=None, help="uniform configurations after the edges (default 200)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--report", help="HTML report path (default reports/diff-<old>-<new>.html; .json for JSON)")
-    p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
-                   help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)")
-    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
-                   help="for .xacro URDFs: a <xacro:arg> value (repeatable)")
+    p.add_argument(
+        "--package",
+        action="append",
+        default=[],
+        metavar="NAME=PATH",
+        help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)",
+    )
+    p.add_argument(
+        "--xacro-arg",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="for .xacro URDFs: a <xacro:arg> value (repeatable)",
+    )
     return p
 
 
@@ -50,8 +63,10 @@ def run(args) -> int:
     elif any(specs):
         spec, other = (args.old, args.new) if specs[0] else (args.new, args.old)
         kind = {"urdf": "a URDF", "mjcf": "an MJCF"}.get(file_kind(other) or "", "not a spec")
-        raise InputError(f"{spec} is a spec and {other} {kind}: diff compares two files of one kind "
-                         f"(generate the spec's files with `kinverify generate {spec}` to compare files)")
+        raise InputError(
+            f"{spec} is a spec and {other} {kind}: diff compares two files of one kind "
+            f"(generate the spec's files with `kinverify generate {spec}` to compare files)"
+        )
     else:
         from kinverify.filemode.read.loading import given_packages
         from kinverify.filemode.read.xacro import parse_pairs

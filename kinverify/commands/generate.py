@@ -9,10 +9,13 @@ from kinverify.text import shown
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("generate", help="write the URDF, MJCF, SDFormat and OpenUSD generated from a spec",
-                       description="Write DIR/<name>.urdf, DIR/<name>.xml (MJCF), DIR/<name>.sdf (SDFormat 1.9) and "
-                       "DIR/<name>.usda (OpenUSD with the UsdPhysics schema; only when usd-core is installed: "
-                       "pip install 'kinverify[usd]') generated from a spec file.")
+    p = sub.add_parser(
+        "generate",
+        help="write the URDF, MJCF, SDFormat and OpenUSD generated from a spec",
+        description="Write DIR/<name>.urdf, DIR/<name>.xml (MJCF), DIR/<name>.sdf (SDFormat 1.9) and "
+        "DIR/<name>.usda (OpenUSD with the UsdPhysics schema; only when usd-core is installed: "
+        "pip install 'kinverify[usd]') generated from a spec file.",
+    )
     p.add_argument("model", help="spec file (models/*.toml)")
     p.add_argument("--out", default=".", help="output directory (default: current directory)")
     return p
@@ -30,8 +33,11 @@ def run(args) -> int:
 
     spec = load_spec(args.model)
     out = Path(args.out)
-    files = [(out / f"{spec.name}.urdf", generate_urdf(spec)), (out / f"{spec.name}.xml", generate_mjcf(spec)),
-             (out / f"{spec.name}.sdf", generate_sdf(spec))]
+    files = [
+        (out / f"{spec.name}.urdf", generate_urdf(spec)),
+        (out / f"{spec.name}.xml", generate_mjcf(spec)),
+        (out / f"{spec.name}.sdf", generate_sdf(spec)),
+    ]
     usd = generate_usd_if_available(spec)
     if usd is not None:
         files.append((out / f"{spec.name}.usda", usd))

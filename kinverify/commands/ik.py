@@ -21,36 +21,62 @@ from kinverify.text import shown
 
 
 def add_parser(sub):
-    p = sub.add_parser("ik", help="solve inverse kinematics for a target or a file of targets, on a spec or any URDF",
-                       description="Solve IK with kinverify's Levenberg-Marquardt solver. On a spec MODEL with --target: "
-                       "the solutions and every other backend's FK of them (position-only unless --rpy). With --urdf "
-                       "FILE --base LINK --tip LINK (or a MODEL) and --targets FILE.npy: every target, solved together, "
-                       "with success_rate, median_ms and p99_ms (solve time per target, start-up excluded). "
-                       "Exit 0 when solved (and confirmed), 1 when a target is not reached or a backend disagrees, "
-                       "2 on bad input.")
+    p = sub.add_parser(
+        "ik",
+        help="solve inverse kinematics for a target or a file of targets, on a spec or any URDF",
+        description="Solve IK with kinverify's Levenberg-Marquardt solver. On a spec MODEL with --target: "
+        "the solutions and every other backend's FK of them (position-only unless --rpy). With --urdf "
+        "FILE --base LINK --tip LINK (or a MODEL) and --targets FILE.npy: every target, solved together, "
+        "with success_rate, median_ms and p99_ms (solve time per target, start-up excluded). "
+        "Exit 0 when solved (and confirmed), 1 when a target is not reached or a backend disagrees, "
+        "2 on bad input.",
+    )
     p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf")
     p.add_argument("--urdf", metavar="FILE", help="an existing URDF; the chain from --base to --tip is solved")
     p.add_argument("--base", metavar="LINK", help="with --urdf: the chain's base link (default: the URDF's root link)")
     p.add_argument("--tip", metavar="LINK", help="with --urdf: the chain's tip link")
-    p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
-                   help="with a .xacro --urdf: where ROS package NAME is (repeatable; $(find NAME), package://NAME)")
-    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
-                   help="with a .xacro --urdf: a <xacro:arg> value (repeatable)")
+    p.add_argument(
+        "--package",
+        action="append",
+        default=[],
+        metavar="NAME=PATH",
+        help="with a .xacro --urdf: where ROS package NAME is (repeatable; $(find NAME), package://NAME)",
+    )
+    p.add_argument(
+        "--xacro-arg",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="with a .xacro --urdf: a <xacro:arg> value (repeatable)",
+    )
     p.add_argument("--target", nargs="+", metavar="X", help="one target position X Y Z [m]")
     p.add_argument("--rpy", nargs="+", metavar="R", help="its orientation roll pitch yaw [rad] (URDF fixed-axis XYZ)")
     p.add_argument("--targets", metavar="FILE.npy", help="N×4×4 poses of the tip in the base frame [m], solved together")
-    p.add_argument("--initial", metavar="FILE.npy", help="with --targets: N×n initial guesses in chain joint order, where "
-                   "each first attempt starts (default: the stored configuration whose tip pose is nearest the target)")
+    p.add_argument(
+        "--initial",
+        metavar="FILE.npy",
+        help="with --targets: N×n initial guesses in chain joint order, where "
+        "each first attempt starts (default: the stored configuration whose tip pose is nearest the target)",
+    )
     p.add_argument("--position-only", action="store_true", help="with --targets: reach the positions only")
-    p.add_argument("--tol-pos", default="1e-6", metavar="M", help="solved (and confirmed) within this position error (default 1e-6 m)")
+    p.add_argument(
+        "--tol-pos", default="1e-6", metavar="M", help="solved (and confirmed) within this position error (default 1e-6 m)"
+    )
     p.add_argument("--tol-rot", default="1e-6", metavar="RAD", help="and this rotation error (default 1e-6 rad)")
-    p.add_argument("--per-target", action="store_true", help="with --targets: solve one target at a time on Pinocchio, each "
-                   "timed alone (default: all at once in numpy, time = batch time / N)")
+    p.add_argument(
+        "--per-target",
+        action="store_true",
+        help="with --targets: solve one target at a time on Pinocchio, each "
+        "timed alone (default: all at once in numpy, time = batch time / N)",
+    )
     p.add_argument("--json", metavar="OUT", help="with --targets (or --urdf): write per-target results and the summary")
     p.add_argument("--backend", help="spec mode: solver backend (default pinocchio-urdf for --target, analytic for --targets)")
     p.add_argument("--frame", help="spec mode: frame to place (default: the last tool frame)")
-    p.add_argument("--all-solutions", action="store_true",
-                   help=f"--target on a spec: every distinct solution from {ALL_STARTS} random starts (every closed-form branch for arm3)")
+    p.add_argument(
+        "--all-solutions",
+        action="store_true",
+        help=f"--target on a spec: every distinct solution from {ALL_STARTS} random starts (every closed-form branch for arm3)",
+    )
     p.add_argument("--seed", type=int, default=0, help="random seed for starts and restarts (default 0)")
     return p
 
@@ -92,10 +118,15 @@ def run(args) -> int:
     from kinverify.errors import InputError
 
     if bool(args.model) == bool(args.urdf):
-        raise InputError("give a spec MODEL or --urdf FILE (with --base and --tip), not both" if args.model
-                         else "give a spec MODEL (models/*.toml) or --urdf FILE --base LINK --tip LINK")
+        raise InputError(
+            "give a spec MODEL or --urdf FILE (with --base and --tip), not both"
+            if args.model
+            else "give a spec MODEL (models/*.toml) or --urdf FILE --base LINK --tip LINK"
+        )
     if bool(args.target) == bool(args.targets):
-        raise InputError("give --target X Y Z or --targets FILE.npy" if not args.target else "give --target or --targets, not both")
+        raise InputError(
+            "give --target X Y Z or --targets FILE.npy" if not args.target else "give --target or --targets, not both"
+        )
     if args.urdf and not args.tip:
         raise InputError("--urdf needs --tip LINK (and --base LINK, default the root link)")
     if not args.urdf and (args.base or args.tip or args.package or args.xacro_arg):
@@ -137,17 +168,31 @@ def _batch(args) -> int:
     # without initial guesses the first attempt starts from the best stored configuration (nearer than a random one)
     opts = IKOptions(tol_pos=args.tol_pos, tol_rot=args.tol_rot, seed=args.seed, start="given" if args.initial else "seeded")
     sol = solve_lm(model, targets, lower, upper, position_only, opts, q0=q0, batch=not args.per_target)
-    data = results_json(sol, joints, lower, upper, args.tol_pos, args.tol_rot, kinverify=__version__,
-                        command="kinverify " + " ".join(getattr(args, "argv", [])), model=where,
-                        solver=f"lm on {sol.backend}" + (" (batched)" if sol.batched else " (per target)"),
-                        initial_outside_limits=outside)
+    data = results_json(
+        sol,
+        joints,
+        lower,
+        upper,
+        args.tol_pos,
+        args.tol_rot,
+        kinverify=__version__,
+        command="kinverify " + " ".join(getattr(args, "argv", [])),
+        model=where,
+        solver=f"lm on {sol.backend}" + (" (batched)" if sol.batched else " (per target)"),
+        initial_outside_limits=outside,
+    )
     kind = "position" if position_only else "full-pose"
     how = "batched: batch time / N" if sol.batched else "per target"
-    print(f"{shown(where)}: {len(targets)} {kind} target(s), {n} joints; {data['solver']}"
-          + (f"; {outside} initial guess(es) outside the limits were moved onto them" if outside else ""))
-    print(f"success_rate {100 * data['success_rate']:.2f} % ({data['solved']}/{data['targets']} within {args.tol_pos:g} m"
-          + ("" if position_only else f" / {args.tol_rot:g} rad") + f")  median_ms {data['median_ms']:.4g}  "
-          f"p99_ms {data['p99_ms']:.4g}  (solve time per target, {how})")
+    print(
+        f"{shown(where)}: {len(targets)} {kind} target(s), {n} joints; {data['solver']}"
+        + (f"; {outside} initial guess(es) outside the limits were moved onto them" if outside else "")
+    )
+    print(
+        f"success_rate {100 * data['success_rate']:.2f} % ({data['solved']}/{data['targets']} within {args.tol_pos:g} m"
+        + ("" if position_only else f" / {args.tol_rot:g} rad")
+        + f")  median_ms {data['median_ms']:.4g}  "
+        f"p99_ms {data['p99_ms']:.4g}  (solve time per target, {how})"
+    )
     if len(targets) == 1 and sol.solved(args.tol_pos, args.tol_rot)[0]:
         print(f"q = [{', '.join(f'{x:.9g}' for x in sol.q[0])}]")
     if args.json:
@@ -198,8 +243,10 @@ def _batch_model(args):
             from kinverify.ik.chain import root_link
 
             if args.base and args.base != root_link(root, args.urdf):
-                raise InputError(f"--per-target solves on Pinocchio, which places frames in the root link; --base {args.base} "
-                                 "is not the root (drop --per-target to solve the chain in numpy)")
+                raise InputError(
+                    f"--per-target solves on Pinocchio, which places frames in the root link; --base {args.base} "
+                    "is not the root (drop --per-target to solve the chain in numpy)"
+                )
             batched = FrameModel.from_chain(chain, "urdf", args.tip)
             model = FrameModel(PinocchioBackend.from_urdf(text, chain.names, [args.tip]), args.tip, batched.revolute)
             model.seed_model = batched

@@ -24,8 +24,9 @@ def spec_model(args, default: str):
 
     spec = load_spec(args.model)
     if spec.floating:
-        raise InputError(f"{args.model}: the base floats, so moving it reaches every target; IK is not run for "
-                         "floating-base models")
+        raise InputError(
+            f"{args.model}: the base floats, so moving it reaches every target; IK is not run for floating-base models"
+        )
     sources = ModelSources.from_spec(spec)
     frame = args.frame or sources.frames[-1]
     if frame not in sources.frames:
@@ -33,7 +34,9 @@ def spec_model(args, default: str):
     name = args.backend or default
     solver = build_backend(name, sources)
     if not solver.jacobian_method:
-        with_jacobians = [n for n, info in available_backends().items() if info.available and info.backend_class.jacobian_method == "analytic"]
+        with_jacobians = [
+            n for n, info in available_backends().items() if info.available and info.backend_class.jacobian_method == "analytic"
+        ]
         raise InputError(f"backend {name!r} has no Jacobian; choose one of: {', '.join(with_jacobians)}")
     model = FrameModel(solver, frame, sources.revolute)
     if model.chain is None:  # restart seeds from the spec's chain (any FK of the frame gives usable seeds)
@@ -60,8 +63,11 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
     opts = IKOptions(seed=args.seed, start="given" if args.all_solutions else "seeded")
     sol = solve_lm(model, np.repeat(target[None], starts, axis=0), lower, upper, position_only, opts)
     kind = "position" if position_only else "pose"
-    print(f"{shown(spec.name)}: {kind} target for {shown(frame)}: xyz = {_fmt(xyz)} m" + (f", rpy = {_fmt(rpy)} rad" if rpy else "")
-          + f"; solver lm on {name}")
+    print(
+        f"{shown(spec.name)}: {kind} target for {shown(frame)}: xyz = {_fmt(xyz)} m"
+        + (f", rpy = {_fmt(rpy)} rad" if rpy else "")
+        + f"; solver lm on {name}"
+    )
     closed = None
     if position_only:
         try:
@@ -72,18 +78,23 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
     ok = sol.solved(tol_pos, tol_rot)
     if not ok.any():
         k = int(np.argmin(sol.pos_error + sol.rot_error))
-        print(f"unreachable: not solved within the budget ({int(sol.restarts[k]) + 1} starts); closest approach "
-              f"{sol.pos_error[k]:.3e} m" + ("" if position_only else f", {sol.rot_error[k]:.3e} rad")
-              + f" at q = {_fmt(sol.q[k])}")
+        print(
+            f"unreachable: not solved within the budget ({int(sol.restarts[k]) + 1} starts); closest approach "
+            f"{sol.pos_error[k]:.3e} m" + ("" if position_only else f", {sol.rot_error[k]:.3e} rad") + f" at q = {_fmt(sol.q[k])}"
+        )
         if closed is not None:
             res = closed.solve(xyz)
-            print(f"closed form: {'reachable' if res.reachable else 'unreachable'}, closest approach {res.closest_distance:.3e} m")
+            print(
+                f"closed form: {'reachable' if res.reachable else 'unreachable'}, closest approach {res.closest_distance:.3e} m"
+            )
         return 1
     solutions = _distinct(sol.q[ok], sources.revolute)
     for i, q in enumerate(solutions):  # the answer first: the confirming libraries take seconds to import
         pos, rot = residuals(model.poses(q[None]), target[None], position_only)
-        print(f"solution {i + 1}: q = {_fmt(q)} rad  residual {pos[0]:.2e} m" + ("" if position_only else f", {rot[0]:.2e} rad"),
-              flush=True)
+        print(
+            f"solution {i + 1}: q = {_fmt(q)} rad  residual {pos[0]:.2e} m" + ("" if position_only else f", {rot[0]:.2e} rad"),
+            flush=True,
+        )
     others = [b for b in build_backends(sources) if b.name != name and frame in b.frames]
     all_confirmed = True
     for i, q in enumerate(solutions):
@@ -95,7 +106,10 @@ def solve_one(args, xyz: list[float], rpy: list[float]) -> int:
             e_pos, e_rot = residuals(p, target[None], position_only or not other.has_rotation)
             agrees = e_pos[0] <= tol_pos and e_rot[0] <= tol_rot
             (confirmed if agrees else disagree).append(f"{other.name} ({max(e_pos[0], e_rot[0]):.1e})")
-        print(f"solution {i + 1} confirmed by: {', '.join(confirmed) or 'none'}" + (f"; DISAGREE: {', '.join(disagree)}" if disagree else ""))
+        print(
+            f"solution {i + 1} confirmed by: {', '.join(confirmed) or 'none'}"
+            + (f"; DISAGREE: {', '.join(disagree)}" if disagree else "")
+        )
         all_confirmed &= not disagree
     if closed is not None and args.all_solutions:
         res = closed.solve(xyz)

@@ -25,25 +25,54 @@ def _positive(text: str) -> float:
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("map", help="the sim-to-sim contract: joint and actuator orders, index maps, gains per radian",
-                       description="Read two or more robot files (URDF/xacro, MJCF, SDFormat, OpenUSD) and print the order each "
-                       "file's simulator gives the joints and actuators, the index maps between every two files "
-                       "(to = from[index]) and, side by side per radian, the default pose, PD gains, effort and velocity "
-                       "limits, armature, friction, drives and couplings. Exit 0 they agree, 1 they differ, 2 bad input.")
-    p.add_argument("files", nargs="+", metavar="FILE", help="URDF (.urdf, .xacro), MJCF (.xml, .mjcf), "
-                   "SDFormat (.sdf) or OpenUSD (.usd, .usda, .usdc) files")
-    p.add_argument("--keyframe", metavar="NAME", help="the MJCF keyframe that is the default pose, in every MJCF given "
-                   "(default: qpos0, the joints' ref)")
-    p.add_argument("--actuators", metavar="TABLE", help="an Isaac Lab-style actuator table (YAML or TOML: joint-name regex -> "
-                   "stiffness, damping, effort_limit, velocity_limit, armature, friction; per radian unless units = "
-                   "\"degree\"), compared as one more side")
-    p.add_argument("--rtol", type=_positive, default=1e-3, help="relative tolerance of gains, limits, armature and "
-                   "friction (default 1e-3; default positions agree within 1e-4 rad or m)")
+    p = sub.add_parser(
+        "map",
+        help="the sim-to-sim contract: joint and actuator orders, index maps, gains per radian",
+        description="Read two or more robot files (URDF/xacro, MJCF, SDFormat, OpenUSD) and print the order each "
+        "file's simulator gives the joints and actuators, the index maps between every two files "
+        "(to = from[index]) and, side by side per radian, the default pose, PD gains, effort and velocity "
+        "limits, armature, friction, drives and couplings. Exit 0 they agree, 1 they differ, 2 bad input.",
+    )
+    p.add_argument(
+        "files",
+        nargs="+",
+        metavar="FILE",
+        help="URDF (.urdf, .xacro), MJCF (.xml, .mjcf), SDFormat (.sdf) or OpenUSD (.usd, .usda, .usdc) files",
+    )
+    p.add_argument(
+        "--keyframe",
+        metavar="NAME",
+        help="the MJCF keyframe that is the default pose, in every MJCF given (default: qpos0, the joints' ref)",
+    )
+    p.add_argument(
+        "--actuators",
+        metavar="TABLE",
+        help="an Isaac Lab-style actuator table (YAML or TOML: joint-name regex -> "
+        "stiffness, damping, effort_limit, velocity_limit, armature, friction; per radian unless units = "
+        '"degree"), compared as one more side',
+    )
+    p.add_argument(
+        "--rtol",
+        type=_positive,
+        default=1e-3,
+        help="relative tolerance of gains, limits, armature and "
+        "friction (default 1e-3; default positions agree within 1e-4 rad or m)",
+    )
     p.add_argument("--json", metavar="OUT", help="write the orders, maps, values and findings as JSON")
-    p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
-                   help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)")
-    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
-                   help="for .xacro URDFs: a <xacro:arg> value (repeatable)")
+    p.add_argument(
+        "--package",
+        action="append",
+        default=[],
+        metavar="NAME=PATH",
+        help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)",
+    )
+    p.add_argument(
+        "--xacro-arg",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="for .xacro URDFs: a <xacro:arg> value (repeatable)",
+    )
     return p
 
 

@@ -16,56 +16,127 @@ from kinverify.commands import count as _count
 from kinverify.errors import InputError
 
 
-
 def add_parser(sub) -> argparse.ArgumentParser:
-    p = sub.add_parser("verify", help="cross-validate all backends on a spec, a URDF against an MJCF, or one file's readers",
-                       description="Generate URDF and MJCF from MODEL (or read two or more of --urdf, --mjcf, --sdf and "
-                       "--usd), load them in every available backend and compare every property against the analytic "
-                       "reference. With one file alone: a one-file audit, every library that reads that file compared "
-                       "with the others (a USD: what it states and leaves unset). "
-                       "Exit 0 when all agree, 1 when a check fails, 2 on bad input.")
+    p = sub.add_parser(
+        "verify",
+        help="cross-validate all backends on a spec, a URDF against an MJCF, or one file's readers",
+        description="Generate URDF and MJCF from MODEL (or read two or more of --urdf, --mjcf, --sdf and "
+        "--usd), load them in every available backend and compare every property against the analytic "
+        "reference. With one file alone: a one-file audit, every library that reads that file compared "
+        "with the others (a USD: what it states and leaves unset). "
+        "Exit 0 when all agree, 1 when a check fails, 2 on bad input.",
+    )
     p.add_argument("model", nargs="?", help="spec file (models/*.toml); omit with --urdf/--mjcf")
     p.add_argument("--urdf", help="file mode: an existing URDF (or .xacro); alone: audit it with every library reading URDF")
-    p.add_argument("--mjcf", help="file mode: an existing MJCF; alone: audit it with MuJoCo, Pinocchio's and Drake's MJCF parsers")
-    p.add_argument("--sdf", help="file mode: an existing SDFormat file, against --urdf or --mjcf or both (read by Drake: "
-                   "needs kinverify[drake]); alone: Drake's reading of it")
-    p.add_argument("--usd", help="file mode: an existing OpenUSD robot (.usd, .usda, .usdc), against --urdf, --mjcf or --sdf, "
-                   "or several (read by usd-core: needs kinverify[usd]); alone: what the file states and leaves unset")
-    p.add_argument("--package", action="append", default=[], metavar="NAME=PATH",
-                   help="where ROS package NAME is (repeatable): resolves package://NAME and xacro's $(find NAME)")
-    p.add_argument("--xacro-arg", action="append", default=[], metavar="NAME=VALUE",
-                   help="a xacro <xacro:arg> value for a .xacro --urdf (repeatable)")
+    p.add_argument(
+        "--mjcf", help="file mode: an existing MJCF; alone: audit it with MuJoCo, Pinocchio's and Drake's MJCF parsers"
+    )
+    p.add_argument(
+        "--sdf",
+        help="file mode: an existing SDFormat file, against --urdf or --mjcf or both (read by Drake: "
+        "needs kinverify[drake]); alone: Drake's reading of it",
+    )
+    p.add_argument(
+        "--usd",
+        help="file mode: an existing OpenUSD robot (.usd, .usda, .usdc), against --urdf, --mjcf or --sdf, "
+        "or several (read by usd-core: needs kinverify[usd]); alone: what the file states and leaves unset",
+    )
+    p.add_argument(
+        "--package",
+        action="append",
+        default=[],
+        metavar="NAME=PATH",
+        help="where ROS package NAME is (repeatable): resolves package://NAME and xacro's $(find NAME)",
+    )
+    p.add_argument(
+        "--xacro-arg",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a xacro <xacro:arg> value for a .xacro --urdf (repeatable)",
+    )
     p.add_argument("--frames", nargs="*", default=[], metavar="URDF_FRAME=MJCF_FRAME", help="file mode: frame pairs to compare")
     p.add_argument("--joints", nargs="*", default=[], metavar="URDF_JOINT=MJCF_JOINT", help="file mode: joint pairs")
-    p.add_argument("--accept", metavar="FILE", help="file mode: reviewed accepted differences (TOML; default: "
-                   "kinverify-accepted.toml beside the URDF when present); accepted findings pass, new or changed ones fail")
-    p.add_argument("--write-accepted", metavar="FILE", help="file mode: write this run's error findings to FILE as accepted "
-                   "differences, to review (see docs/file-mode.md)")
-    p.add_argument("--samples", type=_count, default=1000, help="uniform random configurations (default 1000), plus edge configurations")
+    p.add_argument(
+        "--accept",
+        metavar="FILE",
+        help="file mode: reviewed accepted differences (TOML; default: "
+        "kinverify-accepted.toml beside the URDF when present); accepted findings pass, new or changed ones fail",
+    )
+    p.add_argument(
+        "--write-accepted",
+        metavar="FILE",
+        help="file mode: write this run's error findings to FILE as accepted differences, to review (see docs/file-mode.md)",
+    )
+    p.add_argument(
+        "--samples", type=_count, default=1000, help="uniform random configurations (default 1000), plus edge configurations"
+    )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--backends", help="comma-separated backend names (default: all available)")
-    p.add_argument("--ik-targets", type=_count, default=None, help="random reachable IK targets per solver (default: the IK suite's)")
-    p.add_argument("--skip", action="append", default=[], metavar="SUITE", help="skip a property suite (repeatable), e.g. --skip ik")
-    p.add_argument("--tolerance", action="append", default=[], metavar="PROPERTY=VALUE",
-                   help="override a property's tolerance or goal (repeatable), e.g. --tolerance fk.position=1e-12; "
-                        "every property name in the JSON is accepted")
-    p.add_argument("--gate", action="append", default=[], metavar="PROPERTY[=GOAL]",
-                   help="make a performance property (ik.failure_rate, tracking.*) decide the verdict, at its default goal "
-                        "or GOAL (repeatable); by default only agreement between the models does")
+    p.add_argument(
+        "--ik-targets", type=_count, default=None, help="random reachable IK targets per solver (default: the IK suite's)"
+    )
+    p.add_argument(
+        "--skip", action="append", default=[], metavar="SUITE", help="skip a property suite (repeatable), e.g. --skip ik"
+    )
+    p.add_argument(
+        "--tolerance",
+        action="append",
+        default=[],
+        metavar="PROPERTY=VALUE",
+        help="override a property's tolerance or goal (repeatable), e.g. --tolerance fk.position=1e-12; "
+        "every property name in the JSON is accepted",
+    )
+    p.add_argument(
+        "--gate",
+        action="append",
+        default=[],
+        metavar="PROPERTY[=GOAL]",
+        help="make a performance property (ik.failure_rate, tracking.*) decide the verdict, at its default goal "
+        "or GOAL (repeatable); by default only agreement between the models does",
+    )
     p.add_argument("--report", help="HTML report path (default reports/<model>.html)")
     p.add_argument("--json", help="JSON results path (default reports/<model>.json)")
-    p.add_argument("--junit", metavar="PATH", help="also write JUnit XML: one test case per property and backend pair "
-                   "(and per file-mode finding), for CI systems")
+    p.add_argument(
+        "--junit",
+        metavar="PATH",
+        help="also write JUnit XML: one test case per property and backend pair (and per file-mode finding), for CI systems",
+    )
     p.add_argument("--quiet", action="store_true", help="print only the verdict line")
-    p.add_argument("--profile", action="store_true", help="print one line of wall and CPU time per suite and for the report "
-                   "(the JSON always holds them: timings, cpu_timings)")
+    p.add_argument(
+        "--profile",
+        action="store_true",
+        help="print one line of wall and CPU time per suite and for the report "
+        "(the JSON always holds them: timings, cpu_timings)",
+    )
     # performance and scale
-    p.add_argument("--jobs", type=_count, default=1, help="worker processes for the chunks (default 1); results are identical for any N")
-    p.add_argument("--executor", choices=["local", "dask"], default="local", help="run chunks here (local) or on dask.distributed (needs kinverify[dask])")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="with --executor dask: an existing scheduler (default: a LocalCluster of --jobs workers)")
-    p.add_argument("--chunk", type=_count, default=2000, help="configurations per chunk (default 2000); memory is bounded by the chunk, not --samples")
-    p.add_argument("--slow-samples", type=_count, default=2_000, help="slow backends (yourdfpy) compare only the first this many "
-                   "configurations (default 2000), their finite-difference Jacobians only as many as 300 FK evaluations allow")
+    p.add_argument(
+        "--jobs", type=_count, default=1, help="worker processes for the chunks (default 1); results are identical for any N"
+    )
+    p.add_argument(
+        "--executor",
+        choices=["local", "dask"],
+        default="local",
+        help="run chunks here (local) or on dask.distributed (needs kinverify[dask])",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="with --executor dask: an existing scheduler (default: a LocalCluster of --jobs workers)",
+    )
+    p.add_argument(
+        "--chunk",
+        type=_count,
+        default=2000,
+        help="configurations per chunk (default 2000); memory is bounded by the chunk, not --samples",
+    )
+    p.add_argument(
+        "--slow-samples",
+        type=_count,
+        default=2_000,
+        help="slow backends (yourdfpy) compare only the first this many "
+        "configurations (default 2000), their finite-difference Jacobians only as many as 300 FK evaluations allow",
+    )
     return p
 
 
@@ -121,11 +192,20 @@ def options_from_args(args):
         raise InputError("--chunk must be >= 1")
     if not [n for n in names if n not in args.skip]:
         raise InputError("--skip: every suite is skipped, so nothing would be compared (drop a --skip)")
-    return VerifyOptions(samples=args.samples, seed=args.seed, extra=extra, tolerances=tolerances, gates=gates,
-                         backends=args.backends.split(",") if args.backends else None,
-                         suites=[n for n in names if n not in args.skip],
-                         jobs=args.jobs, executor=args.executor, scheduler=args.scheduler, chunk=args.chunk,
-                         slow_samples=args.slow_samples)
+    return VerifyOptions(
+        samples=args.samples,
+        seed=args.seed,
+        extra=extra,
+        tolerances=tolerances,
+        gates=gates,
+        backends=args.backends.split(",") if args.backends else None,
+        suites=[n for n in names if n not in args.skip],
+        jobs=args.jobs,
+        executor=args.executor,
+        scheduler=args.scheduler,
+        chunk=args.chunk,
+        slow_samples=args.slow_samples,
+    )
 
 
 def profile_line(result, report_s: float, total_s: float) -> str:
@@ -133,7 +213,9 @@ def profile_line(result, report_s: float, total_s: float) -> str:
     suite (CPU of this process and its renderers/workers in brackets), writing JSON + HTML, and the
     whole command from the end of argument parsing."""
     cpu = result.cpu_timings
-    parts = [f"{name} {wall:.2f} s" + (f" (cpu {cpu[name]:.2f} s)" if name in cpu else "") for name, wall in result.timings.items()]
+    parts = [
+        f"{name} {wall:.2f} s" + (f" (cpu {cpu[name]:.2f} s)" if name in cpu else "") for name, wall in result.timings.items()
+    ]
     return f"profile: {', '.join(parts)}; report {report_s:.2f} s; total {total_s:.2f} s"
 
 
@@ -142,11 +224,16 @@ def _audit(args, options, console, command: str, packages: dict, xacro_args: dic
     from kinverify.filemode.audit import audit_file
     from kinverify.report.progress import VerifyProgress
 
-    for flag, given in (("--frames", args.frames), ("--joints", args.joints), ("--accept", args.accept),
-                        ("--write-accepted", args.write_accepted)):
+    for flag, given in (
+        ("--frames", args.frames),
+        ("--joints", args.joints),
+        ("--accept", args.accept),
+        ("--write-accepted", args.write_accepted),
+    ):
         if given:
-            raise InputError(f"{flag} pairs two files: give two of --urdf, --mjcf, --sdf and --usd, or drop {flag} for a "
-                             "one-file audit")
+            raise InputError(
+                f"{flag} pairs two files: give two of --urdf, --mjcf, --sdf and --usd, or drop {flag} for a one-file audit"
+            )
     if not args.urdf and (packages or xacro_args):
         raise InputError("--package and --xacro-arg go with --urdf")
     kind, path = next((k, p) for k, p in (("urdf", args.urdf), ("mjcf", args.mjcf), ("sdf", args.sdf), ("usd", args.usd)) if p)
@@ -166,7 +253,9 @@ def _needs_drake() -> None:
 
     info = backend_info("drake-sdf")
     if not info.available:
-        raise InputError(f"--sdf: SDFormat is read by Drake, which is not installed: pip install 'kinverify[drake]' ({info.reason})")
+        raise InputError(
+            f"--sdf: SDFormat is read by Drake, which is not installed: pip install 'kinverify[drake]' ({info.reason})"
+        )
 
 
 def _needs_usd() -> None:
@@ -175,7 +264,9 @@ def _needs_usd() -> None:
 
     info = backend_info("usd")
     if not info.available:
-        raise InputError(f"--usd: OpenUSD is read by usd-core, which is not installed: pip install 'kinverify[usd]' ({info.reason})")
+        raise InputError(
+            f"--usd: OpenUSD is read by usd-core, which is not installed: pip install 'kinverify[usd]' ({info.reason})"
+        )
 
 
 def run(args) -> int:
@@ -221,18 +312,31 @@ def run(args) -> int:
                     options.on_progress = bar.advance
                     if len(files) >= 3:
                         if args.frames or args.joints or args.write_accepted:
-                            raise InputError("--frames, --joints and --write-accepted pair two files: give two of --urdf, "
-                                             "--mjcf, --sdf and --usd")
-                        result = verify_three(args.urdf, args.mjcf, args.sdf, options, command=command, accept=args.accept,
-                                              usd=args.usd)
+                            raise InputError(
+                                "--frames, --joints and --write-accepted pair two files: give two of --urdf, "
+                                "--mjcf, --sdf and --usd"
+                            )
+                        result = verify_three(
+                            args.urdf, args.mjcf, args.sdf, options, command=command, accept=args.accept, usd=args.usd
+                        )
                     else:
                         (kind_a, a), (kind_b, b) = sides(args.urdf, args.mjcf, args.sdf, args.usd)
-                        result = verify_files(a, b, options, frames=args.frames, joints=args.joints, command=command,
-                                              accept=args.accept, write_accepted=args.write_accepted, kinds=(kind_a, kind_b))
+                        result = verify_files(
+                            a,
+                            b,
+                            options,
+                            frames=args.frames,
+                            joints=args.joints,
+                            command=command,
+                            accept=args.accept,
+                            write_accepted=args.write_accepted,
+                            kinds=(kind_a, kind_b),
+                        )
     else:
         if not args.model:
-            raise InputError("give a spec MODEL (models/*.toml), or --urdf, --mjcf, --sdf, --usd (one to audit, two or more to "
-                             "compare)")
+            raise InputError(
+                "give a spec MODEL (models/*.toml), or --urdf, --mjcf, --sdf, --usd (one to audit, two or more to compare)"
+            )
         if args.accept or args.write_accepted:
             raise InputError("--accept and --write-accepted are for file mode (--urdf and --mjcf)")
         if args.package or args.xacro_arg:
@@ -246,9 +350,11 @@ def run(args) -> int:
             options.on_progress = bar.advance
             result = verify_spec(spec, options, source=str(args.model), command=command, progress=bar.suite)
     if not (result.checks or result.findings or result.internal_errors):
-        raise InputError(f"{result.source}: nothing was compared (no check and no finding with these options: "
-                         f"--skip {', --skip '.join(args.skip) or '(none)'}, --backends {args.backends or 'all'}); "
-                         "no report written")
+        raise InputError(
+            f"{result.source}: nothing was compared (no check and no finding with these options: "
+            f"--skip {', --skip '.join(args.skip) or '(none)'}, --backends {args.backends or 'all'}); "
+            "no report written"
+        )
     if not args.quiet:
         print_result(result, console)
     from kinverify.io.plan import claim_outputs, default_output
@@ -265,14 +371,19 @@ def run(args) -> int:
         written.append(f"junit: {markup(write_atomic(args.junit, junit_xml(result)))}")
     outputs = "  ".join(written)
     if args.quiet:  # one line, whatever the terminal's width
-        console.print(f"{markup(result.model)}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
-                      f"{len(result.failing_findings)} error findings); {outputs}", soft_wrap=True)
+        console.print(
+            f"{markup(result.model)}: {result.verdict} ({len(result.failed)} of {len(result.checks)} checks failed, "
+            f"{len(result.failing_findings)} error findings); {outputs}",
+            soft_wrap=True,
+        )
     else:  # paths are never broken: one line, or one line each when that is too wide
         wide = cell_len(Text.from_markup(outputs, emoji=False).plain) > console.width
         console.print("\n".join(written) if wide else outputs, soft_wrap=True, highlight=False)
     if args.profile:
         console.print(profile_line(result, time.perf_counter() - t_report, time.perf_counter() - t_run), highlight=False)
     for err in result.internal_errors:
-        console.print(f"[bold red]internal error[/] (a kinverify bug, not a property of the model; please report it "
-                      f"with the JSON): {markup(err)}")
+        console.print(
+            f"[bold red]internal error[/] (a kinverify bug, not a property of the model; please report it "
+            f"with the JSON): {markup(err)}"
+        )
     return result.exit_code

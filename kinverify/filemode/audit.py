@@ -53,9 +53,16 @@ AUDIT_SUITES = ("kinematics", "dynamics")  # dynamics: Pinocchio against MuJoCo 
 CHECK_SAMPLES = 64  # configurations (after the edges) each library is first compared on, to name elements
 SIDE = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF", "usd": "USD"}
 ELEMENT = {"urdf": "link", "mjcf": "body", "sdf": "link", "usd": "body"}
-SLOTS = {"urdf": ("urdf", "mjcf"), "mjcf": ("urdf", "mjcf"), "sdf": ("sdf", "mjcf"), "usd": ("usd", "mjcf")}  # build_backends' sides
-ONLY_READER = ("Drake is the only library here that reads SDFormat: this audit is Drake's reading alone, its FK and "
-               "Jacobians checked against finite differences of its own FK; no other library's reading to compare it with")
+SLOTS = {
+    "urdf": ("urdf", "mjcf"),
+    "mjcf": ("urdf", "mjcf"),
+    "sdf": ("sdf", "mjcf"),
+    "usd": ("usd", "mjcf"),
+}  # build_backends' sides
+ONLY_READER = (
+    "Drake is the only library here that reads SDFormat: this audit is Drake's reading alone, its FK and "
+    "Jacobians checked against finite differences of its own FK; no other library's reading to compare it with"
+)
 
 
 def _describe(kind: str, loaded, findings: list):
@@ -67,20 +74,28 @@ def _describe(kind: str, loaded, findings: list):
         try:
             return loaded.text, describe_sdf(loaded.text), sdf_free_bodies(loaded.text)
         except (RuntimeError, ValueError) as err:
-            raise InputError(f"--sdf: Drake, the only reader of SDFormat, cannot load {loaded.path}: {library_reason(err)}") from None
+            raise InputError(
+                f"--sdf: Drake, the only reader of SDFormat, cannot load {loaded.path}: {library_reason(err)}"
+            ) from None
     if kind == "mjcf":
         text, free = fix_free_bases(loaded.text)
         try:
             return text, describe_mjcf(text), free
         except ValueError as err:
-            raise InputError(f"--mjcf: MuJoCo, the reference reader of MJCF, cannot load {loaded.path}: "
-                             f"{library_reason(err)}") from None
+            raise InputError(
+                f"--mjcf: MuJoCo, the reference reader of MJCF, cannot load {loaded.path}: {library_reason(err)}"
+            ) from None
     text = prepare_urdf(loaded.text)
     try:
         return text, describe_urdf(loaded.text), []
     except (ValueError, RuntimeError) as err:  # described through MuJoCo's URDF import instead
-        findings.append(finding("parser_refused", f"pinocchio-urdf refuses the URDF: {library_reason(err)}",
-                                {"file": "URDF", "backend": "pinocchio-urdf"}))
+        findings.append(
+            finding(
+                "parser_refused",
+                f"pinocchio-urdf refuses the URDF: {library_reason(err)}",
+                {"file": "URDF", "backend": "pinocchio-urdf"},
+            )
+        )
 
     try:
         desc = describe_mjcf(urdf_for_mujoco(text))
@@ -106,34 +121,64 @@ def _first_element(kind: str, desc, ref, other, q: np.ndarray, tol: tuple[float,
         return None
     k = min(bad, key=lambda i: (desc.frame_depth.get(common[i], 0), i))
     frame = common[k]
-    return dict(frame=frame, joint=desc.frame_owner.get(frame), position_m=float(pos[k]), rotation_rad=float(rot[k]),
-                at_zero=bool(pos0[k] > tol[0] or rot0[k] > tol[1]), frames=[common[i] for i in bad],
-                element="site" if desc.frame_kind.get(frame) == "site" else ELEMENT[kind])
+    return dict(
+        frame=frame,
+        joint=desc.frame_owner.get(frame),
+        position_m=float(pos[k]),
+        rotation_rad=float(rot[k]),
+        at_zero=bool(pos0[k] > tol[0] or rot0[k] > tol[1]),
+        frames=[common[i] for i in bad],
+        element="site" if desc.frame_kind.get(frame) == "site" else ELEMENT[kind],
+    )
 
 
 def _disagreement(kind: str, ref: str, name: str, where: dict, agree=()):
     """One error finding per library that reads the file differently, naming its first element and,
     with three readings or more, the libraries that agree with each other (``agree``)."""
-    how = ("placed elsewhere at q = 0" if where["at_zero"] else
-           f"placed alike at q = 0, apart once {where['joint'] or 'the joints'} moves")
+    how = (
+        "placed elsewhere at q = 0"
+        if where["at_zero"]
+        else f"placed alike at q = 0, apart once {where['joint'] or 'the joints'} moves"
+    )
     more = len(where["frames"]) - 1
-    message = (f"{name} reads the {SIDE[kind]}'s {where['element']} {where['frame']} differently from {ref}: {how}, up to "
-               f"{where['position_m']:.3g} m, {where['rotation_rad']:.3g} rad"
-               + (f" ({more} frame{'s' if more > 1 else ''} below it differ with it)" if more > 0 else "")
-               + (f"; {' and '.join([', '.join(agree[:-1]), agree[-1]] if len(agree) > 2 else agree)} agree with each other, "
-                  f"{name} stands apart" if len(agree) > 1 else ""))
-    values = {"file": SIDE[kind], "backends": [ref, name], "backend": name, "agree": list(agree), **{k: where[k] for k in
-              ("joint", "position_m", "rotation_rad", "at_zero", "frames")}}
+    message = (
+        f"{name} reads the {SIDE[kind]}'s {where['element']} {where['frame']} differently from {ref}: {how}, up to "
+        f"{where['position_m']:.3g} m, {where['rotation_rad']:.3g} rad"
+        + (f" ({more} frame{'s' if more > 1 else ''} below it differ with it)" if more > 0 else "")
+        + (
+            f"; {' and '.join([', '.join(agree[:-1]), agree[-1]] if len(agree) > 2 else agree)} agree with each other, "
+            f"{name} stands apart"
+            if len(agree) > 1
+            else ""
+        )
+    )
+    values = {
+        "file": SIDE[kind],
+        "backends": [ref, name],
+        "backend": name,
+        "agree": list(agree),
+        **{k: where[k] for k in ("joint", "position_m", "rotation_rad", "at_zero", "frames")},
+    }
     names = {"frame": where["frame"]} if where["element"] == "site" else {"link": where["frame"]}
-    return finding("parser_disagreement", message, values, magnitude=max(where["position_m"], where["rotation_rad"]),
-                   unit="m|rad", prop="fk.position", severity="error", **names)
+    return finding(
+        "parser_disagreement",
+        message,
+        values,
+        magnitude=max(where["position_m"], where["rotation_rad"]),
+        unit="m|rad",
+        prop="fk.position",
+        severity="error",
+        **names,
+    )
 
 
 def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference: str, rows, findings, notes):
 
     compared = {r[1].split(" vs ")[-1]: r for r in rows}
     refused = {f.values.get("backend") for f in findings if f.kind == "parser_refused" and "elements" not in f.values}
-    ignores = {f.values.get("backend"): f.values["elements"] for f in findings if f.kind == "parser_refused" and "elements" in f.values}
+    ignores = {
+        f.values.get("backend"): f.values["elements"] for f in findings if f.kind == "parser_refused" and "elements" in f.values
+    }
     quirks = {f.values.get("backends", ["", ""])[1] for f in findings if f.kind == "parser_quirk"}
     differ = {f.values.get("backend") for f in findings if f.kind == "parser_disagreement"}
     table = []
@@ -158,10 +203,12 @@ def _section(kind: str, path: str, wanted, backends: dict, kept: dict, reference
         row = compared.get(name)
         table.append([name, status, "" if row is None else f"{row[2]:.3g}", "" if row is None else f"{row[3]:.3g}"])
     readers = [n for n in kept if n in backends]
-    section = Section(f"One-file audit: every library reading the {SIDE[kind]}",
-                      f"{path} read by {len(readers)} librar{'y' if len(readers) == 1 else 'ies'} "
-                      f"({', '.join(readers)}); reference {reference}; "
-                      f"{sum(f.fails for f in findings)} disagreement(s).")
+    section = Section(
+        f"One-file audit: every library reading the {SIDE[kind]}",
+        f"{path} read by {len(readers)} librar{'y' if len(readers) == 1 else 'ies'} "
+        f"({', '.join(readers)}); reference {reference}; "
+        f"{sum(f.fails for f in findings)} disagreement(s).",
+    )
     section.table("Libraries", ["library", "reading", f"max position vs {reference} [m]", "max rotation [rad]"], table)
     section.notes += notes
     return section
@@ -184,8 +231,9 @@ def _dynamics(result, kind: str, text: str, top, sources, al, opts, kept: dict, 
     try:
         q = Samples(sources.lower, sources.upper, sources.revolute, max(opts.samples, 1), opts.seed)
         n = int(opts.extra.get("dynamics_samples", 100))
-        every = dataclasses.replace(sources, joint_names=tuple(j.urdf for j in al.joints),
-                                    revolute=tuple(j.type == "revolute" for j in al.joints))
+        every = dataclasses.replace(
+            sources, joint_names=tuple(j.urdf for j in al.joints), revolute=tuple(j.type == "revolute" for j in al.joints)
+        )
         out = suite.run(VerifyContext(every, {}, al.expand(np.asarray(q[:n])), opts))
     except KinverifyError as err:  # e.g. joints held at neutral: the models have more coordinates than compared
         notes.append(f"dynamics not compared: {err}")
@@ -208,17 +256,25 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
     readers = names_reading(kind)
     wanted = [n for n in (options.backends or readers) if n in readers]
     if not wanted:
-        raise InputError(f"--backends: a one-file audit of a {SIDE[kind]} compares {', '.join(readers)}; got "
-                         f"{', '.join(options.backends or [])}")
+        raise InputError(
+            f"--backends: a one-file audit of a {SIDE[kind]} compares {', '.join(readers)}; got "
+            f"{', '.join(options.backends or [])}"
+        )
     findings: list = []
     loaded: Any  # a LoadedFile, or (a USD) a namespace of its fields and the articulation read
     if kind == "usd":
         loaded, robot = load_usd(path)
-        loaded = SimpleNamespace(**{f: getattr(loaded, f) for f in ("path", "kind", "original", "text", "name", "warnings")},
-                                 robot=robot)
+        loaded = SimpleNamespace(
+            **{f: getattr(loaded, f) for f in ("path", "kind", "original", "text", "name", "warnings")}, robot=robot
+        )
     else:
-        loaded = (load_urdf(path, keep_meshes=False, packages=packages, xacro_args=xacro_args) if kind == "urdf"
-                  else load_sdf(path) if kind == "sdf" else load_mjcf(path, keep_meshes=False))
+        loaded = (
+            load_urdf(path, keep_meshes=False, packages=packages, xacro_args=xacro_args)
+            if kind == "urdf"
+            else load_sdf(path)
+            if kind == "sdf"
+            else load_mjcf(path, keep_meshes=False)
+        )
     text, desc, free = _describe(kind, loaded, findings)
     if not desc.joints:
         raise InputError(f"--{kind}: {path} has no movable 1-DOF joints (hinge or slide) to compare")
@@ -246,25 +302,44 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
         findings.append(_disagreement(kind, reference, name, where, f.values.get("agree", ())))
         kept[name] = backends[name]  # compared in the kinematics suite too: its checks show the size per frame
     if reference is None:
-        raise InputError(f"--{kind}: no library can read {path}: "
-                         + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
+        raise InputError(
+            f"--{kind}: no library can read {path}: " + "; ".join(f.message for f in findings if f.kind == "parser_refused")
+        )
     if kind in ("sdf", "usd"):
         notes.insert(0, ONLY_READER if kind == "sdf" else USD_ONLY)
     if free:
-        findings.append(finding("floating_base", f"the {SIDE[kind]}'s free base ({', '.join(free)}) is held at the identity pose: "
-                                "the libraries' readings of everything below it are compared", {"file": SIDE[kind], "bodies": free}))
+        findings.append(
+            finding(
+                "floating_base",
+                f"the {SIDE[kind]}'s free base ({', '.join(free)}) is held at the identity pose: "
+                "the libraries' readings of everything below it are compared",
+                {"file": SIDE[kind], "bodies": free},
+            )
+        )
     frames = tuple(a for a, _, _ in matching.frames)
-    sources = ModelSources(loaded.name, tuple(al.independent), frames, tuple(lower), tuple(upper), tuple(revolute),
-                           urdf=text if kind == "urdf" else None, mjcf=text if kind == "mjcf" else None,
-                           sdf=text if kind == "sdf" else None, usd=text if kind == "usd" else None,
-                           mjcf_joint_names=tuple(al.independent) if kind == "mjcf" else None,
-                           mjcf_frames=frames if kind == "mjcf" else None)
+    sources = ModelSources(
+        loaded.name,
+        tuple(al.independent),
+        frames,
+        tuple(lower),
+        tuple(upper),
+        tuple(revolute),
+        urdf=text if kind == "urdf" else None,
+        mjcf=text if kind == "mjcf" else None,
+        sdf=text if kind == "sdf" else None,
+        usd=text if kind == "usd" else None,
+        mjcf_joint_names=tuple(al.independent) if kind == "mjcf" else None,
+        mjcf_frames=frames if kind == "mjcf" else None,
+    )
     suites = [s for s in AUDIT_SUITES if options.suites is None or s in options.suites]
     opts = dataclasses.replace(options, reference=reference, backends=[reference], suites=[s for s in suites if s != "dynamics"])
     result = verify(sources, opts, extra_backends=list(kept.values()), source=str(path), command=command)
     if "dynamics" in suites and kind in ("sdf", "usd"):
-        notes.append("dynamics not compared: Drake is the only reader of SDFormat" if kind == "sdf" else
-                     "dynamics not compared: usd-core reads the USD's kinematics and inertials, no USD dynamics library is here")
+        notes.append(
+            "dynamics not compared: Drake is the only reader of SDFormat"
+            if kind == "sdf"
+            else "dynamics not compared: usd-core reads the USD's kinematics and inertials, no USD dynamics library is here"
+        )
     elif "dynamics" in suites:
         quirk = top if any(f.kind == "parser_quirk" for f in findings) else None
         _dynamics(result, kind, text, quirk, sources, al, opts, kept, notes, desc, scale)

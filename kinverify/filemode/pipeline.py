@@ -82,9 +82,19 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     lower, upper, revolute = sample_ranges(u, matching.independent)
     q = sample_configurations(lower, upper, revolute, ALIGN_SAMPLES, seed=options.seed, edges=False)
     al, poses = run_alignment(u, m, matching, urdf_text, mjcf_text, library, fl, q, internal, base_fixes_frame=base.floating)
-    info = FileModeInfo(u, m, matching, al, fl, precision, bool(free), *zero_poses(poses, al),
-                        frozenset(options.tolerances), mjcf_angle=mjcf_angle_unit(M.original) if kinds[1] == "mjcf" else "radian",
-                        base_coordinates=base.floating)
+    info = FileModeInfo(
+        u,
+        m,
+        matching,
+        al,
+        fl,
+        precision,
+        bool(free),
+        *zero_poses(poses, al),
+        frozenset(options.tolerances),
+        mjcf_angle=mjcf_angle_unit(M.original) if kinds[1] == "mjcf" else "radian",
+        base_coordinates=base.floating,
+    )
     if not base.floating:  # a world transform that only stands for the first joints' own change: not taken
         info = _guarded(internal, "attribution", lambda: unmoved_world(info, poses, q), info)
     al = info.alignment
@@ -96,15 +106,17 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     al.attribution = _guarded(internal, "attribution", lambda: attribute(info), {})
     compared = [a for a, _, _ in matching.frames]
     if base.kind:
-        findings.append(finding(base.kind, base.message, {"urdf": base.urdf.kind, "urdf_root": base.urdf.root,
-                                                          "mjcf_free_bodies": free}))
+        findings.append(
+            finding(base.kind, base.message, {"urdf": base.urdf.kind, "urdf_root": base.urdf.root, "mjcf_free_bodies": free})
+        )
     frame_kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
     units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
     info.inertials_explained_by = units[0].kind if units else ""
     aligned = units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol), [])
     moved = {fr for f in aligned if f.severity == "error" for fr in f.values.get("frames", [])}  # said there already
     findings += units or base_findings(aligned, base) + _guarded(
-        internal, "frame conventions", lambda: convention_findings(al, frame_kinds, tol, moved), [])
+        internal, "frame conventions", lambda: convention_findings(al, frame_kinds, tol, moved), []
+    )
     findings += twins
     if kinds == URDF_MJCF:  # an SDFormat file's inertials are Drake's to validate (it refuses a non-physical one)
         findings += _guarded(internal, "inertial validation", lambda: validate_inertials(U, M), [])
@@ -114,18 +126,26 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     if base.floating:  # the libraries' readings cross-checked at random base poses too
         q = np.concatenate([base_samples(len(q), options.seed), q], axis=1)
     backends, parser, parser_rows = _guarded(
-        internal, "parser cross-check",
+        internal,
+        "parser cross-check",
         lambda: cross_check(backends, q, worst, al.T, top_level_pose(mjcf_text) if kinds[1] == "mjcf" else None, rebuild_mjcf),
-        (backends, [], []))
+        (backends, [], []),
+    )
     findings += parser
     findings += _guarded(internal, "couplings", lambda: coupling_findings(u, m, matching, al), [])
     ref = next((n for n in _readers(kinds[0]) if n in backends), None)
     other = next((n for n in _readers(kinds[1]) if n in backends), None)
     if ref is None or other is None:
-        raise InputError(f"no library could read the {LABELS[kinds[0]] if ref is None else LABELS[kinds[1]]}: "
-                         + "; ".join(f.message for f in findings if f.kind == "parser_refused"))
-    notes = (list(U.warnings + M.warnings) + [f"{LABELS[kinds[0]]}: {s}" for s in u.skipped]
-             + [f"{LABELS[kinds[1]]}: {s}" for s in m.skipped] + info.notes)
+        raise InputError(
+            f"no library could read the {LABELS[kinds[0]] if ref is None else LABELS[kinds[1]]}: "
+            + "; ".join(f.message for f in findings if f.kind == "parser_refused")
+        )
+    notes = (
+        list(U.warnings + M.warnings)
+        + [f"{LABELS[kinds[0]]}: {s}" for s in u.skipped]
+        + [f"{LABELS[kinds[1]]}: {s}" for s in m.skipped]
+        + info.notes
+    )
     notes.append(f"written precision: {precision[0].describe()}; {precision[1].describe()}")
     if base.floating:
         urdf_text, mjcf_text = texts
@@ -135,9 +155,24 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
         base_lo[4], base_up[4] = base_lo[4] + PITCH_MARGIN, base_up[4] - PITCH_MARGIN
         lower, upper = [*base_lo, *lower], [*base_up, *upper]
         revolute = [*BASE_REVOLUTE, *revolute]
-    return dict(urdf=U, mjcf=M, urdf_text=urdf_text, mjcf_text=mjcf_text, info=info, matching=matching, alignment=al,
-                backends=backends, reference=ref, findings=findings, notes=notes, parser_rows=parser_rows,
-                internal=internal, lower=lower, upper=upper, revolute=revolute)
+    return dict(
+        urdf=U,
+        mjcf=M,
+        urdf_text=urdf_text,
+        mjcf_text=mjcf_text,
+        info=info,
+        matching=matching,
+        alignment=al,
+        backends=backends,
+        reference=ref,
+        findings=findings,
+        notes=notes,
+        parser_rows=parser_rows,
+        internal=internal,
+        lower=lower,
+        upper=upper,
+        revolute=revolute,
+    )
 
 
 def _precision(kind: str, loaded, desc) -> Precision:
@@ -168,8 +203,9 @@ def _guarded(internal: list, what: str, fn, default):
         return default
 
 
-def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), command: str = "", accept=None,
-                 write_accepted=None, kinds=URDF_MJCF):
+def verify_files(
+    urdf: str, mjcf: str, options=None, frames=(), joints=(), command: str = "", accept=None, write_accepted=None, kinds=URDF_MJCF
+):
     """File mode of ``kinverify verify``: the suites on the aligned files and the findings, as a
     VerifyResult. ``accept``: an accepted-differences TOML file (default: ``kinverify-accepted.toml``
     beside the URDF, when present); ``write_accepted``: write this run's error findings there.
@@ -187,28 +223,49 @@ def verify_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), comma
     name = M.name if M.name == U.name else f"{U.name}-vs-{M.name}"
     base = BASE_COORDINATES if info.base_coordinates else ()
     texts = {"urdf": None, "mjcf": None, "sdf": None, "usd": None, kinds[0]: diag["urdf_text"], kinds[1]: diag["mjcf_text"]}
-    second: dict[str, Any] = dict(joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent),
-                  frames=tuple(b for _, b, _ in matching.frames))  # the second file's own names
-    sources = ModelSources(name, base + tuple(al.independent), tuple(a for a, _, _ in matching.frames), tuple(diag["lower"]),
-                           tuple(diag["upper"]), tuple(diag["revolute"]), urdf=texts["urdf"], mjcf=texts["mjcf"], sdf=texts["sdf"],
-                           usd=texts["usd"],
-                           **{f"{kinds[1]}_{k}": v for k, v in second.items()})
+    second: dict[str, Any] = dict(
+        joint_names=base + tuple(matching.mjcf_name(a) for a in al.independent), frames=tuple(b for _, b, _ in matching.frames)
+    )  # the second file's own names
+    sources = ModelSources(
+        name,
+        base + tuple(al.independent),
+        tuple(a for a, _, _ in matching.frames),
+        tuple(diag["lower"]),
+        tuple(diag["upper"]),
+        tuple(diag["revolute"]),
+        urdf=texts["urdf"],
+        mjcf=texts["mjcf"],
+        sdf=texts["sdf"],
+        usd=texts["usd"],
+        **{f"{kinds[1]}_{k}": v for k, v in second.items()},
+    )
     suites = FILE_SUITES if kinds == URDF_MJCF else SDF_SUITES
     selected = [s for s in suites if options.suites is None or s in options.suites]
-    opts = dataclasses.replace(options, reference=diag["reference"], backends=[diag["reference"]],
-                               suites=[s for s in selected if s != "dynamics"], extra={**options.extra, "filemode": info})
+    opts = dataclasses.replace(
+        options,
+        reference=diag["reference"],
+        backends=[diag["reference"]],
+        suites=[s for s in selected if s != "dynamics"],
+        extra={**options.extra, "filemode": info},
+    )
     result = verify(sources, opts, extra_backends=list(diag["backends"].values()), source=f"{urdf} + {mjcf}", command=command)
     result.internal_errors = diag["internal"] + result.internal_errors
 
-    _guarded(result.internal_errors, "findings",
-             lambda: finish(result, diag, sources, opts, "dynamics" in selected, entries, write_accepted, urdf), None)
+    _guarded(
+        result.internal_errors,
+        "findings",
+        lambda: finish(result, diag, sources, opts, "dynamics" in selected, entries, write_accepted, urdf),
+        None,
+    )
     if kinds != URDF_MJCF:
         relabel(result, kinds)
         result.model_info["files"] = {kinds[0]: urdf, kinds[1]: mjcf}
         for kind in [k for k in kinds if k in ("sdf", "usd")]:
             reader = "Drake" if kind == "sdf" else "usd-core (pxr)"
-            result.notes.append(f"{LABELS[kind]}: read by {reader}, its only reader here; compared: kinematics, limits and "
-                                "inertials (dynamics and the drawings need Pinocchio and MuJoCo on both files)")
+            result.notes.append(
+                f"{LABELS[kind]}: read by {reader}, its only reader here; compared: kinematics, limits and "
+                "inertials (dynamics and the drawings need Pinocchio and MuJoCo on both files)"
+            )
     add_map(result, [urdf, mjcf])  # after relabel: the map names each file's format itself
     result.duration_s = time.perf_counter() - t0
     return result
@@ -249,17 +306,23 @@ def relabel(result, kinds) -> None:
         return value
 
     result.findings = [dataclasses.replace(f, message=text(f.message), values=text(f.values)) for f in result.findings]
-    result.checks = [dataclasses.replace(c, backends=tuple(words.get(b, b) if b in ("urdf", "mjcf") else b for b in c.backends),
-                                         note=text(c.note)) for c in result.checks]
+    result.checks = [
+        dataclasses.replace(
+            c, backends=tuple(words.get(b, b) if b in ("urdf", "mjcf") else b for b in c.backends), note=text(c.note)
+        )
+        for c in result.checks
+    ]
     for section in result.sections.values():
         section.title, section.summary, section.notes = text(section.title), text(section.summary), text(section.notes)
-        section.tables = [dataclasses.replace(t, title=text(t.title), columns=text(t.columns), rows=text(t.rows))
-                          for t in section.tables]
+        section.tables = [
+            dataclasses.replace(t, title=text(t.title), columns=text(t.columns), rows=text(t.rows)) for t in section.tables
+        ]
     result.notes = text(result.notes)
 
 
-def verify_three(urdf: str | None, mjcf: str | None, sdf: str | None, options=None, command: str = "", accept=None,
-                 usd: str | None = None):
+def verify_three(
+    urdf: str | None, mjcf: str | None, sdf: str | None, options=None, command: str = "", accept=None, usd: str | None = None
+):
     """Three or four files at once (of ``--urdf``, ``--mjcf``, ``--sdf`` and ``--usd``): the first of
     URDF, SDFormat and USD given against each other file, one result (each further pair's findings,
     checks and sections added, its sections under ``sdf:`` / ``usd:`` keys; the MJCF's pair first).
@@ -267,8 +330,9 @@ def verify_three(urdf: str | None, mjcf: str | None, sdf: str | None, options=No
     given = [(k, p) for k, p in (("urdf", urdf), ("sdf", sdf), ("usd", usd), ("mjcf", mjcf)) if p]
     anchor, others = given[0], given[1:]
     others = sorted(others, key=lambda o: o[0] != "mjcf")
-    results = [verify_files(anchor[1], path, options, command=command, accept=accept, kinds=(anchor[0], kind))
-               for kind, path in others]
+    results = [
+        verify_files(anchor[1], path, options, command=command, accept=accept, kinds=(anchor[0], kind)) for kind, path in others
+    ]
     first = results[0]
     for (kind, _), second in zip(others[1:], results[1:], strict=True):
         first.findings += second.findings
@@ -287,6 +351,17 @@ def verify_three(urdf: str | None, mjcf: str | None, sdf: str | None, options=No
 def _failed(urdf: str, mjcf: str, options, internal: list[str], command: str, kinds=URDF_MJCF):
     """The result of a run kinverify itself could not complete (verdict ``error``, exit 3)."""
 
-    return VerifyResult(model=f"{Path(urdf).stem}-vs-{Path(mjcf).stem}", source=f"{urdf} + {mjcf}", seed=options.seed,
-                        samples=0, joint_names=[], frames=[], backends=[], checks=[], versions=library_versions(),
-                        command=command, internal_errors=internal, model_info={"files": {kinds[0]: urdf, kinds[1]: mjcf}})
+    return VerifyResult(
+        model=f"{Path(urdf).stem}-vs-{Path(mjcf).stem}",
+        source=f"{urdf} + {mjcf}",
+        seed=options.seed,
+        samples=0,
+        joint_names=[],
+        frames=[],
+        backends=[],
+        checks=[],
+        versions=library_versions(),
+        command=command,
+        internal_errors=internal,
+        model_info={"files": {kinds[0]: urdf, kinds[1]: mjcf}},
+    )

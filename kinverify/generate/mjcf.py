@@ -54,17 +54,23 @@ def _body_contents(spec: ArmSpec, link: Link, index: int, indent: str) -> list[s
         lines.append(indent + _geom(link.name, link.geometry, colour(index)))
     for tool in spec.tools:
         if tool.parent == link.name:
-            lines.append(f'{indent}<site name={attr(tool.name)} {_placement(tool.origin.xyz, tool.origin.rpy)} size="0.01" rgba="1 0 0 1"/>')
+            lines.append(
+                f'{indent}<site name={attr(tool.name)} {_placement(tool.origin.xyz, tool.origin.rpy)} size="0.01" rgba="1 0 0 1"/>'
+            )
     return lines
 
 
 def _actuator(joint, kind: str, gains: dict | None) -> str:
     lim = joint.limits
     if kind == "motor":
-        return f'<motor name={attr(joint.name + "_motor")} joint={attr(joint.name)} ctrlrange="{nums([-lim.effort, lim.effort])}"/>'
+        return (
+            f'<motor name={attr(joint.name + "_motor")} joint={attr(joint.name)} ctrlrange="{nums([-lim.effort, lim.effort])}"/>'
+        )
     kp, kv = (gains or {}).get(joint.name, (100.0, 20.0))
-    return (f'<position name={attr(joint.name + "_position")} joint={attr(joint.name)} kp="{nums([kp])}" kv="{nums([kv])}" '
-            f'ctrlrange="{nums([lim.lower, lim.upper])}" forcerange="{nums([-lim.effort, lim.effort])}"/>')
+    return (
+        f'<position name={attr(joint.name + "_position")} joint={attr(joint.name)} kp="{nums([kp])}" kv="{nums([kv])}" '
+        f'ctrlrange="{nums([lim.lower, lim.upper])}" forcerange="{nums([-lim.effort, lim.effort])}"/>'
+    )
 
 
 def _child_bodies(spec: ArmSpec, link: int, indent: str) -> list[str]:
@@ -86,8 +92,7 @@ def _child_bodies(spec: ArmSpec, link: int, indent: str) -> list[str]:
     return out
 
 
-def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict | None = None,
-                  target=None) -> str:
+def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict | None = None, target=None) -> str:
     """The MJCF of ``spec`` as text; the same arguments always give the same bytes.
 
     Args:
@@ -114,13 +119,17 @@ def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict 
     base_z = spec.base_origin.xyz[2]
     if base_z > 0.05:
         x, y = spec.base_origin.xyz[:2]
-        out.append(f'    <geom name="tabletop" type="box" pos="{nums([x, y, base_z - 0.02])}" size="0.6 0.4 0.02" rgba="0.6 0.4 0.2 1"/>')
+        out.append(
+            f'    <geom name="tabletop" type="box" pos="{nums([x, y, base_z - 0.02])}" size="0.6 0.4 0.02" rgba="0.6 0.4 0.2 1"/>'
+        )
     out += [
         f'    <site name="target" pos="{nums(target)}" size="0.03" rgba="0 1 0 0.5"/>',
     ]
     if spec.floating:  # a free joint belongs to a top-level body; its pose there is only qpos0
-        out += [f"    <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
-                f'      <freejoint name="{FLOATING_JOINT}"/>']
+        out += [
+            f"    <body name={attr(spec.base_link.name)} {_placement(spec.base_origin.xyz, spec.base_origin.rpy)}>",
+            f'      <freejoint name="{FLOATING_JOINT}"/>',
+        ]
         out += _body_contents(spec, spec.base_link, 0, " " * 6)
         out += _child_bodies(spec, 0, " " * 6)
         out += ["    </body>", "  </worldbody>", "  <actuator>"]
@@ -137,8 +146,8 @@ def generate_mjcf(spec: ArmSpec, actuators: str = "motor", position_gains: dict 
         out += ["      </body>", "    </body>", "  </worldbody>", "  <actuator>"]
     out += [f"    {_actuator(j, actuators, position_gains)}" for j in spec.joints]
     out += ["  </actuator>", "  <sensor>"]
-    out += [f'    <jointpos name={attr(j.name + "_pos")} joint={attr(j.name)}/>' for j in spec.joints]
-    out += [f'    <jointvel name={attr(j.name + "_vel")} joint={attr(j.name)}/>' for j in spec.joints]
+    out += [f"    <jointpos name={attr(j.name + '_pos')} joint={attr(j.name)}/>" for j in spec.joints]
+    out += [f"    <jointvel name={attr(j.name + '_vel')} joint={attr(j.name)}/>" for j in spec.joints]
     for tool in spec.tools:
         out.append(f'    <framepos name={attr(tool.name + "_pos")} objtype="site" objname={attr(tool.name)}/>')
         out.append(f'    <framequat name={attr(tool.name + "_quat")} objtype="site" objname={attr(tool.name)}/>')

@@ -52,11 +52,21 @@ def generate_urdf(spec: ArmSpec) -> str:
     """The URDF of ``spec`` as text; the same spec always gives the same bytes."""
     out = ['<?xml version="1.0"?>', f"<robot name={attr(spec.name)}>", '  <link name="world"/>']
     if spec.floating:  # the base's pose is the configuration's first six coordinates: origin at identity
-        out += [f'  <joint name="{FLOATING_JOINT}" type="floating">', '    <parent link="world"/>',
-                f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(Origin())}", "  </joint>"]
+        out += [
+            f'  <joint name="{FLOATING_JOINT}" type="floating">',
+            '    <parent link="world"/>',
+            f"    <child link={attr(spec.base_link.name)}/>",
+            f"    {_origin(Origin())}",
+            "  </joint>",
+        ]
     else:
-        out += ['  <joint name="world_to_base" type="fixed">', '    <parent link="world"/>',
-                f"    <child link={attr(spec.base_link.name)}/>", f"    {_origin(spec.base_origin)}", "  </joint>"]
+        out += [
+            '  <joint name="world_to_base" type="fixed">',
+            '    <parent link="world"/>',
+            f"    <child link={attr(spec.base_link.name)}/>",
+            f"    {_origin(spec.base_origin)}",
+            "  </joint>",
+        ]
     out += _link(spec.base_link, 0)
     for i, (joint, parent) in enumerate(zip(spec.joints, spec.parent_indices, strict=True)):
         parent_name = spec.link_names[parent]

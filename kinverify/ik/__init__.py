@@ -17,6 +17,19 @@ from kinverify.ik.seed_pinv import solve_seed_pinv
 from kinverify.ik.seeds import SeedTable
 from kinverify.ik.targets import reach_bound, reachable_targets, unreachable_targets
 
-__all__ = ["Arm3ClosedForm", "ClosedFormResult", "FrameModel", "IKOptions", "IKSolutions", "SeedTable", "SerialChain",
-           "pose_errors", "reach_bound", "reachable_targets", "residuals", "solve_lm", "solve_seed_pinv",
-           "unreachable_targets"]
+__all__ = [
+    "Arm3ClosedForm",
+    "ClosedFormResult",
+    "FrameModel",
+    "IKOptions",
+    "IKSolutions",
+    "SeedTable",
+    "SerialChain",
+    "pose_errors",
+    "reach_bound",
+    "reachable_targets",
+    "residuals",
+    "solve_lm",
+    "solve_seed_pinv",
+    "unreachable_targets",
+]

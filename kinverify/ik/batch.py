@@ -63,7 +63,7 @@ def solve_rows(fk, targets, q0, lower, upper, wrap, position_only: bool, opts, s
     n_t, n = q0.shape
     limits = _Limits(lower, upper, wrap)
     rows_e = 3 if position_only else 6
-    tp2, tr2 = opts.tol_pos ** 2, opts.tol_rot ** 2
+    tp2, tr2 = opts.tol_pos**2, opts.tol_rot**2
     q_out, seed_out = q0.copy(), q0.copy()
     succ, open_ = np.zeros(n_t, bool), np.ones(n_t, bool)
     pe_out, re_out, best_e = np.full(n_t, np.inf), np.full(n_t, np.inf), np.full(n_t, np.inf)
@@ -100,8 +100,18 @@ def solve_rows(fk, targets, q0, lower, upper, wrap, position_only: bool, opts, s
         skip = (energy[n_t:] < energy[:n_t]).astype(int)
         qT = np.where(skip.astype(bool), both[:, n_t:], qT)
         it_out += 2
-    row = _Rows(own=own, q=qT, seed=qT.copy(), cap=np.full(n_t, opts.first_attempt_iter),
-                it=np.zeros(n_t, int), ewin=np.full(n_t, np.inf), pt=pt_all, rts=rts_all, b1=b1_all, b2=b2_all)
+    row = _Rows(
+        own=own,
+        q=qT,
+        seed=qT.copy(),
+        cap=np.full(n_t, opts.first_attempt_iter),
+        it=np.zeros(n_t, int),
+        ewin=np.full(n_t, np.inf),
+        pt=pt_all,
+        rts=rts_all,
+        b1=b1_all,
+        b2=b2_all,
+    )
     while row.own.size:
         s, p, jac = fk(row.q)
         ep = row.pt - p
@@ -159,15 +169,23 @@ def solve_rows(fk, targets, q0, lower, upper, wrap, position_only: bool, opts, s
             tgt = np.flatnonzero(open_)
             if len(tgt):
                 per = min(ROWS_PER_TARGET, -(-MIN_ROWS // len(tgt)))
-                add = np.minimum(np.maximum(per - np.bincount(row.own, minlength=n_t)[tgt], 0),
-                                 opts.max_restarts - (att_out[tgt] - 1))
+                add = np.minimum(
+                    np.maximum(per - np.bincount(row.own, minlength=n_t)[tgt], 0), opts.max_restarts - (att_out[tgt] - 1)
+                )
                 if add.sum() > 0:
                     new = np.repeat(tgt, add)
                     q_new = new_points(new, att_out[new] - 1 + _cumcount(new))
                     att_out[tgt] += add
                     row.extend(new, q_new, opts, pt_all, rts_all, b1_all, b2_all)
-    return {"q": q_out, "success": succ, "pos_error": pe_out, "rot_error": re_out, "iterations": it_out,
-            "restarts": att_out - 1, "seed_q": seed_out}
+    return {
+        "q": q_out,
+        "success": succ,
+        "pos_error": pe_out,
+        "rot_error": re_out,
+        "iterations": it_out,
+        "restarts": att_out - 1,
+        "seed_q": seed_out,
+    }
 
 
 class _Limits:
@@ -232,13 +250,13 @@ def spd_solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         ld = low[j, :j] * dia[:j]
         dia[j] = a[j, j] - (ld * low[j, :j]).sum(0)
         if j < k - 1:
-            low[j + 1:, j] = (a[j + 1:, j] - (low[j + 1:, :j] * ld[None]).sum(1)) / dia[j]
+            low[j + 1 :, j] = (a[j + 1 :, j] - (low[j + 1 :, :j] * ld[None]).sum(1)) / dia[j]
     x = b.copy()
     for j in range(1, k):
         x[j] -= (low[j, :j] * x[:j]).sum(0)
     x /= dia
     for j in range(k - 2, -1, -1):
-        x[j] -= (low[j + 1:, j] * x[j + 1:]).sum(0)
+        x[j] -= (low[j + 1 :, j] * x[j + 1 :]).sum(0)
     return x
 
 
@@ -296,8 +314,17 @@ class _Rows:
 
     def extend(self, own, q, opts, pt, rts, b1, b2) -> None:
         a = len(own)
-        extra = {"own": own, "cap": np.full(a, opts.attempt_iter), "it": np.zeros(a, int),
-                 "ewin": np.full(a, np.inf), "q": q, "seed": q.copy(), "pt": pt[:, own], "rts": rts[..., own],
-                 "b1": b1[..., own], "b2": b2[..., own]}
+        extra = {
+            "own": own,
+            "cap": np.full(a, opts.attempt_iter),
+            "it": np.zeros(a, int),
+            "ewin": np.full(a, np.inf),
+            "q": q,
+            "seed": q.copy(),
+            "pt": pt[:, own],
+            "rts": rts[..., own],
+            "b1": b1[..., own],
+            "b2": b2[..., own],
+        }
         for name, value in extra.items():
             setattr(self, name, np.concatenate([getattr(self, name), value], axis=-1))

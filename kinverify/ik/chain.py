@@ -100,8 +100,9 @@ class SerialChain:
         try:
             root = DET.fromstring(urdf_text.encode(), forbid_dtd=False, forbid_entities=True, forbid_external=True)
         except defusedxml.DefusedXmlException as err:
-            raise InputError(f"{source}: unsafe XML refused ({type(err).__name__}: entities and external references "
-                             "are not read)") from None
+            raise InputError(
+                f"{source}: unsafe XML refused ({type(err).__name__}: entities and external references are not read)"
+            ) from None
         except Exception as err:  # ParseError
             raise InputError(f"{source}: not XML: {err}") from None
         if root.tag != "robot":
@@ -116,8 +117,11 @@ class SerialChain:
         joint_set = {j.get("name") for j in root.findall("joint")}
         for which, name in (("--base", base), ("--tip", tip)):
             if name not in links:
-                raise InputError(f"{which}: {source} has no link {name!r}" + (" (a joint has that name)" if name in joint_set else "")
-                                 + f"; links: {', '.join(links)}")
+                raise InputError(
+                    f"{which}: {source} has no link {name!r}"
+                    + (" (a joint has that name)" if name in joint_set else "")
+                    + f"; links: {', '.join(links)}"
+                )
         by_child = {j.find("child").get("link"): j for j in root.findall("joint") if j.find("child") is not None}
         path: list = []
         link = tip
@@ -133,8 +137,10 @@ class SerialChain:
             if kind == "fixed":
                 continue
             if kind not in ("revolute", "continuous", "prismatic"):
-                raise InputError(f"{source}: joint {j.get('name')!r} on the chain is {kind!r}; IK handles revolute, "
-                                 "continuous, prismatic and fixed joints")
+                raise InputError(
+                    f"{source}: joint {j.get('name')!r} on the chain is {kind!r}; IK handles revolute, "
+                    "continuous, prismatic and fixed joints"
+                )
             if j.find("mimic") is not None:
                 raise InputError(f"{source}: joint {j.get('name')!r} on the chain mimics another joint; not supported")
             axis = _floats(j.find("axis"), "xyz", "1 0 0", 3, source, j)

@@ -42,9 +42,13 @@ class Arm3ClosedForm:
         frame = spec.tools[-1] if tool is None else next(t for t in spec.tools if t.name == tool)
         origins = [j.origin for j in spec.joints[1:]] + [frame.origin]
         straight = all(np.allclose(o.transform[:3, :3], np.eye(3)) and np.allclose(o.transform[:2, 3], 0) for o in origins)
-        if axes != [(0, 0, 1), (0, 1, 0), (0, 1, 0)] or not straight or frame.parent != spec.joints[2].link.name \
-                or not np.allclose(spec.base_origin.transform[:3, :3], np.eye(3)) \
-                or not np.allclose(spec.joints[0].origin.transform[:3, :3], np.eye(3)):
+        if (
+            axes != [(0, 0, 1), (0, 1, 0), (0, 1, 0)]
+            or not straight
+            or frame.parent != spec.joints[2].link.name
+            or not np.allclose(spec.base_origin.transform[:3, :3], np.eye(3))
+            or not np.allclose(spec.joints[0].origin.transform[:3, :3], np.eye(3))
+        ):
             raise InputError(f"{spec.name}: closed-form IK needs the arm3 shape (yaw z, pitch y, pitch y, offsets along z)")
         base = spec.base_origin.transform @ spec.joints[0].origin.transform
         shoulder = base[:3, 3] + np.array([0.0, 0.0, spec.joints[1].origin.transform[2, 3]])
@@ -62,7 +66,7 @@ class Arm3ClosedForm:
         d = np.asarray(target, float) - self.shoulder
         rho, h = math.hypot(d[0], d[1]), d[2]
         yaw = math.atan2(d[1], d[0]) if rho > 0 else 0.0
-        cos3 = (rho * rho + h * h - self.l2 ** 2 - self.l3 ** 2) / (2 * self.l2 * self.l3)
+        cos3 = (rho * rho + h * h - self.l2**2 - self.l3**2) / (2 * self.l2 * self.l3)
         if abs(cos3) > 1.0 + 1e-12:
             return np.empty((0, 3))
         q3s = sorted({math.acos(max(-1.0, min(1.0, cos3))), -math.acos(max(-1.0, min(1.0, cos3)))})

@@ -19,9 +19,15 @@ MIN_MS = 1e-6  # a solve time of 0 (timer resolution) is drawn at this value on 
 def solver_data(sol, ok, own_ok) -> dict:
     """Plain record of one solver run: ``ok`` within the suite's tolerance, ``own_ok`` within the
     solver's own; per-target solve times in ms (4 significant digits)."""
-    return {"solver": sol.solver, "backend": sol.backend, "targets": int(len(sol)), "solved": int(np.sum(ok)),
-            "solved_own": int(np.sum(own_ok)), "batched": bool(sol.batched),
-            "time_ms": [float(f"{t:.4g}") for t in np.asarray(sol.time_s, dtype=float) * 1e3]}
+    return {
+        "solver": sol.solver,
+        "backend": sol.backend,
+        "targets": int(len(sol)),
+        "solved": int(np.sum(ok)),
+        "solved_own": int(np.sum(own_ok)),
+        "batched": bool(sol.batched),
+        "time_ms": [float(f"{t:.4g}") for t in np.asarray(sol.time_s, dtype=float) * 1e3],
+    }
 
 
 def _label(d: dict) -> str:
@@ -52,9 +58,12 @@ def success_figure(solvers: list[dict], tol_pos: float, tol_rot: float) -> Figur
         ax.grid(True, axis="x", alpha=0.3)
         ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, frameon=False)
         fig.tight_layout()
-        return figure_entry(fig, "IK success rate per solver and backend",
-                            f"share of the reachable targets solved within {tol_pos:g} m / {tol_rot:g} rad (dark: "
-                            "1 − ik.failure_rate) and within the solver's own stopping tolerance (grey)")
+        return figure_entry(
+            fig,
+            "IK success rate per solver and backend",
+            f"share of the reachable targets solved within {tol_pos:g} m / {tol_rot:g} rad (dark: "
+            "1 − ik.failure_rate) and within the solver's own stopping tolerance (grey)",
+        )
 
 
 def time_figure(solvers: list[dict]) -> Figure:
@@ -78,8 +87,14 @@ def time_figure(solvers: list[dict]) -> Figure:
             med, p95 = float(np.median(t)), float(np.percentile(t, 95))
             ax.plot([med, med], [yy - 0.35, yy + 0.35], color="#c62828", lw=1.5)
             ax.plot([p95, p95], [yy - 0.2, yy + 0.2], color="#c62828", lw=0.8)
-            ax.text(1.01, yy, f"median {med:.3g} ms" + (" (batch / N)" if d["batched"] else ""),
-                    transform=ax.get_yaxis_transform(), va="center", fontsize=6.5)
+            ax.text(
+                1.01,
+                yy,
+                f"median {med:.3g} ms" + (" (batch / N)" if d["batched"] else ""),
+                transform=ax.get_yaxis_transform(),
+                va="center",
+                fontsize=6.5,
+            )
         ax.set_yticks(y, [_label(d) for d in solvers])
         ax.set_ylim(-0.6, n - 0.4)
         ax.set_xscale("log")
@@ -89,11 +104,14 @@ def time_figure(solvers: list[dict]) -> Figure:
         ax.set_xlabel("solve time per target [ms]")
         ax.grid(True, axis="x", alpha=0.3)
         fig.tight_layout()
-        return figure_entry(fig, "IK solve time per target",
-                            "each target's solve time (dots) per solver and backend on a log axis; long red bar: median "
-                            "(value at the right), short red bar: 95th percentile. Batched solvers solve all targets in one "
-                            "call and report the batch time divided by the number of targets, so all their solves share one "
-                            "value. Timings are not asserted.")
+        return figure_entry(
+            fig,
+            "IK solve time per target",
+            "each target's solve time (dots) per solver and backend on a log axis; long red bar: median "
+            "(value at the right), short red bar: 95th percentile. Batched solvers solve all targets in one "
+            "call and report the batch time divided by the number of targets, so all their solves share one "
+            "value. Timings are not asserted.",
+        )
 
 
 def ik_figures(solvers: list[dict], tol_pos: float, tol_rot: float) -> list[Figure]:

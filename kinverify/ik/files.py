@@ -47,26 +47,32 @@ def load_targets(path: str, flag: str = "--targets") -> np.ndarray:
     if t.ndim != 3 or t.shape[1:] != (4, 4) or len(t) == 0:
         raise InputError(f"{flag}: {path} has shape {t.shape}; expected (N, 4, 4) homogeneous poses of the tip in the base frame")
     if len(t) > MAX_IK_TARGETS:
-        raise InputError(f"{flag}: {path} holds {len(t):,} targets, above the {MAX_IK_TARGETS:,} kinverify solves in one run "
-                         "(see docs/robustness.md)")
+        raise InputError(
+            f"{flag}: {path} holds {len(t):,} targets, above the {MAX_IK_TARGETS:,} kinverify solves in one run "
+            "(see docs/robustness.md)"
+        )
     bad = ~np.isfinite(t).all(axis=(1, 2))
     if bad.any():
         raise InputError(f"{flag}: {path}: target {int(np.argmax(bad))} has a non-finite value (NaN or inf)")
     far = np.abs(t[:, :3, 3]).max(axis=1) > MAX_TARGET_M
     if far.any():
-        raise InputError(f"{flag}: {path}: target {int(np.argmax(far))} is more than {MAX_TARGET_M:g} m from the base "
-                         "(see docs/robustness.md)")
+        raise InputError(
+            f"{flag}: {path}: target {int(np.argmax(far))} is more than {MAX_TARGET_M:g} m from the base (see docs/robustness.md)"
+        )
     last = np.abs(t[:, 3] - [0.0, 0.0, 0.0, 1.0]).max(axis=1) > 0
     if last.any():
-        raise InputError(f"{flag}: {path}: target {int(np.argmax(last))}'s last row is {t[np.argmax(last), 3].tolist()}, not [0, 0, 0, 1]")
+        raise InputError(
+            f"{flag}: {path}: target {int(np.argmax(last))}'s last row is {t[np.argmax(last), 3].tolist()}, not [0, 0, 0, 1]"
+        )
     rot = t[:, :3, :3]
     ortho = np.abs(np.swapaxes(rot, 1, 2) @ rot - np.eye(3)).max(axis=(1, 2))
     det = np.linalg.det(rot)
     wrong = (ortho > ROTATION_TOL) | (np.abs(det - 1.0) > ROTATION_TOL)
     if wrong.any():
         k = int(np.argmax(wrong))
-        raise InputError(f"{flag}: {path}: target {k}'s rotation block is not a rotation (|RᵀR − I| = {ortho[k]:.1e}, "
-                         f"det = {det[k]:.6g})")
+        raise InputError(
+            f"{flag}: {path}: target {k}'s rotation block is not a rotation (|RᵀR − I| = {ortho[k]:.1e}, det = {det[k]:.6g})"
+        )
     return t
 
 
@@ -76,8 +82,10 @@ def load_initial(path: str, n_targets: int, n_joints: int, flag: str = "--initia
     if q.shape == (n_joints,):
         q = np.tile(q, (n_targets, 1))
     if q.shape != (n_targets, n_joints):
-        raise InputError(f"{flag}: {path} has shape {q.shape}; expected ({n_targets}, {n_joints}): one initial guess "
-                         f"per target, one value per chain joint")
+        raise InputError(
+            f"{flag}: {path} has shape {q.shape}; expected ({n_targets}, {n_joints}): one initial guess "
+            f"per target, one value per chain joint"
+        )
     bad = ~np.isfinite(q).all(axis=1)
     if bad.any():
         raise InputError(f"{flag}: {path}: initial guess {int(np.argmax(bad))} has a non-finite value (NaN or inf)")
@@ -96,11 +104,16 @@ def results_json(sol, joints, lower, upper, tol_pos: float, tol_rot: float, **he
         "success_rate": float(ok.mean()) if len(ok) else 0.0,
         "median_ms": float(np.median(ms)) if len(ms) else 0.0,
         "p99_ms": float(np.percentile(ms, 99)) if len(ms) else 0.0,
-        "solved": int(ok.sum()), "targets": len(ok),
-        "tolerance": {"position_m": tol_pos, "rotation_rad": tol_rot}, "position_only": bool(sol.position_only),
-        "batched": bool(sol.batched), "total_solve_s": float(ms.sum() / 1e3),
+        "solved": int(ok.sum()),
+        "targets": len(ok),
+        "tolerance": {"position_m": tol_pos, "rotation_rad": tol_rot},
+        "position_only": bool(sol.position_only),
+        "batched": bool(sol.batched),
+        "total_solve_s": float(ms.sum() / 1e3),
         "setup_s": {"seed_table": float(sol.extra.get("seed_table_s", 0.0))},
-        "joints": list(joints), "lower": [_finite(x) for x in lower], "upper": [_finite(x) for x in upper],
+        "joints": list(joints),
+        "lower": [_finite(x) for x in lower],
+        "upper": [_finite(x) for x in upper],
         "results": Records(sol, ok, ms),
     }
 
@@ -118,9 +131,16 @@ class Records:
     def __iter__(self):
         sol = self.sol
         for k in range(len(self.ok)):
-            yield {"index": k, "success": bool(self.ok[k]), "q": [float(x) for x in sol.q[k]],
-                   "position_error_m": float(sol.pos_error[k]), "rotation_error_rad": float(sol.rot_error[k]),
-                   "iterations": int(sol.iterations[k]), "restarts": int(sol.restarts[k]), "time_ms": float(self.ms[k])}
+            yield {
+                "index": k,
+                "success": bool(self.ok[k]),
+                "q": [float(x) for x in sol.q[k]],
+                "position_error_m": float(sol.pos_error[k]),
+                "rotation_error_rad": float(sol.rot_error[k]),
+                "iterations": int(sol.iterations[k]),
+                "restarts": int(sol.restarts[k]),
+                "time_ms": float(self.ms[k]),
+            }
 
 
 def json_bytes(data: dict) -> bytes:

@@ -35,7 +35,9 @@ class FrameModel:
         # numpy backends evaluate a whole batch per call: solve their rows in lock-step
         self.batched = type(backend).__module__.endswith("backends.analytic")
         self.chain = None
-        if type(backend) is AnalyticBackend and not backend.spec.floating:  # the spec's chain to the frame: FK + J of that frame only
+        if (
+            type(backend) is AnalyticBackend and not backend.spec.floating
+        ):  # the spec's chain to the frame: FK + J of that frame only
             from kinverify.ik.chain import SerialChain
 
             self.chain = SerialChain.from_spec(backend.spec, frame)
@@ -80,6 +82,7 @@ class FrameModel:
         def fk(q):
             pose, jac = self(q[None])
             return pose[0, :3, :3], pose[0, :3, 3], jac[0]
+
         return fk, log3
 
     def single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -84,8 +84,16 @@ class IKSolutions:
         return (self.pos_error <= tol_pos) & (self.rot_error <= tol_rot)
 
 
-def solve_lm(model: FrameModel, targets, lower, upper, position_only: bool = False,
-             options: IKOptions | None = None, q0=None, batch: bool | None = None) -> IKSolutions:
+def solve_lm(
+    model: FrameModel,
+    targets,
+    lower,
+    upper,
+    position_only: bool = False,
+    options: IKOptions | None = None,
+    q0=None,
+    batch: bool | None = None,
+) -> IKSolutions:
     """Solve IK for ``targets`` ``(B, 4, 4)`` (position-only: only the translation is used).
 
     ``q0`` ``(B, n)``: first guesses (default uniform random inside the limits). ``batch``:
@@ -110,7 +118,9 @@ def solve_lm(model: FrameModel, targets, lower, upper, position_only: bool = Fal
         from kinverify.ik.batch import solve_chunks
 
         t0, c0 = time.perf_counter(), time.process_time()
-        out = solve_chunks(model.soa, targets, q0, lower, upper, wrap, position_only, opts, seeds, rng) if b else _empty(len(lower))
+        out = (
+            solve_chunks(model.soa, targets, q0, lower, upper, wrap, position_only, opts, seeds, rng) if b else _empty(len(lower))
+        )
         out["time_s"] = np.full(b, (time.perf_counter() - t0) / max(b, 1))
         out["cpu_s"] = np.full(b, (time.process_time() - c0) / max(b, 1))
     else:
@@ -123,8 +133,15 @@ def solve_lm(model: FrameModel, targets, lower, upper, position_only: bool = Fal
 
 
 def _empty(n: int) -> dict:
-    return {"q": np.empty((0, n)), "success": np.zeros(0, bool), "pos_error": np.empty(0), "rot_error": np.empty(0),
-            "iterations": np.zeros(0, int), "restarts": np.zeros(0, int), "seed_q": np.empty((0, n))}
+    return {
+        "q": np.empty((0, n)),
+        "success": np.zeros(0, bool),
+        "pos_error": np.empty(0),
+        "rot_error": np.empty(0),
+        "iterations": np.zeros(0, int),
+        "restarts": np.zeros(0, int),
+        "seed_q": np.empty((0, n)),
+    }
 
 
 def wrappable(lower, upper, model) -> np.ndarray:

@@ -18,8 +18,17 @@ from kinverify.ik.lm import IKSolutions
 STEP, TOL, MAX_ITER = 0.1, 1e-3, 100
 
 
-def solve_seed_pinv(model: FrameModel, targets, lower, upper, q0=None, step: float = STEP, tol: float = TOL,
-                    max_iter: int = MAX_ITER, batch: bool | None = None) -> IKSolutions:
+def solve_seed_pinv(
+    model: FrameModel,
+    targets,
+    lower,
+    upper,
+    q0=None,
+    step: float = STEP,
+    tol: float = TOL,
+    max_iter: int = MAX_ITER,
+    batch: bool | None = None,
+) -> IKSolutions:
     targets = np.asarray(targets, dtype=float).reshape(-1, 4, 4)
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
     b = len(targets)
@@ -32,8 +41,21 @@ def solve_seed_pinv(model: FrameModel, targets, lower, upper, q0=None, step: flo
         q[rows], iters[rows] = _pinv_rows(model, targets[rows], q0[rows], lower, upper, step, tol, max_iter)
         times[rows] = (time.perf_counter() - t0) / len(rows)
     pos, _ = residuals(model.poses(q) if b else np.empty((0, 4, 4)), targets, True)
-    return IKSolutions("seed-pinv", model.name, model.frame, True, q, pos < tol, pos, np.zeros(b), iters,
-                       np.zeros(b, int), times, q0, batched=batch)
+    return IKSolutions(
+        "seed-pinv",
+        model.name,
+        model.frame,
+        True,
+        q,
+        pos < tol,
+        pos,
+        np.zeros(b),
+        iters,
+        np.zeros(b, int),
+        times,
+        q0,
+        batched=batch,
+    )
 
 
 def _pinv_rows(model, targets, q, lower, upper, step, tol, max_iter):

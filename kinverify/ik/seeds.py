@@ -36,8 +36,9 @@ class SeedTable:
     long arms); memory: samples × (13 + n) floats + cells × ``pool`` indices (~3 MB for the Panda
     with the defaults: no cell holds more than ``k`` samples there, so ``pool`` = ``k``)."""
 
-    def __init__(self, fk_soa, lower, upper, samples: int = 5_000, cell: float = 0.1, k: int = 32,
-                 w_rot: float = 0.2, seed: int = 1) -> None:
+    def __init__(
+        self, fk_soa, lower, upper, samples: int = 5_000, cell: float = 0.1, k: int = 32, w_rot: float = 0.2, seed: int = 1
+    ) -> None:
         lower, upper = np.asarray(lower, float), np.asarray(upper, float)
         rng = np.random.default_rng(seed)
         qs = np.concatenate([rng.uniform(lower, upper, (samples, len(lower))), corners(lower, upper, rng)])
@@ -45,7 +46,7 @@ class SeedTable:
         rot9_parts: list[np.ndarray] = []
         pos_parts: list[np.ndarray] = []
         for a in range(0, samples, 4096):
-            s, p = fk_soa(np.ascontiguousarray(qs[a:a + 4096].T))[:2]
+            s, p = fk_soa(np.ascontiguousarray(qs[a : a + 4096].T))[:2]
             rot9_parts.append(s.transpose(2, 1, 0).reshape(-1, 9))  # row-major R per sample
             pos_parts.append(p.T)
         rot9, pos = np.concatenate(rot9_parts), np.concatenate(pos_parts)
@@ -60,7 +61,7 @@ class SeedTable:
         self.pool = max(self.k, min(fullest, MAX_TABLE // n_cells))
         self.table, distinct = self._nearest_per_cell(pos)  # (cells, pool) sample indices
         self.width = np.maximum(distinct, self.k)  # entries a query ranks per cell (repeats only below k)
-        w2 = self.w ** 2
+        w2 = self.w**2
         # feature · [R_t | p_t] (the top 3×4 block of a target, row-major) = w² R_c:R_t + p_c·p_t
         self.features = np.concatenate([w2 * rot9.reshape(-1, 3, 3), pos[:, :, None]], axis=2).reshape(-1, 12)
         self.norms = np.einsum("ij,ij->i", pos, pos) + w2 * np.einsum("ij,ij->i", rot9, rot9)
@@ -126,16 +127,16 @@ class SeedTable:
         out = np.empty((m, self.q.shape[1]))
         step = max(1, (1 << 18) // self.pool)  # targets per chunk: (chunk, pool, 12) stays small
         for a in range(0, m, step):
-            t = targets[a:a + step]
+            t = targets[a : a + step]
             cell = self.cells(t[:, :3, 3])
             idx = self.table[cell]  # (chunk, pool)
             d = self.norms[idx] - 2.0 * np.einsum("mkj,mj->mk", self.features[idx], t[:, :3, :].reshape(len(t), 12))
             rows = np.arange(len(t))
             if self.pool > self.k:  # the k best of the distinct entries, then their order
                 d[np.arange(self.pool)[None] >= self.width[cell][:, None]] = np.inf
-                top = np.argpartition(d, self.k - 1, axis=1)[:, :self.k]
+                top = np.argpartition(d, self.k - 1, axis=1)[:, : self.k]
                 idx, d = np.take_along_axis(idx, top, 1), np.take_along_axis(d, top, 1)
-            out[a:a + step] = self.q[idx[rows, np.argsort(d, axis=1)[rows, r[a:a + step]]]]
+            out[a : a + step] = self.q[idx[rows, np.argsort(d, axis=1)[rows, r[a : a + step]]]]
         return out
 
     def ranked(self, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -146,10 +147,10 @@ class SeedTable:
         iy = min(max(int((target[1, 3] - o[1]) / cell), 0), d[1] - 1)
         iz = min(max(int((target[2, 3] - o[2]) / cell), 0), d[2] - 1)
         c = (ix * d[1] + iy) * d[2] + iz
-        idx = self.table[c, :self.width[c]]
+        idx = self.table[c, : self.width[c]]
         dist = self.norms[idx] - 2.0 * self.features[idx].dot(target[:3].reshape(12))
         if len(idx) > self.k:
-            top = np.argpartition(dist, self.k - 1)[:self.k]
+            top = np.argpartition(dist, self.k - 1)[: self.k]
             idx, dist = idx[top], dist[top]
         return self.q[idx], dist.argsort()
 
@@ -158,8 +159,8 @@ def corners(lower, upper, rng) -> np.ndarray:
     """Configurations with every joint on a limit: all ``2ⁿ`` up to ``MAX_CORNERS``, else that many
     drawn at random."""
     n = len(lower)
-    if 2 ** n <= MAX_CORNERS:
-        on_upper = (np.arange(2 ** n)[:, None] >> np.arange(n)[None]) & 1
+    if 2**n <= MAX_CORNERS:
+        on_upper = (np.arange(2**n)[:, None] >> np.arange(n)[None]) & 1
     else:
         on_upper = rng.integers(0, 2, (MAX_CORNERS, n))
     return np.where(on_upper == 1, upper, lower)

@@ -53,17 +53,25 @@ def solve_each(fk, log3, targets, q0, lower, upper, wrap, position_only: bool, o
         d = pt - pos
         return d.dot(d) + (0.0 if position_only else float(np.sum(log3(rt.dot(rot.T)) ** 2)))
 
-    tp2, tr2 = opts.tol_pos ** 2, opts.tol_rot ** 2
+    tp2, tr2 = opts.tol_pos**2, opts.tol_rot**2
     mu, w_n, clamp_below, max_eval = opts.mu, opts.w_n, opts.clamp_below, opts.max_evaluations
     sw, sr = opts.stall_window, opts.stall_ratio
     m = 3 if position_only else 6
     a, e = np.empty((m, m)), np.empty(m)
-    diagonal = a.reshape(-1)[::m + 1]  # views: λ is added in place, the error written in place
+    diagonal = a.reshape(-1)[:: m + 1]  # views: λ is added in place, the error written in place
     ep, er = e[:3], e[3:]
     subtract, minimum, maximum = np.subtract, np.minimum, np.maximum
-    out = {"q": np.empty((n_t, n)), "success": np.zeros(n_t, bool), "pos_error": np.empty(n_t), "rot_error": np.empty(n_t),
-           "iterations": np.zeros(n_t, int), "restarts": np.zeros(n_t, int), "time_s": np.empty(n_t), "seed_q": np.empty((n_t, n)),
-           "cpu_s": np.empty(n_t)}
+    out = {
+        "q": np.empty((n_t, n)),
+        "success": np.zeros(n_t, bool),
+        "pos_error": np.empty(n_t),
+        "rot_error": np.empty(n_t),
+        "iterations": np.zeros(n_t, int),
+        "restarts": np.zeros(n_t, int),
+        "time_s": np.empty(n_t),
+        "seed_q": np.empty((n_t, n)),
+        "cpu_s": np.empty(n_t),
+    }
     clock, cpu = time.perf_counter, time.process_time
     for k in range(n_t):
         t0, c0 = clock(), cpu()
@@ -155,6 +163,7 @@ def _spd_solver(m: int):
             def solve(a, b):
                 compute(a)
                 return llt_solve(b)
+
             return solve
         except ImportError:  # pragma: no cover - eigenpy ships with pin
             pass

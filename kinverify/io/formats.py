@@ -85,8 +85,9 @@ def xml_parse(data: bytes, path, label: str = "", limit: int = MAX_XML_DEPTH) ->
     depth = 0
     root = None
     try:
-        for event, element in DET.iterparse(io.BytesIO(data), events=("start", "end"), forbid_dtd=False,
-                                            forbid_entities=True, forbid_external=True):
+        for event, element in DET.iterparse(
+            io.BytesIO(data), events=("start", "end"), forbid_dtd=False, forbid_entities=True, forbid_external=True
+        ):
             if event == "start":
                 depth += 1
                 if root is None:
@@ -96,8 +97,9 @@ def xml_parse(data: bytes, path, label: str = "", limit: int = MAX_XML_DEPTH) ->
             else:
                 depth -= 1
     except defusedxml.EntitiesForbidden:
-        raise InputFileError(path, "declares XML entities (external entities and entity expansion are refused for "
-                             "safety; remove the DTD)", label) from None
+        raise InputFileError(
+            path, "declares XML entities (external entities and entity expansion are refused for safety; remove the DTD)", label
+        ) from None
     except (defusedxml.DTDForbidden, defusedxml.ExternalReferenceForbidden, defusedxml.NotSupportedError) as err:
         raise InputFileError(path, f"is unsafe XML, refused ({type(err).__name__})", label) from None
     except ET.ParseError as err:

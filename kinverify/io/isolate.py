@@ -118,7 +118,7 @@ def _child(fn, out_w: int, err_w: int, closing, ceiling: int, seconds: float) ->
             data = pickle.dumps(("raised", ChildRaised(f"{type(result[1]).__name__}: {result[1]}")))
         view = memoryview(data)
         while view:
-            view = view[os.write(out_w, view):]
+            view = view[os.write(out_w, view) :]
     except BaseException:
         code = 70
     finally:
@@ -156,8 +156,11 @@ def _outcome(status: int, data: bytes, said: bytes, memory: int, seconds: float)
     words = last_words(said)
     if os.WIFSIGNALED(status):
         sig = os.WTERMSIG(status)
-        what = f"ran longer than {seconds:g} s of CPU (stopped)" if sig == signal.SIGXCPU \
+        what = (
+            f"ran longer than {seconds:g} s of CPU (stopped)"
+            if sig == signal.SIGXCPU
             else f"was killed by {signal.Signals(sig).name}"
+        )
         raise LibraryDied(f"{what}{': ' + words if words else ''}")
     if not data:
         raise LibraryDied(f"ended the process (exit status {os.WEXITSTATUS(status)}){': ' + words if words else ''}")

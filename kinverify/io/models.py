@@ -43,8 +43,11 @@ def check_urdf_tree(root: ET.Element, path, label: str = "") -> None:
         if name in links:
             raise InputError(f"{where}: link {name!r} is defined twice")
         links[name] = link_element
-    if links and "world" not in links and any((p := j.find("parent")) is not None and p.get("link") == "world"
-                                              for j in root.findall("joint")):
+    if (
+        links
+        and "world" not in links
+        and any((p := j.find("parent")) is not None and p.get("link") == "world" for j in root.findall("joint"))
+    ):
         links["world"] = ET.Element("link", name="world")  # the world itself, as Drake and Gazebo read an undeclared one
     parent_of: dict[str, tuple[str, str]] = {}  # child link -> (parent link, joint)
     joint_names: set[str] = set()
@@ -55,30 +58,35 @@ def check_urdf_tree(root: ET.Element, path, label: str = "") -> None:
         joint_names.add(name)
         kind = joint.get("type")
         if kind not in URDF_JOINT_TYPES:
-            raise InputError(f"{where}: joint {name!r} has type {kind!r}: unsupported (URDF joint types: "
-                             f"{', '.join(URDF_JOINT_TYPES)})")
+            raise InputError(
+                f"{where}: joint {name!r} has type {kind!r}: unsupported (URDF joint types: {', '.join(URDF_JOINT_TYPES)})"
+            )
         ends = []
         for tag in ("parent", "child"):
             element = joint.find(tag)
             link = element.get("link") if element is not None else None
             if link is None:
-                raise InputError(f"{where}: joint {name!r} has no <{tag} link=\"...\"/>")
+                raise InputError(f'{where}: joint {name!r} has no <{tag} link="..."/>')
             if link not in links:
                 raise InputError(f"{where}: joint {name!r}: its {tag} link {link!r} is not a link of the file")
             ends.append(link)
         parent, child = ends
         if child in parent_of:
-            raise InputError(f"{where}: link {child!r} is the child of two joints ({parent_of[child][1]!r} and {name!r}): "
-                             "a URDF is a tree")
+            raise InputError(
+                f"{where}: link {child!r} is the child of two joints ({parent_of[child][1]!r} and {name!r}): a URDF is a tree"
+            )
         parent_of[child] = (parent, name)
     roots = [n for n in links if n not in parent_of]
     if len(roots) > 1:
-        raise InputError(f"{where}: links {', '.join(map(repr, roots[:5]))} are all roots (no joint has them as child): "
-                         "a URDF is one tree")
+        raise InputError(
+            f"{where}: links {', '.join(map(repr, roots[:5]))} are all roots (no joint has them as child): a URDF is one tree"
+        )
     if not links:
         raise InputError(f"{where}: no <link>")
     if not roots:
-        raise InputError(f"{where}: every link is a joint's child: the joints form a cycle ({_cycle(parent_of, next(iter(links)))})")
+        raise InputError(
+            f"{where}: every link is a joint's child: the joints form a cycle ({_cycle(parent_of, next(iter(links)))})"
+        )
     children: dict[str, list[str]] = {}
     for child, (parent, _) in parent_of.items():
         children.setdefault(parent, []).append(child)
@@ -99,7 +107,7 @@ def _cycle(parent_of: dict[str, tuple[str, str]], start: str) -> str:
     while link not in seen:
         seen.append(link)
         link = parent_of[link][0]
-    loop = seen[seen.index(link):]
+    loop = seen[seen.index(link) :]
     return " -> ".join(repr(name) for name in reversed([*loop, loop[0]]))
 
 
@@ -121,10 +129,17 @@ def _finite(element: ET.Element, attribute: str, count: int | None, where: str, 
 
 # numbers a URDF holds besides poses: they must be numbers (a non-finite mass or inertia is left
 # to the inertial validation, which names it as a non-physical inertial)
-URDF_NUMBERS = {"inertial/mass": {"value": 1}, "inertial/inertia": dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 1),
-                "limit": {"effort": 1, "velocity": 1}, "dynamics": {"damping": 1, "friction": 1},
-                "mimic": {"multiplier": 1, "offset": 1}, "geometry/box": {"size": 3}, "geometry/cylinder": {"radius": 1, "length": 1},
-                "geometry/sphere": {"radius": 1}, "geometry/mesh": {"scale": 3}}
+URDF_NUMBERS = {
+    "inertial/mass": {"value": 1},
+    "inertial/inertia": dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 1),
+    "limit": {"effort": 1, "velocity": 1},
+    "dynamics": {"damping": 1, "friction": 1},
+    "mimic": {"multiplier": 1, "offset": 1},
+    "geometry/box": {"size": 3},
+    "geometry/cylinder": {"radius": 1, "length": 1},
+    "geometry/sphere": {"radius": 1},
+    "geometry/mesh": {"scale": 3},
+}
 
 
 def check_urdf_numbers(root: ET.Element, path, label: str = "") -> None:
@@ -196,8 +211,10 @@ def expand_includes(root: ET.Element, path, label: str = "", size: int = 0) -> t
     budget = [MAX_MODEL_BYTES - size]
 
     def too_deep() -> InputError:
-        return InputError(f"{_where(path, label)} with the files it includes nests elements more than {MAX_XML_DEPTH} "
-                          "levels deep (see docs/robustness.md)")
+        return InputError(
+            f"{_where(path, label)} with the files it includes nests elements more than {MAX_XML_DEPTH} "
+            "levels deep (see docs/robustness.md)"
+        )
 
     def expand(element: ET.Element, level: int, depth: int) -> None:
         """``level``: the element's nesting in the expanded tree; ``depth``: includes above it."""
@@ -221,14 +238,17 @@ def expand_includes(root: ET.Element, path, label: str = "", size: int = 0) -> t
                 data = read_bytes(file, "the MJCF's <include>", max(budget[0], 0))
             except InputFileError as err:
                 if err.too_large:
-                    raise InputError(f"{_where(path, label)}: <include file={name!r}>: with the files it includes the MJCF is "
-                                     f"above the {MAX_MODEL_BYTES // 2**20} MB kinverify reads (see docs/robustness.md)") from None
+                    raise InputError(
+                        f"{_where(path, label)}: <include file={name!r}>: with the files it includes the MJCF is "
+                        f"above the {MAX_MODEL_BYTES // 2**20} MB kinverify reads (see docs/robustness.md)"
+                    ) from None
                 raise InputError(f"{_where(path, label)}: <include file={name!r}>: {file} {err.reason}") from None
             budget[0] -= len(data)
             sub = xml_parse(data, file, f"{_where(path, label)}: <include file={name!r}>")
             if sub.tag != "mujoco":
-                raise InputError(f"{_where(path, label)}: the included {name} is not MJCF (root element <{sub.tag}>, "
-                                 "expected <mujoco>)")
+                raise InputError(
+                    f"{_where(path, label)}: the included {name} is not MJCF (root element <{sub.tag}>, expected <mujoco>)"
+                )
             if level + tree_depth(sub) - 1 > MAX_XML_DEPTH:
                 raise too_deep()
             expand(sub, level, depth + 1)  # its children take the <include>'s place, beside this element's

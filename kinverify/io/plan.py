@@ -38,8 +38,13 @@ from typing import Iterable, Iterator
 
 from kinverify.errors import InputError
 
-KINDS = {stat.S_IFCHR: "a character device", stat.S_IFBLK: "a block device", stat.S_IFIFO: "a FIFO (named pipe)",
-          stat.S_IFSOCK: "a socket", stat.S_IFDIR: "a directory"}
+KINDS = {
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFIFO: "a FIFO (named pipe)",
+    stat.S_IFSOCK: "a socket",
+    stat.S_IFDIR: "a directory",
+}
 
 
 @dataclass(frozen=True)
@@ -130,7 +135,6 @@ class OutputPlan:
         self.written.add(target)
         return target
 
-
     def stage(self, tmp: str, target: Path) -> None:
         """A complete temporary file, to rename over ``target`` at :meth:`commit`."""
         self.staged.append((tmp, target))
@@ -162,8 +166,9 @@ class OutputPlan:
 def _not_the_input(out: _File, target: Path, other: _File) -> None:
     if other.resolved == target or (out.inode is not None and out.inode == other.inode):
         link = "" if other.resolved == target else " (the same file through a link)"
-        raise InputError(f"{_named(out)} is {_named(other)}, an input of this run{link}: refusing to overwrite it "
-                         "(choose another output path)")
+        raise InputError(
+            f"{_named(out)} is {_named(other)}, an input of this run{link}: refusing to overwrite it (choose another output path)"
+        )
 
 
 def remove_quietly(path: str) -> None:

@@ -50,8 +50,14 @@ def library_output(quiet: bool = True) -> Iterator[None]:
             os.dup2(sink, 2)
             os.close(sink)
             if _on_fd2(saved):
-                stream = open(real, "w", encoding=getattr(saved, "encoding", None) or "utf-8", errors="backslashreplace",
-                              buffering=1, closefd=False)
+                stream = open(
+                    real,
+                    "w",
+                    encoding=getattr(saved, "encoding", None) or "utf-8",
+                    errors="backslashreplace",
+                    buffering=1,
+                    closefd=False,
+                )
                 sys.stderr = stream
         except OSError:  # no descriptor 2 to redirect: leave everything as it is
             pass

@@ -130,8 +130,9 @@ def _regular(path: str, label: str, mode: int) -> None:
 
 def _too_large(path: str, label: str, limit: int, size: int | None) -> InputFileError:
     what = _size_text(size) if size is not None else f"more than {_size_text(limit)}"
-    return InputFileError(path, f"is {what}, above the {limit // 2**20} MB kinverify reads (see docs/robustness.md)", label,
-                          too_large=True)
+    return InputFileError(
+        path, f"is {what}, above the {limit // 2**20} MB kinverify reads (see docs/robustness.md)", label, too_large=True
+    )
 
 
 def _system(path: str, label: str, err: OSError) -> InputFileError:
@@ -140,7 +141,6 @@ def _system(path: str, label: str, err: OSError) -> InputFileError:
     if err.errno == errno.EISDIR:
         return InputFileError(path, "is a directory, not a regular file: kinverify reads regular files only", label, err.errno)
     return InputFileError(path, f"cannot be read: {err.strerror or err}", label, err.errno)
-
 
 
 @contextlib.contextmanager

@@ -66,7 +66,7 @@ def package_file(filename: str, base: Path, packages: dict[str, str] | None = No
 def _local(uri: str, base: Path, packages) -> Path | None:
     if uri.startswith(("package://", "model://")):
         return package_file(uri, base, packages)
-    uri = uri[len("file://"):] if uri.startswith("file://") else uri
+    uri = uri[len("file://") :] if uri.startswith("file://") else uri
     return Path(uri) if Path(uri).is_absolute() else base / uri
 
 
@@ -82,8 +82,10 @@ def _read_text(path: Path, label: str, budget: Budget) -> bytes:
         data = read_bytes(path, label, max(budget.text, 0))
     except InputFileError as err:
         if err.too_large:
-            raise InputError(f"{label}: {path}: the model with the files it includes is above the "
-                             f"{MAX_MODEL_BYTES // 2**20} MB kinverify reads (see docs/robustness.md)") from None
+            raise InputError(
+                f"{label}: {path}: the model with the files it includes is above the "
+                f"{MAX_MODEL_BYTES // 2**20} MB kinverify reads (see docs/robustness.md)"
+            ) from None
         raise
     budget.text -= len(data)
     return data
@@ -123,13 +125,16 @@ def sdf_for_drake(text: str, root: ET.Element, path, label: str = "--sdf", packa
     main = str(Path(path).resolve())
     text, links = _rewrite(text, root, Path(path).resolve().parent, [main], done, budget, label, packages, str(path))
     if links > MAX_LINKS:  # each <include> is a copy: a file included twice by a file included twice... multiplies
-        raise InputError(f"{label}: {path} has {links} links with the models it includes, above the {MAX_LINKS} kinverify "
-                         "compares (see docs/robustness.md)")
+        raise InputError(
+            f"{label}: {path} has {links} links with the models it includes, above the {MAX_LINKS} kinverify "
+            "compares (see docs/robustness.md)"
+        )
     return text
 
 
-def _rewrite(text: str, root: ET.Element, base: Path, chain: list[str], done: dict, budget: Budget, label: str,
-             packages, where: str) -> tuple[str, int]:
+def _rewrite(
+    text: str, root: ET.Element, base: Path, chain: list[str], done: dict, budget: Budget, label: str, packages, where: str
+) -> tuple[str, int]:
     links = sum(1 for _ in root.iter("link"))
     for include in root.iter("include"):
         uri = (include.findtext("uri") or "").strip()
@@ -137,8 +142,10 @@ def _rewrite(text: str, root: ET.Element, base: Path, chain: list[str], done: di
             raise InputError(f"{label}: {where}: an <include> has no <uri>")
         target = _local(uri, base, packages)
         if target is None:
-            raise InputError(f"{label}: {where}: <include> uri {uri!r}: no such model (package not found beside or above "
-                             "the file; give it with --package NAME=PATH)")
+            raise InputError(
+                f"{label}: {where}: <include> uri {uri!r}: no such model (package not found beside or above "
+                "the file; give it with --package NAME=PATH)"
+            )
         what = f"{label}: an <include> of {where} (uri {uri!r})"
         if target.is_dir():
             target = _model_folder_file(target, what, budget)
@@ -147,7 +154,7 @@ def _rewrite(text: str, root: ET.Element, base: Path, chain: list[str], done: di
         except (OSError, RuntimeError):  # a symbolic-link loop
             key = str(target)
         if key in chain:
-            loop = " -> ".join(Path(p).name for p in [*chain[chain.index(key):], key])
+            loop = " -> ".join(Path(p).name for p in [*chain[chain.index(key) :], key])
             raise InputError(f"{what}: the file includes itself ({loop}): SDFormat includes form a tree")
         if len(chain) > MAX_INCLUDE_DEPTH:
             raise InputError(f"{what}: <include> nested more than {MAX_INCLUDE_DEPTH} deep")
@@ -156,8 +163,17 @@ def _rewrite(text: str, root: ET.Element, base: Path, chain: list[str], done: di
             sub = xml_parse(data, target, what)
             if sub.tag != "sdf":
                 raise InputError(f"{what}: {target} is not SDFormat (root element <{sub.tag}>, expected <sdf>)")
-            inner, inner_links = _rewrite(data.decode("utf-8", "replace"), sub, target.resolve().parent, [*chain, key],
-                                          done, budget, label, packages, str(target))
+            inner, inner_links = _rewrite(
+                data.decode("utf-8", "replace"),
+                sub,
+                target.resolve().parent,
+                [*chain, key],
+                done,
+                budget,
+                label,
+                packages,
+                str(target),
+            )
             snap = _snapshot_folder() / f"{hashlib.sha256(inner.encode()).hexdigest()[:16]}-{target.name}"
             snap.write_text(inner, encoding="utf-8")
             done[key] = (str(snap), inner_links)

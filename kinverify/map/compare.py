@@ -32,8 +32,18 @@ DRIVE_VALUES = ("stiffness", "damping", "effort")
 
 def map_finding(kind: str, severity: Severity, message: str, joints=(), values=None, magnitude=None, unit="", prop="") -> Finding:
     joints = list(joints)
-    return Finding(kind, severity, message, ", ".join(joints), "joint" if joints else "model", "", prop,
-                   dict(values or {}), None if magnitude is None else float(magnitude), unit)
+    return Finding(
+        kind,
+        severity,
+        message,
+        ", ".join(joints),
+        "joint" if joints else "model",
+        "",
+        prop,
+        dict(values or {}),
+        None if magnitude is None else float(magnitude),
+        unit,
+    )
 
 
 def listed(names, limit: int = 6) -> str:
@@ -50,20 +60,47 @@ def order_findings(rows: Rows) -> list[Finding]:
         only_b = [rows.names[r][s] for r in range(len(rows.names)) if rows.names[r][ref] is None and rows.names[r][s]]
         only_a = [rows.names[r][ref] for r in range(len(rows.names)) if rows.names[r][s] is None and rows.names[r][ref]]
         if only_a or only_b:
-            said = "; ".join(x for x in (f"{b.label} lacks {listed(only_a)}" if only_a else "",
-                                         f"{a.label} lacks {listed(only_b)}" if only_b else "") if x)
-            out.append(map_finding("joint_missing", "error", f"joints in one file only: {said}", only_a + only_b,
-                                {"files": [a.label, b.label], "only_first": only_a, "only_second": only_b},
-                                len(only_a) + len(only_b), "joints"))
+            said = "; ".join(
+                x
+                for x in (
+                    f"{b.label} lacks {listed(only_a)}" if only_a else "",
+                    f"{a.label} lacks {listed(only_b)}" if only_b else "",
+                )
+                if x
+            )
+            out.append(
+                map_finding(
+                    "joint_missing",
+                    "error",
+                    f"joints in one file only: {said}",
+                    only_a + only_b,
+                    {"files": [a.label, b.label], "only_first": only_a, "only_second": only_b},
+                    len(only_a) + len(only_b),
+                    "joints",
+                )
+            )
         common = [r for r in range(len(rows.names)) if rows.names[r][ref] and rows.names[r][s]]
         by_a = sorted(common, key=lambda r: a.names.index(rows.name(r, ref)))
         by_b = sorted(common, key=lambda r: b.names.index(rows.name(r, s)))
         moved = [rows.names[r][ref] for r, q in zip(by_a, by_b, strict=True) if r != q]
         if moved:
-            out.append(map_finding("joint_order", "error", f"{b.label} ({b.order}) orders {len(moved)} of the {len(common)} "
-                                f"joints both have otherwise than {a.label} ({a.order}): {listed(moved)}; use the joint map",
-                                moved, {"files": [a.label, b.label], "first": [rows.names[r][ref] for r in by_a],
-                                        "second": [rows.names[r][s] for r in by_b]}, len(moved), "joints", "order"))
+            out.append(
+                map_finding(
+                    "joint_order",
+                    "error",
+                    f"{b.label} ({b.order}) orders {len(moved)} of the {len(common)} "
+                    f"joints both have otherwise than {a.label} ({a.order}): {listed(moved)}; use the joint map",
+                    moved,
+                    {
+                        "files": [a.label, b.label],
+                        "first": [rows.names[r][ref] for r in by_a],
+                        "second": [rows.names[r][s] for r in by_b],
+                    },
+                    len(moved),
+                    "joints",
+                    "order",
+                )
+            )
     out += _actuator_order(rows)
     return out
 
@@ -84,10 +121,20 @@ def _actuator_order(rows: Rows) -> list[Finding]:
         by_b = sorted(common, key=kb.index)
         moved = [acts[ka.index(k)].name for k, q in zip(common, by_b, strict=True) if k != q]
         if moved:
-            out.append(map_finding("actuator_order", "error", f"{b.label} orders {len(moved)} of the {len(common)} actuators "
-                                f"both have (by the joints they drive) otherwise than {a.label}: {listed(moved)}; use the "
-                                "actuator map", [rows.label(k[0]) for k in common if acts[ka.index(k)].name in moved],
-                                {"files": [a.label, b.label]}, len(moved), "actuators", "order"))
+            out.append(
+                map_finding(
+                    "actuator_order",
+                    "error",
+                    f"{b.label} orders {len(moved)} of the {len(common)} actuators "
+                    f"both have (by the joints they drive) otherwise than {a.label}: {listed(moved)}; use the "
+                    "actuator map",
+                    [rows.label(k[0]) for k in common if acts[ka.index(k)].name in moved],
+                    {"files": [a.label, b.label]},
+                    len(moved),
+                    "actuators",
+                    "order",
+                )
+            )
     return out
 
 
@@ -156,9 +203,19 @@ def _value_finding(rows: Rows, v: Value, key: tuple, hits: list) -> Finding:
         severity: Severity
         kind, severity = f"{v.name}_{what}", "warning" if what == "unset" else "info"
         why = "leaves it unset (its simulator's default applies)" if what == "unset" else f"cannot state it ({b.format})"
-        message = f"{v.label}: {b.label} {why} on {len(joints)} joints where {a.label} states up to {size:.6g} {unit}: {listed(joints)}"
-        return map_finding(kind, severity, message, joints, {"files": [a.label, b.label],
-                        "stated": {rows.label(r): x for r, x, _ in hits}}, size, unit, v.name)
+        message = (
+            f"{v.label}: {b.label} {why} on {len(joints)} joints where {a.label} states up to {size:.6g} {unit}: {listed(joints)}"
+        )
+        return map_finding(
+            kind,
+            severity,
+            message,
+            joints,
+            {"files": [a.label, b.label], "stated": {rows.label(r): x for r, x, _ in hits}},
+            size,
+            unit,
+            v.name,
+        )
     named = key[3]
     size = max(abs(y - x) for _, x, y in hits)
     pairs = {rows.label(r): [x, y] for r, x, y in hits}
@@ -166,7 +223,17 @@ def _value_finding(rows: Rows, v: Value, key: tuple, hits: list) -> Finding:
     scale = f"×{ratio:.6g}" if math.isfinite(ratio) and not v.absolute else ""
     detail = "; ".join(f"{n} {x:.6g} vs {y:.6g}" for n, (x, y) in list(pairs.items())[:4])
     kind = f"{v.name}_units" if named else f"{v.name}_difference"
-    message = (f"{v.label}: {b.label}'s is {scale + ' ' if scale else 'not '}{a.label}'s on {len(joints)} joints"
-               f"{f' ({named})' if named else ''}, up to {size:.6g} {unit} apart: {detail}")
-    return map_finding(kind, "error", message, joints, {"files": [a.label, b.label], "values": pairs,
-                    "ratio": ratio if math.isfinite(ratio) else None}, size, unit, v.name)
+    message = (
+        f"{v.label}: {b.label}'s is {scale + ' ' if scale else 'not '}{a.label}'s on {len(joints)} joints"
+        f"{f' ({named})' if named else ''}, up to {size:.6g} {unit} apart: {detail}"
+    )
+    return map_finding(
+        kind,
+        "error",
+        message,
+        joints,
+        {"files": [a.label, b.label], "values": pairs, "ratio": ratio if math.isfinite(ratio) else None},
+        size,
+        unit,
+        v.name,
+    )

@@ -42,30 +42,59 @@ class MapResult:
     def to_dict(self) -> dict[str, Any]:
         sides = []
         for side in self.sides:
-            entry: dict[str, Any] = {"file": side.label, "path": side.path, "format": side.format, "order": side.order if side.ordered else None,
-                     "joints": side.names if side.ordered else None, "notes": side.notes}
+            entry: dict[str, Any] = {
+                "file": side.label,
+                "path": side.path,
+                "format": side.format,
+                "order": side.order if side.ordered else None,
+                "joints": side.names if side.ordered else None,
+                "notes": side.notes,
+            }
             if side.ordered:
                 entry["qpos_index"] = [j.qpos for j in side.joints]
                 entry["dof_index"] = [j.dof for j in side.joints]
-            entry["actuators"] = None if side.actuators is None else [
-                {"name": a.name, "joints": list(a.joints), "kind": a.kind} for a in side.actuators]
+            entry["actuators"] = (
+                None
+                if side.actuators is None
+                else [{"name": a.name, "joints": list(a.joints), "kind": a.kind} for a in side.actuators]
+            )
             entry["values"] = {j.name: _joint_values(side, j) for j in side.joints}
             sides.append(entry)
         rows = [{self.sides[s].label: n for s, n in enumerate(row)} for row in self.rows.names]
-        return _plain({"kind": "kinverify-map", "files": [s.label for s in self.sides], "sides": sides, "rows": rows,
-                       "maps": self.maps, "findings": [f.to_dict() for f in self.findings],
-                       "verdict": "differ" if self.exit_code else "agree", "notes": self.notes,
-                       "duration_s": self.duration_s})
+        return _plain(
+            {
+                "kind": "kinverify-map",
+                "files": [s.label for s in self.sides],
+                "sides": sides,
+                "rows": rows,
+                "maps": self.maps,
+                "findings": [f.to_dict() for f in self.findings],
+                "verdict": "differ" if self.exit_code else "agree",
+                "notes": self.notes,
+                "duration_s": self.duration_s,
+            }
+        )
 
 
 def _joint_values(side: Side, j) -> dict[str, Any]:
-    out: dict[str, Any] = {"type": j.type, "driven": j.driven, "mode": j.mode or None,
-                           "follows": None if j.follows is None else {"leader": j.follows.leader, "multiplier": j.follows.multiplier,
-                                                                      "offset": j.follows.offset, "source": j.follows.source}}
+    out: dict[str, Any] = {
+        "type": j.type,
+        "driven": j.driven,
+        "mode": j.mode or None,
+        "follows": None
+        if j.follows is None
+        else {
+            "leader": j.follows.leader,
+            "multiplier": j.follows.multiplier,
+            "offset": j.follows.offset,
+            "source": j.follows.source,
+        },
+    }
     for v in VALUES:
         amount = getattr(j, v.name)
-        out[v.name] = amount if amount is not None else (f"not compared: {j.apart[v.name]}" if v.name in j.apart
-                                                        else side.state(v.name))
+        out[v.name] = (
+            amount if amount is not None else (f"not compared: {j.apart[v.name]}" if v.name in j.apart else side.state(v.name))
+        )
     out["units"] = {v.name: v.unit(j.type) for v in VALUES}
     out["how"] = dict(j.how)
     return out

@@ -54,14 +54,27 @@ def drive_findings(rows: Rows) -> list:
             names = [rows.label(r) for r in driven]
             leaders = {rows.label(r): (own[r][1].leader, own[r][1].source) for r in driven}
             whose = "" if s in stated else f" ({', '.join(sorted({rows.sides[stater[r]].label for r in driven}))} couples them)"
-            stiff = [(j.stiffness, value("stiffness").unit(j.type)) for r in driven
-                     if (j := rows.joint(r, s)) is not None and j.stiffness]
+            stiff = [
+                (j.stiffness, value("stiffness").unit(j.type))
+                for r in driven
+                if (j := rows.joint(r, s)) is not None and j.stiffness
+            ]
             size, unit = max(stiff) if stiff else (len(driven), "joints")
-            out.append(map_finding("driven_follower", "error", f"{side.label} drives {len(driven)} joint(s) that follow another "
-                                f"through an actuator of their own{whose}: " + "; ".join(
-                                    f"{n} follows {lead} ({src})" for n, (lead, src) in leaders.items())
-                                + "; the drive fights the coupling", names, {"file": side.label, "leaders": leaders},
-                                size, unit, "driven"))
+            out.append(
+                map_finding(
+                    "driven_follower",
+                    "error",
+                    f"{side.label} drives {len(driven)} joint(s) that follow another "
+                    f"through an actuator of their own{whose}: "
+                    + "; ".join(f"{n} follows {lead} ({src})" for n, (lead, src) in leaders.items())
+                    + "; the drive fights the coupling",
+                    names,
+                    {"file": side.label, "leaders": leaders},
+                    size,
+                    unit,
+                    "driven",
+                )
+            )
     out += _drive_differences(rows, followers_driven)
     out += _coupling_differences(rows, stated)
     return out
@@ -83,9 +96,18 @@ def _drive_differences(rows: Rows, skip: set[int]) -> list:
     for (ref, s, value), names in groups.items():
         a, b = rows.sides[ref].label, rows.sides[s].label
         driver, passive = (a, b) if value else (b, a)
-        out.append(map_finding("drive_difference", "error", f"{driver} drives {len(names)} joint(s) {passive} leaves passive: "
-                            f"{listed(names)}", names, {"driven_in": driver, "passive_in": passive}, len(names), "joints",
-                            "driven"))
+        out.append(
+            map_finding(
+                "drive_difference",
+                "error",
+                f"{driver} drives {len(names)} joint(s) {passive} leaves passive: {listed(names)}",
+                names,
+                {"driven_in": driver, "passive_in": passive},
+                len(names),
+                "joints",
+                "driven",
+            )
+        )
     return out
 
 
@@ -108,16 +130,35 @@ def _coupling_differences(rows: Rows, stated: dict) -> list:
             if x is None or y is None:
                 holder, other = (a, b) if x is not None else (b, a)
                 f, _, _, c = ra[key] if x is not None else rb[key]
-                out.append(map_finding("coupling_one_file", "warning", f"{rows.label(f)} follows {c.leader} ({c.source}) in "
-                                       f"{holder.label} only; {other.label} leaves it free", [rows.label(f)],
-                                       {"in": holder.label}, None, "", "follows"))
+                out.append(
+                    map_finding(
+                        "coupling_one_file",
+                        "warning",
+                        f"{rows.label(f)} follows {c.leader} ({c.source}) in {holder.label} only; {other.label} leaves it free",
+                        [rows.label(f)],
+                        {"in": holder.label},
+                        None,
+                        "",
+                        "follows",
+                    )
+                )
                 continue
             m, o = y[1], y[2]
             if y[0] != x[0]:  # stated the other way round: l = m·f + o  =>  f = l/m − o/m
                 m, o = (1 / m, -o / m) if m else (float("inf"), 0.0)
             if abs(x[1] - m) > RTOL * max(1, abs(x[1])) or abs(x[2] - o) > 1e-6:
-                out.append(map_finding("coupling_difference", "error", f"{rows.label(x[0])}: {a.label} has it follow "
-                                       f"{x[3].leader} ×{x[1]:g} {x[2]:+g}, {b.label} ×{m:g} {o:+g} (in {a.label}'s "
-                                       "direction)", [rows.label(x[0])], {"files": [a.label, b.label]},
-                                       abs(x[1] - m), "ratio", "follows"))
+                out.append(
+                    map_finding(
+                        "coupling_difference",
+                        "error",
+                        f"{rows.label(x[0])}: {a.label} has it follow "
+                        f"{x[3].leader} ×{x[1]:g} {x[2]:+g}, {b.label} ×{m:g} {o:+g} (in {a.label}'s "
+                        "direction)",
+                        [rows.label(x[0])],
+                        {"files": [a.label, b.label]},
+                        abs(x[1] - m),
+                        "ratio",
+                        "follows",
+                    )
+                )
     return out

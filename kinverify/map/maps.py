@@ -50,8 +50,10 @@ def all_maps(rows: Rows) -> dict[str, list[dict]]:
     acting = [s for s in files if rows.sides[s].actuators is not None]
     return {
         "joints": [{"from": label[a], "to": label[b], "index": joint_map(rows, a, b)} for a in files for b in files if a != b],
-        "actuators": [{"from": label[a], "to": label[b], "index": actuator_map(rows, a, b)}
-                      for a in acting for b in acting if a != b],
-        "joints_to_actuators": [{"from": label[a], "to": label[b], "index": joints_to_actuators(rows, a, b)}
-                                for a in files for b in acting],
+        "actuators": [
+            {"from": label[a], "to": label[b], "index": actuator_map(rows, a, b)} for a in acting for b in acting if a != b
+        ],
+        "joints_to_actuators": [
+            {"from": label[a], "to": label[b], "index": joints_to_actuators(rows, a, b)} for a in files for b in acting
+        ],
     }

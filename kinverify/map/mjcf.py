@@ -67,8 +67,10 @@ def read_mjcf(path: str, options) -> Side:
     keys = [m.key(k).name or f"#{k}" for k in range(m.nkey)]
     notes = list(loaded.warnings)
     if keys and not getattr(options, "keyframe", None):
-        notes.append(f"keyframes: {', '.join(keys)} (the default position is qpos0, the joints' ref; --keyframe NAME "
-                     "takes a keyframe instead)")
+        notes.append(
+            f"keyframes: {', '.join(keys)} (the default position is qpos0, the joints' ref; --keyframe NAME "
+            "takes a keyframe instead)"
+        )
     if m.nq != sum(1 for _ in joints):
         notes.append(f"qpos has {m.nq} coordinates, {len(joints)} of them 1-DOF joints (a free base takes 7, a ball 4)")
     return Side(path, path, "mjcf", "MuJoCo qpos order", joints, actuators, EXPRESSES, desc, notes)
@@ -101,7 +103,9 @@ def _actuators(m, by_id: dict) -> list[Actuator]:
                 kind = "position" if b1 else "velocity" if b2 else "general"
                 j.stiffness = (j.stiffness or 0.0) - b1 * gear**2
                 j.damping = (j.damping or 0.0) - b2 * gear**2
-                j.how["stiffness"] = j.how["damping"] = f"{name}: −biasprm[1:3] × gear²" + (f" (gear {gear:g})" if gear != 1 else "")
+                j.how["stiffness"] = j.how["damping"] = f"{name}: −biasprm[1:3] × gear²" + (
+                    f" (gear {gear:g})" if gear != 1 else ""
+                )
                 gain = float(m.actuator_gainprm[a][0])
                 if b1 and abs(gain + b1) > 1e-9 * abs(b1):  # the target is ctrl scaled: a policy's action is not a joint angle
                     j.how["target"] = f"{name}: target = ctrl × {gain / (-b1 * gear):.6g} (gainprm[0] / (−biasprm[1]·gear))"
@@ -115,9 +119,11 @@ def _actuators(m, by_id: dict) -> list[Actuator]:
             out.append(Actuator(name, (j.name,), kind))
         elif trn == int(mujoco.mjtTrn.mjTRN_TENDON):
             tendon = m.tendon(target).name or f"#{target}"
-            joints = tuple(by_id[int(m.wrap_objid[w])].name
-                           for w in range(m.tendon_adr[target], m.tendon_adr[target] + m.tendon_num[target])
-                           if int(m.wrap_type[w]) == int(mujoco.mjtWrap.mjWRAP_JOINT) and int(m.wrap_objid[w]) in by_id)
+            joints = tuple(
+                by_id[int(m.wrap_objid[w])].name
+                for w in range(m.tendon_adr[target], m.tendon_adr[target] + m.tendon_num[target])
+                if int(m.wrap_type[w]) == int(mujoco.mjtWrap.mjWRAP_JOINT) and int(m.wrap_objid[w]) in by_id
+            )
             for jn in joints:
                 j = next(x for x in by_id.values() if x.name == jn)
                 j.driven, j.mode = True, "+".join(x for x in (j.mode, f"tendon {tendon}") if x)

@@ -26,8 +26,7 @@ READERS: dict[str, Callable[[str, object], Side]] = {
     "sdf": read_sdf,
     "usd": read_usd,  # .usd, .usda, .usdc: pxr (the extra "usd")
 }
-SUFFIXES = {".urdf": "urdf", ".xacro": "urdf", ".mjcf": "mjcf", ".sdf": "sdf", ".usd": "usd", ".usda": "usd",
-            ".usdc": "usd"}
+SUFFIXES = {".urdf": "urdf", ".xacro": "urdf", ".mjcf": "mjcf", ".sdf": "sdf", ".usd": "usd", ".usda": "usd", ".usdc": "usd"}
 ROOTS = {b"<mujoco": "mjcf", b"<robot": "urdf", b"<sdf": "sdf"}
 
 

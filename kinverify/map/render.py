@@ -68,9 +68,17 @@ def value_rows(result: MapResult, v: Value) -> tuple[list[str], list[list[str]]]
             j = result.rows.joint(r, s)
             amount = None if j is None else getattr(j, v.name)
             any_stated |= amount is not None
-            cells.append("" if j is None else _num(amount) if amount is not None else
-                         "apart" if v.name in j.apart else "passive" if v.name in ("stiffness", "damping", "effort")
-                         and j.driven is False else side.state(v.name))
+            cells.append(
+                ""
+                if j is None
+                else _num(amount)
+                if amount is not None
+                else "apart"
+                if v.name in j.apart
+                else "passive"
+                if v.name in ("stiffness", "damping", "effort") and j.driven is False
+                else side.state(v.name)
+            )
         rows.append(cells)
     return (["joint"] + labels, rows) if any_stated else None
 
@@ -113,8 +121,10 @@ def tables(result: MapResult) -> list[tuple[str, list[str], list[list[str]]]]:
 def print_map(result: MapResult, console: Console | None = None, json_path: str | None = None) -> None:
     console = console or Console()
     for side in result.sides:
-        console.print(f"[bold]{escape(side.label)}[/]: {side.format}, {escape(side.order)}"
-                      + (f", {len(side.actuators)} actuators" if side.actuators is not None else ""))
+        console.print(
+            f"[bold]{escape(side.label)}[/]: {side.format}, {escape(side.order)}"
+            + (f", {len(side.actuators)} actuators" if side.actuators is not None else "")
+        )
         for note in side.notes:
             console.print(f"  [dim]{escape(note)}[/]")
     for title, columns, rows in tables(result):
@@ -128,20 +138,24 @@ def print_map(result: MapResult, console: Console | None = None, json_path: str 
     console.print("[bold]maps[/] " + escape("(to = from[index]; null: absent)"))
     for kind, entries in result.maps.items():
         for e in entries:
-            console.print(f"  {kind}: {escape(e['from'])} -> {escape(e['to'])}: "
-                          f"{[i for i in e['index']]}".replace("None", "null"))
+            console.print(
+                f"  {kind}: {escape(e['from'])} -> {escape(e['to'])}: {[i for i in e['index']]}".replace("None", "null")
+            )
     for f in result.findings:
         console.print(f"[{COLOURS[f.severity]}]{f.severity}[/] {f.kind}: {escape(f.message)}")
     errors = sum(f.fails for f in result.findings)
-    verdict = (f"[red]DIFFER[/]: {errors} error finding{'s' * (errors != 1)}" if errors else "[green]AGREE[/]")
+    verdict = f"[red]DIFFER[/]: {errors} error finding{'s' * (errors != 1)}" if errors else "[green]AGREE[/]"
     console.print(f"{verdict} ({result.duration_s:.2f} s)" + (f"; JSON: {escape(json_path)}" if json_path else ""))
 
 
 def map_section(result: MapResult) -> Section:
     """The map as a report section (file mode): the tables and the maps, the findings as notes
     (file mode states its own findings; these are the contract's, shown, not counted)."""
-    section = Section("Sim-to-sim map", summary=f"joint and actuator orders of {', '.join(short_labels(result))}, "
-                      "the index maps between them and the values a policy depends on, per radian")
+    section = Section(
+        "Sim-to-sim map",
+        summary=f"joint and actuator orders of {', '.join(short_labels(result))}, "
+        "the index maps between them and the values a policy depends on, per radian",
+    )
     for title, columns, rows in tables(result):
         section.table(title, columns, rows)
     section.notes = [f"{f.severity} {f.kind}: {f.message}" for f in result.findings]

@@ -31,9 +31,16 @@ def read_sdf(path: str, options) -> Side:
         joint = plant.get_joint(index)
         if joint.num_positions() != 1 or joint.num_velocities() != 1 or joint.type_name() not in MOVABLE:
             continue
-        j = MapJoint(joint.name(), MOVABLE[joint.type_name()], int(joint.position_start()), int(joint.velocity_start()),
-                     default=float(joint.default_positions()[0]), driven=False,
-                     joint_damping=float(joint.default_damping()), how={"default": "Drake's default position"})
+        j = MapJoint(
+            joint.name(),
+            MOVABLE[joint.type_name()],
+            int(joint.position_start()),
+            int(joint.velocity_start()),
+            default=float(joint.default_positions()[0]),
+            driven=False,
+            joint_damping=float(joint.default_damping()),
+            how={"default": "Drake's default position"},
+        )
         velocity = float(joint.velocity_upper_limits()[0])
         if velocity < 1e300:
             j.velocity, j.how["velocity"] = velocity, "<limit velocity>"
@@ -67,15 +74,30 @@ def declared_sdf(path: str, loaded) -> Side:
         if el.get("type") not in MOVABLE:
             continue
         j = MapJoint(el.get("name"), MOVABLE[el.get("type")])
-        for name, where in (("effort", "axis/limit/effort"), ("velocity", "axis/limit/velocity"),
-                            ("joint_damping", "axis/dynamics/damping"), ("friction", "axis/dynamics/friction"),
-                            ("default", "axis/initial_position")):
+        for name, where in (
+            ("effort", "axis/limit/effort"),
+            ("velocity", "axis/limit/velocity"),
+            ("joint_damping", "axis/dynamics/damping"),
+            ("friction", "axis/dynamics/friction"),
+            ("default", "axis/initial_position"),
+        ):
             text = el.findtext(where)
             if text is not None and text.strip():
                 setattr(j, name, float(text))
                 j.how[name] = f"<{where}>"
         joints.append(j)
-    notes = ["Drake is not installed: SDFormat declaration order, values as written (install the drake extra for "
-             "Drake's order and actuators)"]
-    return Side(path, path, "sdf", "SDFormat declaration order", joints, None,
-                frozenset({"effort", "velocity", "joint_damping", "friction"}), None, notes)
+    notes = [
+        "Drake is not installed: SDFormat declaration order, values as written (install the drake extra for "
+        "Drake's order and actuators)"
+    ]
+    return Side(
+        path,
+        path,
+        "sdf",
+        "SDFormat declaration order",
+        joints,
+        None,
+        frozenset({"effort", "velocity", "joint_damping", "friction"}),
+        None,
+        notes,
+    )

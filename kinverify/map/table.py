@@ -36,9 +36,18 @@ from kinverify.errors import InputError
 from kinverify.io.read import read_bytes
 from kinverify.map.side import VALUE_NAMES, MapJoint, Side, to_radian
 
-KEYS = {"stiffness": "stiffness", "damping": "damping", "effort_limit": "effort", "effort_limit_sim": "effort",
-        "effort": "effort", "velocity_limit": "velocity", "velocity_limit_sim": "velocity", "velocity": "velocity",
-        "armature": "armature", "friction": "friction"}
+KEYS = {
+    "stiffness": "stiffness",
+    "damping": "damping",
+    "effort_limit": "effort",
+    "effort_limit_sim": "effort",
+    "effort": "effort",
+    "velocity_limit": "velocity",
+    "velocity_limit_sim": "velocity",
+    "velocity": "velocity",
+    "armature": "armature",
+    "friction": "friction",
+}
 LABEL = "--actuators"
 
 
@@ -48,8 +57,10 @@ def load_table(path: str) -> dict:
     try:
         data = tomllib.loads(text) if Path(path).suffix.lower() == ".toml" else yaml.safe_load(text)
     except (tomllib.TOMLDecodeError, yaml.YAMLError) as err:
-        raise InputError(f"{LABEL}: {path}: not valid {'TOML' if path.lower().endswith('.toml') else 'YAML'}: "
-                         f"{' '.join(str(err).split())[:200]}") from None
+        raise InputError(
+            f"{LABEL}: {path}: not valid {'TOML' if path.lower().endswith('.toml') else 'YAML'}: "
+            f"{' '.join(str(err).split())[:200]}"
+        ) from None
     if not isinstance(data, dict):
         raise InputError(f"{LABEL}: {path}: expected a table of actuator groups, got {type(data).__name__}")
     return data
@@ -70,11 +81,13 @@ def _groups(data: dict, path: str) -> dict[str, dict]:
         if not isinstance(values, dict):
             raise InputError(f"{LABEL}: {path}: joints.{pattern}: expected a table of values")
         out[f"joints.{pattern}"] = {**values, "joint_names_expr": [str(pattern)]}
-    unknown = [f"{g}.{k}" for g, group in out.items() for k in group if k not in KEYS and k not in ("joint_names_expr", "class_type")]
+    unknown = [
+        f"{g}.{k}" for g, group in out.items() for k in group if k not in KEYS and k not in ("joint_names_expr", "class_type")
+    ]
     if unknown:
         raise InputError(f"{LABEL}: {path}: unknown key {unknown[0]}; known: joint_names_expr, {', '.join(KEYS)}")
     if not out:
-        raise InputError(f"{LABEL}: {path}: no actuator groups (expected [actuators.NAME] or [joints.\"REGEX\"])")
+        raise InputError(f'{LABEL}: {path}: no actuator groups (expected [actuators.NAME] or [joints."REGEX"])')
     return out
 
 
@@ -108,9 +121,12 @@ def read_table(path: str, files: list[Side]) -> tuple[Side, int]:
     target = next((s for s in files if all(any(p.fullmatch(n) for n in s.names) for p in patterns)), None)
     if target is None:
         missing = next((p.pattern for p in patterns if not any(p.fullmatch(n) for s in files for n in s.names)), None)
-        raise InputError(f"{LABEL}: {path}: no file has every joint the table names (pattern {missing!r} "
-                         f"matches no joint of {', '.join(s.label for s in files)})" if missing else
-                         f"{LABEL}: {path}: no single file has every joint the table names")
+        raise InputError(
+            f"{LABEL}: {path}: no file has every joint the table names (pattern {missing!r} "
+            f"matches no joint of {', '.join(s.label for s in files)})"
+            if missing
+            else f"{LABEL}: {path}: no single file has every joint the table names"
+        )
     joints = {j.name: MapJoint(j.name, j.type) for j in target.joints}  # driven: None, the asset's drives
     owner: dict[str, str] = {}
     for gname, group in _groups(data, path).items():
@@ -128,9 +144,22 @@ def read_table(path: str, files: list[Side]) -> tuple[Side, int]:
     if pos:
         _assign(joints, list(joints), "default", pos, "init_state.joint_pos", path, units)
     expresses = frozenset(VALUE_NAMES)  # what it leaves out comes from the asset: "inherited", never a finding
-    notes = [f"joint names matched against {target.label}; angles per {units}" + (" (converted to per radian)" if units == "degree" else "")]
-    side = Side(path, path, "table", "(no order: an actuator table)", list(joints.values()), None, expresses,
-                notes=notes, ordered=False, silence="inherited")
+    notes = [
+        f"joint names matched against {target.label}; angles per {units}"
+        + (" (converted to per radian)" if units == "degree" else "")
+    ]
+    side = Side(
+        path,
+        path,
+        "table",
+        "(no order: an actuator table)",
+        list(joints.values()),
+        None,
+        expresses,
+        notes=notes,
+        ordered=False,
+        silence="inherited",
+    )
     return side, files.index(target)
 
 
@@ -148,7 +177,9 @@ def _assign(joints: dict, members: list[str], name: str, spec, where: str, path:
             j = joints[n]
             amount = to_radian(hits[0], name, j.type) if units == "degree" else hits[0]
             if not math.isfinite(amount) or (amount < 0 and name != "default"):
-                raise InputError(f"{LABEL}: {path}: {where}: {hits[0]!r} on joint {n!r} is "
-                                 + ("negative" if amount < 0 else "too large once per radian"))
+                raise InputError(
+                    f"{LABEL}: {path}: {where}: {hits[0]!r} on joint {n!r} is "
+                    + ("negative" if amount < 0 else "too large once per radian")
+                )
             setattr(j, name, amount)
             j.how[name] = where

@@ -33,14 +33,17 @@ def read_urdf(path: str, options) -> Side:
             continue
         j = MapJoint(el.get("name", ""), MOVABLE[el.get("type", "")])  # load_urdf refuses a nameless joint
         limit, dynamics, mimic = el.find("limit"), el.find("dynamics"), el.find("mimic")
-        for name, element, attribute in (("effort", limit, "effort"), ("velocity", limit, "velocity"),
-                                         ("friction", dynamics, "friction"), ("joint_damping", dynamics, "damping")):
+        for name, element, attribute in (
+            ("effort", limit, "effort"),
+            ("velocity", limit, "velocity"),
+            ("friction", dynamics, "friction"),
+            ("joint_damping", dynamics, "damping"),
+        ):
             if element is not None and (value := element.get(attribute)) is not None:
                 setattr(j, name, float(value))
                 j.how[name] = f"<{element.tag} {attribute}>"
         if mimic is not None and (leader := mimic.get("joint")):
-            j.follows = Follows(leader, float(mimic.get("multiplier", 1.0)), float(mimic.get("offset", 0.0)),
-                                "<mimic>")
+            j.follows = Follows(leader, float(mimic.get("multiplier", 1.0)), float(mimic.get("offset", 0.0)), "<mimic>")
         joints.append(j)
     actuators = _transmissions(root, joints)
     expresses = EXPRESSES | ({"armature", "stiffness", "damping"} if actuators else frozenset())

@@ -63,10 +63,12 @@ def read_usd(path: str, options) -> Side:
         j = MapJoint(uj.name, uj.kind, driven=v["drive"] is not None)
         if v["initial"] is not None:
             j.default, j.how["default"] = v["initial"], f"state:{kind}:physics:position"
-        for ours, key, attribute in (("velocity", "velocity", "physxJoint:maxJointVelocity / newton:velocityLimit"),
-                                     ("armature", "armature", "physxJoint:armature / newton:armature / mjc:armature"),
-                                     ("friction", "friction", "newton:friction / mjc:frictionloss"),
-                                     ("joint_damping", "damping", "newton:damping / mjc:damping")):
+        for ours, key, attribute in (
+            ("velocity", "velocity", "physxJoint:maxJointVelocity / newton:velocityLimit"),
+            ("armature", "armature", "physxJoint:armature / newton:armature / mjc:armature"),
+            ("friction", "friction", "newton:friction / mjc:frictionloss"),
+            ("joint_damping", "damping", "newton:damping / mjc:damping"),
+        ):
             if v[key] is not None:
                 setattr(j, ours, v[key])
                 j.how[ours] = attribute
@@ -79,13 +81,17 @@ def read_usd(path: str, options) -> Side:
                 j.apart["stiffness"] = j.apart["damping"] = f"{pre}type = acceleration: gains per unit of inertia"
                 j.mode = "acceleration drive"
             elif not drive["stiffness"] and not drive["damping"]:  # torque control, as an MJCF motor
-                j.apart["stiffness"] = j.apart["damping"] = (f"{pre}stiffness and damping 0: a force (torque) drive, the "
-                                                             "gains live in the controller (Isaac Lab's actuator model)")
+                j.apart["stiffness"] = j.apart["damping"] = (
+                    f"{pre}stiffness and damping 0: a force (torque) drive, the "
+                    "gains live in the controller (Isaac Lab's actuator model)"
+                )
                 j.mode = "force drive (torque)"
             else:
                 j.stiffness, j.damping = drive["stiffness"] or 0.0, drive["damping"] or 0.0
-                j.how["stiffness"], j.how["damping"] = (f"{pre}stiffness" + (" (per degree, ×180/π)" if kind == "angular" else ""),
-                                                        f"{pre}damping" + (" (per degree, ×180/π)" if kind == "angular" else ""))
+                j.how["stiffness"], j.how["damping"] = (
+                    f"{pre}stiffness" + (" (per degree, ×180/π)" if kind == "angular" else ""),
+                    f"{pre}damping" + (" (per degree, ×180/π)" if kind == "angular" else ""),
+                )
                 j.mode = "position drive" if j.stiffness else "velocity drive"
             if drive.get("targetPosition"):
                 j.how["target"] = f"{pre}targetPosition = {drive['targetPosition']:.6g} {'rad' if kind == 'angular' else 'm'}"
@@ -99,10 +105,14 @@ def read_usd(path: str, options) -> Side:
     if joints and not any(j.driven for j in joints):  # as a URDF without transmissions
         for j in joints:
             j.driven = None
-        notes.append("no joint has a PhysicsDriveAPI: which joints are driven is the simulator's configuration "
-                     "(Isaac Lab's actuators), not compared")
-    notes.append("no actuator (control) order is read: PhysX's drives act on the joints, in the joint order "
-                 "(MjcActuator prims are read for their gains, not their order)")
+        notes.append(
+            "no joint has a PhysicsDriveAPI: which joints are driven is the simulator's configuration "
+            "(Isaac Lab's actuators), not compared"
+        )
+    notes.append(
+        "no actuator (control) order is read: PhysX's drives act on the joints, in the joint order "
+        "(MjcActuator prims are read for their gains, not their order)"
+    )
     if robot.floating:
         notes.append("floating base: the root body's 6 coordinates come before the joints in the simulator's state")
     return Side(path, path, "usd", ORDER, joints, None, EXPRESSES, desc, notes)

@@ -51,8 +51,18 @@ def _link(d) -> Link:
 
 
 def _joint(d) -> Joint:
-    joint = Joint(d["name"], d["type"], _origin(d["origin"]), tuple(d["axis"]), Limits(**d["limits"]), _link(d["link"]),
-                  d.get("damping", 0.0), d.get("friction", 0.0), d.get("armature", 0.0), d.get("parent"))
+    joint = Joint(
+        d["name"],
+        d["type"],
+        _origin(d["origin"]),
+        tuple(d["axis"]),
+        Limits(**d["limits"]),
+        _link(d["link"]),
+        d.get("damping", 0.0),
+        d.get("friction", 0.0),
+        d.get("armature", 0.0),
+        d.get("parent"),
+    )
     stored = tuple(float(x) for x in d["axis"])
     if abs(math.fsum(x * x for x in stored) - 1.0) < 1e-12:
         # The stored axis was normalised already; normalising again could change its last bit.
@@ -69,8 +79,16 @@ def spec_from_canonical(data: dict[str, Any], where: str = "spec") -> ArmSpec:
         dh = data.get("dh")
         if dh is not None:
             dh = DHTable(dh["convention"], tuple(DHRow(**row) for row in dh["rows"]))
-        return ArmSpec(data["name"], _origin(data["base_origin"]), _link(data["base_link"]), joints, tools, dh,
-                       tuple(data.get("gravity", (0.0, 0.0, -9.81))), data.get("floating", False))
+        return ArmSpec(
+            data["name"],
+            _origin(data["base_origin"]),
+            _link(data["base_link"]),
+            joints,
+            tools,
+            dh,
+            tuple(data.get("gravity", (0.0, 0.0, -9.81))),
+            data.get("floating", False),
+        )
     except SpecError as err:
         raise InputError(f"{where}: invalid stored spec: {err}") from None
     except (KeyError, TypeError, ValueError, AttributeError) as err:

@@ -74,7 +74,6 @@ def joint_origins(convention: str, rows: tuple[DHRow, ...]) -> tuple[list[Origin
     return origins, static_part(convention, rows[-1])
 
 
-
 def dh_link_poses(convention: str, rows, prismatic, base: np.ndarray, q: np.ndarray) -> np.ndarray:
     """World poses ``(N, n, 4, 4)`` of the link frames computed by DH matrix products only.
 
@@ -94,4 +93,3 @@ def dh_link_poses(convention: str, rows, prismatic, base: np.ndarray, q: np.ndar
             out[:, i] = frame @ motion
             frame = frame @ dh_matrix(convention, row, q[:, i], prismatic[i])
     return out
-

@@ -61,6 +61,12 @@ def inertial_from_geometry(geom: Geometry, mass: float | None = None, density: f
         offset = length / 2 + 3 * r / 8
         i_radial = m_cyl * (3 * r**2 + length**2) / 12 + 2 * m_hemi * (83 / 320 * r**2 + offset**2)
         tensor = _axisymmetric(axis, i_axial, i_radial)
-    inertia = (float(tensor[0, 0]), float(tensor[1, 1]), float(tensor[2, 2]), float(tensor[0, 1]), float(tensor[0, 2]),
-               float(tensor[1, 2]))
+    inertia = (
+        float(tensor[0, 0]),
+        float(tensor[1, 1]),
+        float(tensor[2, 2]),
+        float(tensor[0, 1]),
+        float(tensor[0, 2]),
+        float(tensor[1, 2]),
+    )
     return Inertial(total, tuple(centre), inertia)

@@ -276,8 +276,11 @@ class ArmSpec:
         for i, joint in enumerate(self.joints):
             if joint.parent is not None and joint.parent not in links[: i + 1]:
                 where = "a later joint's link" if joint.parent in links else "unknown link"
-                raise SpecError(f"joints[{i}].parent", f"{where} {joint.parent!r}: a joint hangs from the base or an "
-                                f"earlier joint's link ({', '.join(links[: i + 1])})")
+                raise SpecError(
+                    f"joints[{i}].parent",
+                    f"{where} {joint.parent!r}: a joint hangs from the base or an "
+                    f"earlier joint's link ({', '.join(links[: i + 1])})",
+                )
         if self.dh is not None and not self.is_serial:
             raise SpecError("dh", "a DH table describes a serial chain: joints with a parent are not allowed")
         for i, tool in enumerate(self.tools):

@@ -18,7 +18,20 @@ from kinverify.model import dh as dhmod
 from kinverify.errors import SpecError
 from kinverify.pipeline.limits import MAX_JOINTS, MAX_MODEL_BYTES
 from kinverify.model.inertia import DEFAULT_DENSITY, inertial_from_geometry
-from kinverify.model.spec import JOINT_TYPES, check_scalar, ArmSpec, DHRow, DHTable, Geometry, Inertial, Joint, Limits, Link, Origin, Tool
+from kinverify.model.spec import (
+    JOINT_TYPES,
+    check_scalar,
+    ArmSpec,
+    DHRow,
+    DHTable,
+    Geometry,
+    Inertial,
+    Joint,
+    Limits,
+    Link,
+    Origin,
+    Tool,
+)
 
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 DEFAULT_LINK_RADIUS = 0.03  # m, the seed arm's link radius
@@ -106,8 +119,15 @@ def _origin(t: _Table) -> Origin:
 
 
 def _geometry(t: _Table) -> Geometry:
-    g = _build(t.path, Geometry, shape=t.string("shape", required=True), radius=t.get("radius", 0.0),
-               fromto=t.get("fromto"), size=t.get("size"), pos=t.get("pos", (0.0, 0.0, 0.0)))
+    g = _build(
+        t.path,
+        Geometry,
+        shape=t.string("shape", required=True),
+        radius=t.get("radius", 0.0),
+        fromto=t.get("fromto"),
+        size=t.get("size"),
+        pos=t.get("pos", (0.0, 0.0, 0.0)),
+    )
     t.done()
     return g
 
@@ -120,9 +140,13 @@ def _link(t: _Table, default_name: str, default_geometry: Geometry | None, densi
     if i_table is not None:
         if mass is not None:
             raise SpecError(t.at("mass"), "give either mass or an inertial table, not both")
-        inertial = _build(i_table.path, Inertial, mass=i_table.get("mass", required=True),
-                          com=i_table.get("com", (0.0, 0.0, 0.0)),
-                          inertia=i_table.get("inertia", required=True))
+        inertial = _build(
+            i_table.path,
+            Inertial,
+            mass=i_table.get("mass", required=True),
+            com=i_table.get("com", (0.0, 0.0, 0.0)),
+            inertia=i_table.get("inertia", required=True),
+        )
         i_table.done()
     else:
         if geometry is None:
@@ -132,8 +156,9 @@ def _link(t: _Table, default_name: str, default_geometry: Geometry | None, densi
         try:
             inertial = _build(t.path, inertial_from_geometry, geom=geometry, mass=mass, density=density)
         except ArithmeticError:  # a size so small (or large) that the volume under- or overflows
-            raise SpecError(t.at("geometry"), "too small or too large to derive a mass and inertia from; give an "
-                            "inertial table") from None
+            raise SpecError(
+                t.at("geometry"), "too small or too large to derive a mass and inertia from; give an inertial table"
+            ) from None
     t.done()
     return _build(t.path, Link, name=name, inertial=inertial, geometry=geometry)
 
@@ -150,10 +175,14 @@ def _limits(t: _Table, joint_type: str) -> Limits:
     if joint_type == "prismatic" and t.string("unit", "m") != "m":
         raise SpecError(t.at("unit"), "prismatic limits are in metres: unit must be 'm'")
     lower, upper = t.get("lower", required=True), t.get("upper", required=True)
-    limits = _build(t.path, Limits, lower=_scaled(lower, scale, t.at("lower")),
-                    upper=_scaled(upper, scale, t.at("upper")),
-                    velocity=_scaled(t.get("velocity", 3.0 / scale), scale, t.at("velocity")),
-                    effort=t.get("effort", 100.0))
+    limits = _build(
+        t.path,
+        Limits,
+        lower=_scaled(lower, scale, t.at("lower")),
+        upper=_scaled(upper, scale, t.at("upper")),
+        velocity=_scaled(t.get("velocity", 3.0 / scale), scale, t.at("velocity")),
+        effort=t.get("effort", 100.0),
+    )
     t.done()
     return limits
 
@@ -224,7 +253,9 @@ def _spec_from_table(top: _Table) -> ArmSpec:
     if not joint_tables:
         raise SpecError("joints", "an arm needs at least one joint")
     if len(joint_tables) > MAX_JOINTS:
-        raise SpecError("joints", f"{len(joint_tables)} joints, above the {MAX_JOINTS} kinverify compares (see docs/robustness.md)")
+        raise SpecError(
+            "joints", f"{len(joint_tables)} joints, above the {MAX_JOINTS} kinverify compares (see docs/robustness.md)"
+        )
     types, axes, origins, rows = [], [], [], []
     for jt in joint_tables:
         jtype = jt.string("type", "revolute")
@@ -277,25 +308,47 @@ def _spec_from_table(top: _Table) -> ArmSpec:
         lt = jt.table("link") or _Table({}, jt.at("link"))
         link = _link(lt, f"link{i + 1}", _default_geometry(end, radius), density)
         lim_table = jt.table("limits", required=True)
-        joint = _build(jt.path, Joint, name=jt.get("name", f"joint{i + 1}"), type=types[i], origin=origins[i],
-                       axis=axes[i], limits=_limits(lim_table, types[i]), link=link,
-                       damping=jt.get("damping", 0.0), friction=jt.get("friction", 0.0),
-                       armature=jt.get("armature", 0.0), parent=parents[i])
+        joint = _build(
+            jt.path,
+            Joint,
+            name=jt.get("name", f"joint{i + 1}"),
+            type=types[i],
+            origin=origins[i],
+            axis=axes[i],
+            limits=_limits(lim_table, types[i]),
+            link=link,
+            damping=jt.get("damping", 0.0),
+            friction=jt.get("friction", 0.0),
+            armature=jt.get("armature", 0.0),
+            parent=parents[i],
+        )
         jt.done()
         joints.append(joint)
     base = top.table("base") or _Table({}, "base")
     base_origin = _origin(base)
     floating = base.get("floating", False)
     first = origins[0].xyz
-    base_geometry = _default_geometry(first, radius * 5 / 3) if np.linalg.norm(first) > 1e-6 else Geometry("sphere", radius=radius)
+    base_geometry = (
+        _default_geometry(first, radius * 5 / 3) if np.linalg.norm(first) > 1e-6 else Geometry("sphere", radius=radius)
+    )
     bl = base.table("link") or _Table({}, "base.link")
     base_link = _link(bl, "base", base_geometry, density)
     base.done()
     dh = DHTable(convention, tuple(rows)) if convention else None
     gravity = top.get("gravity", (0.0, 0.0, -9.81))
     top.done()
-    return _build("", ArmSpec, name=name, base_origin=base_origin, base_link=base_link, joints=joints,
-                  tools=tools, dh=dh, gravity=gravity, floating=floating)
+    return _build(
+        "",
+        ArmSpec,
+        name=name,
+        base_origin=base_origin,
+        base_link=base_link,
+        joints=joints,
+        tools=tools,
+        dh=dh,
+        gravity=gravity,
+        floating=floating,
+    )
 
 
 def _link_name(jt, i: int) -> str:

@@ -130,9 +130,7 @@ def quat_to_matrix(q) -> np.ndarray:
 
 def rotation_vee(m) -> np.ndarray:
     """The vector of the skew part of ``(..., 3, 3)``: (m - m^T)^vee / 2."""
-    return 0.5 * np.stack(
-        [m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]], -1
-    )
+    return 0.5 * np.stack([m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]], -1)
 
 
 def rotation_angle(m) -> np.ndarray:

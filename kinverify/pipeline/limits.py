@@ -99,8 +99,10 @@ def chunk_for(requested: int, frames: int, dof: int, backends: int) -> tuple[int
     fits = max(1, CHUNK_BYTES // per_row)
     if requested <= fits:
         return requested, None
-    return fits, (f"--chunk {requested} lowered to {fits} configurations: with {frames} frames and {dof} joints "
-                  f"a larger chunk would hold more than {CHUNK_BYTES // 2**20} MB")
+    return fits, (
+        f"--chunk {requested} lowered to {fits} configurations: with {frames} frames and {dof} joints "
+        f"a larger chunk would hold more than {CHUNK_BYTES // 2**20} MB"
+    )
 
 
 # A library run in a child process (:mod:`kinverify.io.isolate`: xacro evaluation, Drake's parsers):

@@ -188,8 +188,14 @@ def _dask_results(fn, payload: Payload, chunks, opts) -> Iterator:
             # a signal while the workers start is acted on once the cluster exists: a half-started
             # cluster cannot be closed, and distributed's exit handler then prints a traceback
             with interrupts.held(), dask.config.set({"temporary-directory": scratch}):
-                cluster = LocalCluster(n_workers=opts.jobs, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=40, local_directory=scratch)
+                cluster = LocalCluster(
+                    n_workers=opts.jobs,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=40,
+                    local_directory=scratch,
+                )
                 client = Client(cluster)
         interrupts.check()
         remote = client.scatter(payload, broadcast=True)

@@ -33,8 +33,10 @@ import numpy as np
 HIST_EDGES = np.logspace(-18, 2, 81)  # errors below 1e-18 (incl. exact 0) go in the first bin
 BINS_PER_OCTAVE = 256
 PERCENTILE_RTOL = 2.0 ** (1.0 / (2 * BINS_PER_OCTAVE)) - 1.0
-PERCENTILE_METHOD = (f"log-binned streaming histogram, {BINS_PER_OCTAVE} bins per factor 2; "
-                     f"relative error <= {PERCENTILE_RTOL:.2e} vs numpy's linear percentile")
+PERCENTILE_METHOD = (
+    f"log-binned streaming histogram, {BINS_PER_OCTAVE} bins per factor 2; "
+    f"relative error <= {PERCENTILE_RTOL:.2e} vs numpy's linear percentile"
+)
 
 
 class ErrorStats:

@@ -54,8 +54,16 @@ DEFAULT_SEED = 0
 # The sections each format version must have, with their JSON types: a section deleted or retyped
 # is a malformed baseline (exit 2), never a comparison silently skipped.
 SCHEMA: dict[int, dict[str, type | tuple[type, ...]]] = {
-    1: {"model": str, "spec": dict, "fingerprints": dict, "versions": dict, "joint_names": list, "frames": list,
-        "q": list, "records": list},
+    1: {
+        "model": str,
+        "spec": dict,
+        "fingerprints": dict,
+        "versions": dict,
+        "joint_names": list,
+        "frames": list,
+        "q": list,
+        "records": list,
+    },
 }
 SCHEMA[2] = {**SCHEMA[1], "seed": int, "samples": int, "quantities": list, "fixed": dict}
 
@@ -77,8 +85,12 @@ def kinematics_records(spec: ArmSpec, q: np.ndarray) -> list[Record]:
     poses = frame_poses(spec, q)
     jac = geometric_jacobians(spec, poses, q)
     out: list[Record] = []
-    for prop, values in (("fk.position", poses[..., :3, 3]), ("fk.rotation", poses[..., :3, :3]),
-                         ("jacobian.linear", jac[..., :3, :]), ("jacobian.angular", jac[..., 3:, :])):
+    for prop, values in (
+        ("fk.position", poses[..., :3, 3]),
+        ("fk.rotation", poses[..., :3, :3]),
+        ("jacobian.linear", jac[..., :3, :]),
+        ("jacobian.angular", jac[..., 3:, :]),
+    ):
         for f, frame in enumerate(spec.frame_names):
             for s in range(len(q)):
                 out.append({"property": prop, "frame": frame, "sample": s, "value": values[s, f].tolist()})
@@ -90,6 +102,7 @@ QUANTITIES: list[Quantity] = [
     Quantity("ik", ik_records, prepare=ik_fixed),
     Quantity("dynamics", dynamics_records),
 ]
+
 
 @dataclass(frozen=True)
 class Tolerance:
@@ -170,8 +183,7 @@ def build_baseline(spec: ArmSpec, samples: int = DEFAULT_SAMPLES, seed: int = DE
 
 
 def fingerprints(spec: ArmSpec) -> dict[str, str]:
-    return {"spec": spec_fingerprint(spec), "urdf": sha256_text(generate_urdf(spec)),
-            "mjcf": sha256_text(generate_mjcf(spec))}
+    return {"spec": spec_fingerprint(spec), "urdf": sha256_text(generate_urdf(spec)), "mjcf": sha256_text(generate_mjcf(spec))}
 
 
 def dumps_baseline(data: dict[str, Any]) -> str:
@@ -184,8 +196,9 @@ def dumps_baseline(data: dict[str, Any]) -> str:
             lines = ",\n".join("  " + json.dumps(v, sort_keys=True, allow_nan=False) for v in value)
             text = "[\n" + lines + "\n ]" if value else "[]"
         elif key == "fixed":  # one line per quantity's save-time inputs
-            lines = ",\n".join(f"  {json.dumps(k)}: " + json.dumps(value[k], sort_keys=True, allow_nan=False)
-                                for k in sorted(value))
+            lines = ",\n".join(
+                f"  {json.dumps(k)}: " + json.dumps(value[k], sort_keys=True, allow_nan=False) for k in sorted(value)
+            )
             text = "{\n" + lines + "\n }" if value else "{}"
         else:
             text = json.dumps(value, sort_keys=True, indent=1, allow_nan=False).replace("\n", "\n ")
@@ -211,15 +224,18 @@ def read_baseline(path, model: str | None = None, register: bool = True) -> dict
     try:
         data = json_loads(text, path, label, allow_nan=False)
     except json.JSONDecodeError as err:
-        raise InputError(f"{path}: corrupt or truncated baseline JSON ({err.msg}: line {err.lineno} column {err.colno})") from None
+        raise InputError(
+            f"{path}: corrupt or truncated baseline JSON ({err.msg}: line {err.lineno} column {err.colno})"
+        ) from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise InputError(f"{path}: not a kinverify baseline (no \"format\": \"{FORMAT}\")")
+        raise InputError(f'{path}: not a kinverify baseline (no "format": "{FORMAT}")')
     version = data.get("format_version")
     if not isinstance(version, int) or isinstance(version, bool):
         raise InputError(f"{path}: malformed baseline: format_version must be an integer, got {version!r}")
     if version > FORMAT_VERSION:
-        raise InputError(f"{path}: baseline format version {version} is newer than this kinverify reads "
-                         f"({FORMAT_VERSION}); upgrade kinverify")
+        raise InputError(
+            f"{path}: baseline format version {version} is newer than this kinverify reads ({FORMAT_VERSION}); upgrade kinverify"
+        )
     _validate_schema(path, data, SCHEMA.get(version, SCHEMA[1]))
     if model is not None and data["model"] != model:
         raise InputError(f"{path}: baseline is for model {data['model']!r}, not {model!r}")
@@ -243,8 +259,10 @@ def _validate_schema(path, data: dict[str, Any], schema: dict[str, Any]) -> None
             raise InputError(f"{path}: malformed baseline: quantities must be a list of names")
         for qt in QUANTITIES:
             if qt.prepare is not None and qt.name in listed and qt.name not in data["fixed"]:
-                raise InputError(f"{path}: malformed baseline: fixed.{qt.name} is missing (the {qt.name} inputs the "
-                                 "baseline was saved with); save the baseline again")
+                raise InputError(
+                    f"{path}: malformed baseline: fixed.{qt.name} is missing (the {qt.name} inputs the "
+                    "baseline was saved with); save the baseline again"
+                )
 
 
 _JSON_TYPES = {str: "a string", dict: "an object", list: "a list", int: "a whole number"}
@@ -278,8 +296,10 @@ def _validate_body(path, data: dict[str, Any]) -> None:
     if not isinstance(fixed, dict):
         raise InputError(f"{path}: malformed baseline: fixed must be an object")
     if "ik" in fixed:
-        if not all(isinstance(t, dict) and finite_numbers(t.get("pose")) and finite_numbers(t.get("start"))
-                   for t in (fixed["ik"].get("targets") or [] if isinstance(fixed["ik"], dict) else [None])):
+        if not all(
+            isinstance(t, dict) and finite_numbers(t.get("pose")) and finite_numbers(t.get("start"))
+            for t in (fixed["ik"].get("targets") or [] if isinstance(fixed["ik"], dict) else [None])
+        ):
             raise InputError(f"{path}: malformed baseline: fixed.ik targets must hold finite numbers")
         try:
             ik_parse(fixed["ik"], len(q))
@@ -288,8 +308,12 @@ def _validate_body(path, data: dict[str, Any]) -> None:
     if not isinstance(data["records"], list):
         raise InputError(f"{path}: malformed baseline: records must be a list")
     for i, rec in enumerate(data["records"]):
-        if (not isinstance(rec, dict) or not {"property", "frame", "sample", "value"} <= rec.keys()
-                or not isinstance(rec["sample"], int) or not 0 <= rec["sample"] < len(q)):
+        if (
+            not isinstance(rec, dict)
+            or not {"property", "frame", "sample", "value"} <= rec.keys()
+            or not isinstance(rec["sample"], int)
+            or not 0 <= rec["sample"] < len(q)
+        ):
             raise InputError(f"{path}: malformed baseline: records[{i}] is not a record of a stored sample")
         if not finite_numbers(rec["value"]) or not isinstance(rec["property"], str) or not isinstance(rec["frame"], str):
             raise InputError(f"{path}: malformed baseline: records[{i}].value is not a finite number or table of numbers")
@@ -308,8 +332,10 @@ def _complete(path, data: dict[str, Any], samples: int) -> None:
     for prop in KINEMATICS:
         for frame in data["frames"]:
             if have.get((prop, frame), 0) < samples:
-                raise InputError(f"{path}: malformed baseline: records of {prop} at {frame} are missing "
-                                 f"({have.get((prop, frame), 0)} of {samples} samples); save the baseline again")
+                raise InputError(
+                    f"{path}: malformed baseline: records of {prop} at {frame} are missing "
+                    f"({have.get((prop, frame), 0)} of {samples} samples); save the baseline again"
+                )
 
 
 def save_baseline(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
@@ -326,4 +352,3 @@ def save_baseline(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int
 def save(spec: ArmSpec, path, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED) -> Path:
     """Alias of :func:`save_baseline`."""
     return save_baseline(spec, path, samples, seed)
-

@@ -15,8 +15,15 @@ from typing import Any
 import numpy as np
 
 from kinverify.errors import InputError
-from kinverify.regression.baseline import (BASELINE_TOLERANCES, QUANTITIES, Tolerance, compute_records, fingerprints, read_baseline,
-                                          record_delta)
+from kinverify.regression.baseline import (
+    BASELINE_TOLERANCES,
+    QUANTITIES,
+    Tolerance,
+    compute_records,
+    fingerprints,
+    read_baseline,
+    record_delta,
+)
 from kinverify.model.canonical import spec_from_canonical, spec_to_canonical
 from kinverify.model.spec import ArmSpec
 from kinverify.regression.specdiff import ParamChange, diff_specs
@@ -72,11 +79,15 @@ class BaselineCheck:
         out = []
         versions = ", ".join(f"{k} {a} -> {b}" for k, (a, b) in self.version_changes.items())
         if self.spec_changed:
-            out.append("the spec changed: " + ("; ".join(c.describe() for c in self.spec_changes)
-                                               or "no parameter differs by more than 1e-12"))
+            out.append(
+                "the spec changed: "
+                + ("; ".join(c.describe() for c in self.spec_changes) or "no parameter differs by more than 1e-12")
+            )
         elif self.files_changed:
-            out.append(f"the spec is unchanged but the generated {' and '.join(self.files_changed).upper()} changed "
-                       "(a different kinverify generator)")
+            out.append(
+                f"the spec is unchanged but the generated {' and '.join(self.files_changed).upper()} changed "
+                "(a different kinverify generator)"
+            )
         if self.version_changes:
             if self.spec_changed:
                 out.append(f"library versions also changed: {versions}")
@@ -87,29 +98,41 @@ class BaselineCheck:
         elif not self.spec_changed and not self.passed:
             out.append("neither the spec nor the library versions changed")
         if self.missing_quantities:
-            out.append(f"the baseline has no {', '.join(self.missing_quantities)} records (an older format or "
-                       "kinverify); they were not compared: save a new baseline to include them")
+            out.append(
+                f"the baseline has no {', '.join(self.missing_quantities)} records (an older format or "
+                "kinverify); they were not compared: save a new baseline to include them"
+            )
         if not self.comparable:
             out.append("the joint count changed, so the baseline's configurations cannot be re-evaluated; save a new baseline")
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        return {"model": self.model, "source": self.source, "passed": self.passed, "samples": self.samples,
-                "compared": self.compared, "moved": [m.to_dict() for m in self.moved],
-                "frames_added": self.frames_added, "frames_removed": self.frames_removed,
-                "spec_changed": self.spec_changed, "spec_changes": [c.to_dict() for c in self.spec_changes],
-                "files_changed": self.files_changed, "comparable": self.comparable,
-                "missing_quantities": self.missing_quantities,
-                "version_changes": {k: list(v) for k, v in self.version_changes.items()},
-                "explanations": self.explanations}
+        return {
+            "model": self.model,
+            "source": self.source,
+            "passed": self.passed,
+            "samples": self.samples,
+            "compared": self.compared,
+            "moved": [m.to_dict() for m in self.moved],
+            "frames_added": self.frames_added,
+            "frames_removed": self.frames_removed,
+            "spec_changed": self.spec_changed,
+            "spec_changes": [c.to_dict() for c in self.spec_changes],
+            "files_changed": self.files_changed,
+            "comparable": self.comparable,
+            "missing_quantities": self.missing_quantities,
+            "version_changes": {k: list(v) for k, v in self.version_changes.items()},
+            "explanations": self.explanations,
+        }
 
 
 def _key(rec: dict) -> tuple:
     return rec["property"], rec["frame"], rec["sample"]
 
 
-def compare_records(old: list[dict], new: list[dict], q: np.ndarray, order: list[str],
-                    tolerances: dict[str, Tolerance]) -> tuple[list[Moved], int]:
+def compare_records(
+    old: list[dict], new: list[dict], q: np.ndarray, order: list[str], tolerances: dict[str, Tolerance]
+) -> tuple[list[Moved], int]:
     """Moved quantities (worst sample per property and frame) and the number compared."""
     new_by_key = {_key(r): r for r in new}
     worst: dict[tuple[str, str], Moved] = {}
@@ -130,18 +153,21 @@ def compare_records(old: list[dict], new: list[dict], q: np.ndarray, order: list
             best = worst.get((prop, frame))
             if best is None or delta > best.delta:
                 s = rec["sample"]
-                worst[(prop, frame)] = Moved(prop, frame, s, tuple(q[s].tolist()), rec["value"], other["value"],
-                                             delta, tol.value, tol.unit, 0, 0)
+                worst[(prop, frame)] = Moved(
+                    prop, frame, s, tuple(q[s].tolist()), rec["value"], other["value"], delta, tol.value, tol.unit, 0, 0
+                )
     props = list(tolerances)
     rank = {f: i for i, f in enumerate(order)}
     moved = [Moved(**{**m.__dict__, "count": counts[k][0], "of": counts[k][1]}) for k, m in worst.items()]
-    moved.sort(key=lambda m: (props.index(m.property) if m.property in props else len(props),
-                              rank.get(m.frame, len(rank)), m.property))
+    moved.sort(
+        key=lambda m: (props.index(m.property) if m.property in props else len(props), rank.get(m.frame, len(rank)), m.property)
+    )
     return moved, compared
 
 
-def check_baseline(spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, Tolerance] | None = None,
-                   source: str = "") -> BaselineCheck:
+def check_baseline(
+    spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, Tolerance] | None = None, source: str = ""
+) -> BaselineCheck:
     """Compare ``spec`` with validated baseline ``data`` (see :func:`kinverify.baseline.read_baseline`)."""
     tolerances = dict(tolerances or BASELINE_TOLERANCES)
     q = np.asarray(data["q"], dtype=float)
@@ -153,16 +179,21 @@ def check_baseline(spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, To
     stored = data.get("fingerprints") or {}
     result.spec_changed = stored.get("spec") != prints["spec"] and data["spec"] != spec_to_canonical(spec)
     if not result.spec_changed and (result.frames_removed or result.frames_added):  # the same model, other frames
-        raise InputError(f"{source}: frames: the baseline records this very spec, yet its frames differ from the model's "
-                         f"(only in the baseline: {', '.join(result.frames_removed) or 'none'}; only in the model: "
-                         f"{', '.join(result.frames_added) or 'none'}): the file does not match the model; save the baseline again")
+        raise InputError(
+            f"{source}: frames: the baseline records this very spec, yet its frames differ from the model's "
+            f"(only in the baseline: {', '.join(result.frames_removed) or 'none'}; only in the model: "
+            f"{', '.join(result.frames_added) or 'none'}): the file does not match the model; save the baseline again"
+        )
     if result.spec_changed:
         result.spec_changes = diff_specs(spec_from_canonical(data["spec"], where=f"{source}: spec"), spec)
     result.files_changed = [k for k in ("urdf", "mjcf") if stored.get(k) != prints[k]]
     now = library_versions()
     old_versions = data.get("versions") or {}
-    result.version_changes = {k: (str(old_versions.get(k)), str(now.get(k)))
-                              for k in sorted(set(old_versions) | set(now)) if old_versions.get(k) != now.get(k)}
+    result.version_changes = {
+        k: (str(old_versions.get(k)), str(now.get(k)))
+        for k in sorted(set(old_versions) | set(now))
+        if old_versions.get(k) != now.get(k)
+    }
     stored_quantities = data.get("quantities") or ["kinematics"]
     result.missing_quantities = [qt.name for qt in QUANTITIES if qt.name not in stored_quantities]
     if q.shape[1] != spec.nq:
@@ -172,8 +203,9 @@ def check_baseline(spec: ArmSpec, data: dict[str, Any], tolerances: dict[str, To
     order = new_frames + [j for j in spec.coordinate_names if j not in new_frames]
     result.moved, result.compared = compare_records(data["records"], records, q, order, tolerances)
     if not result.compared and not result.frames_added and not result.frames_removed:
-        raise InputError(f"{source}: no record of the baseline matches what the model computes: nothing was compared "
-                         "(save the baseline again)")
+        raise InputError(
+            f"{source}: no record of the baseline matches what the model computes: nothing was compared (save the baseline again)"
+        )
     return result
 
 

@@ -101,9 +101,16 @@ def frame_changes(old_file: LoadedFile, new_file: LoadedFile, joints, frames, q)
         dr = geodesic_distance(eo.poses[:, f, :3, :3], en.poses[:, f, :3, :3])
         dj = en.jacobians[:, f] - eo.jacobians[:, f]
         worst = int(np.argmax(dp)) if dp.max() > 0 else int(np.argmax(dr))
-        out.append(FrameChange(frame, float(dp.max()), float(dr.max()),
-                               float(np.linalg.norm(dj[:, :3], axis=(-2, -1)).max()),
-                               float(np.linalg.norm(dj[:, 3:], axis=(-2, -1)).max()), tuple(q[worst].tolist())))
+        out.append(
+            FrameChange(
+                frame,
+                float(dp.max()),
+                float(dr.max()),
+                float(np.linalg.norm(dj[:, :3], axis=(-2, -1)).max()),
+                float(np.linalg.norm(dj[:, 3:], axis=(-2, -1)).max()),
+                tuple(q[worst].tolist()),
+            )
+        )
     return out
 
 
@@ -133,9 +140,11 @@ def diff_files(old_path: str, new_path: str, samples: int = DIFF_SAMPLES, seed: 
         raise InputError(f"{bad}: not a URDF or MJCF; diff compares two specs (.toml), two URDFs or two MJCFs")
     if kinds[0] != kinds[1]:
         urdf, mjcf = (old_path, new_path) if kinds[0] == "urdf" else (new_path, old_path)
-        raise InputError(f"{old_path} is {'a URDF' if kinds[0] == 'urdf' else 'an MJCF'} and {new_path} "
-                         f"{'a URDF' if kinds[1] == 'urdf' else 'an MJCF'}: diff compares two files of one kind; "
-                         f"to compare a URDF with an MJCF run `kinverify verify --urdf {urdf} --mjcf {mjcf}`")
+        raise InputError(
+            f"{old_path} is {'a URDF' if kinds[0] == 'urdf' else 'an MJCF'} and {new_path} "
+            f"{'a URDF' if kinds[1] == 'urdf' else 'an MJCF'}: diff compares two files of one kind; "
+            f"to compare a URDF with an MJCF run `kinverify verify --urdf {urdf} --mjcf {mjcf}`"
+        )
     if samples < 0:
         raise InputError(f"--samples must be >= 0, got {samples}")
     (lo, old), (ln, new) = _load(old_path, kinds[0]), _load(new_path, kinds[1])

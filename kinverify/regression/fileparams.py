@@ -72,8 +72,11 @@ def _pose_changes(out, where: str, old: np.ndarray, new: np.ndarray) -> None:
     _change(out, where, "origin.xyz", _tuple(old[:3, 3]), _tuple(new[:3, 3]))
     angle = float(geodesic_distance(old[None, :3, :3], new[None, :3, :3])[0])
     if angle > ATOL:
-        out.append(ParamChange(where, "origin.rotation", "changed", _tuple(matrix_to_rpy(old[:3, :3])),
-                               _tuple(matrix_to_rpy(new[:3, :3])), angle))
+        out.append(
+            ParamChange(
+                where, "origin.rotation", "changed", _tuple(matrix_to_rpy(old[:3, :3])), _tuple(matrix_to_rpy(new[:3, :3])), angle
+            )
+        )
 
 
 def pair_names(old: ModelDesc, new: ModelDesc) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
@@ -92,7 +95,7 @@ def pair_names(old: ModelDesc, new: ModelDesc) -> tuple[list[tuple[str, str]], l
     old_prefix, new_prefix = _rename_prefixes(joints)
     for f in old.frames:  # remaining frames: the prefix change the joints had
         if f not in paired_old and f.startswith(old_prefix):
-            other = new_prefix + f[len(old_prefix):]
+            other = new_prefix + f[len(old_prefix) :]
             if other in new.frames and other not in paired_new:
                 frames.append((f, other))
                 paired_new.add(other)
@@ -140,8 +143,11 @@ def _inertias(desc: ModelDesc) -> dict[str | None, tuple[float, tuple, tuple]]:
         t = np.eye(4) if frame is None else desc.frames[frame]
         r = t[:3, :3]
         local = r.T @ inertia @ r
-        out[owner] = (mass, _tuple(r.T @ (com - t[:3, 3])),
-                      _tuple([local[0, 0], local[1, 1], local[2, 2], local[0, 1], local[0, 2], local[1, 2]]))
+        out[owner] = (
+            mass,
+            _tuple(r.T @ (com - t[:3, 3])),
+            _tuple([local[0, 0], local[1, 1], local[2, 2], local[0, 1], local[0, 2], local[1, 2]]),
+        )
     return out
 
 
@@ -159,7 +165,9 @@ def param_changes(old: ModelDesc, new: ModelDesc, joints=None, frames=None) -> l
         _pose_changes(out, where, _relative(old, a.child, a.parent_frame), _relative(new, b.child, b.parent_frame))
         ra, rb = old.frames[a.child], new.frames[b.child]
         _change(out, where, "axis", _tuple(ra[:3, :3].T @ a.axis), _tuple(rb[:3, :3].T @ b.axis))
-        _change(out, where, "anchor", _tuple(ra[:3, :3].T @ (a.anchor - ra[:3, 3])), _tuple(rb[:3, :3].T @ (b.anchor - rb[:3, 3])))
+        _change(
+            out, where, "anchor", _tuple(ra[:3, :3].T @ (a.anchor - ra[:3, 3])), _tuple(rb[:3, :3].T @ (b.anchor - rb[:3, 3]))
+        )
         for attr in ("lower", "upper", "effort", "velocity", "damping", "friction", "armature"):
             x, y = getattr(a, attr), getattr(b, attr)
             field = f"limits.{attr}" if attr in ("lower", "upper", "effort", "velocity") else attr
@@ -176,8 +184,9 @@ def param_changes(old: ModelDesc, new: ModelDesc, joints=None, frames=None) -> l
         elif (oa is None) != (ob is None):
             out.append(ParamChange(f"frame {name}", "moves with", "changed", "base", ob))
         else:
-            _pose_changes(out, f"frame {name}", _relative(old, name, _joint_frame(old, oa)),
-                          _relative(new, other, _joint_frame(new, ob)))
+            _pose_changes(
+                out, f"frame {name}", _relative(old, name, _joint_frame(old, oa)), _relative(new, other, _joint_frame(new, ob))
+            )
     io, inew = _inertias(old), _inertias(new)
     mapped = {owner: (joint_map.get(owner) if owner is not None else None) for owner in io}
     for owner in io:
@@ -191,5 +200,7 @@ def param_changes(old: ModelDesc, new: ModelDesc, joints=None, frames=None) -> l
             _change(out, where, field, io[owner][k], inew[mapped[owner]][k])
     for owner in inew:
         if owner not in mapped.values() and (owner is None or owner in joint_map.values()):
-            out.append(ParamChange(f"inertia moving with {owner or 'base'}", "mass", "changed", 0.0, inew[owner][0], inew[owner][0]))
+            out.append(
+                ParamChange(f"inertia moving with {owner or 'base'}", "mass", "changed", 0.0, inew[owner][0], inew[owner][0])
+            )
     return out

@@ -61,14 +61,20 @@ class ModelDiff:
 
     @property
     def identical(self) -> bool:
-        return not self.params and all(max(f.position, f.rotation, f.jacobian_linear, f.jacobian_angular) == 0
-                                       for f in self.frames)
+        return not self.params and all(
+            max(f.position, f.rotation, f.jacobian_linear, f.jacobian_angular) == 0 for f in self.frames
+        )
 
     def to_dict(self) -> dict[str, Any]:
-        return {"old": self.old_name, "new": self.new_name, "samples": self.samples,
-                "params": [p.to_dict() for p in self.params], "frames": [f.to_dict() for f in self.frames],
-                "reach": [{"frame": r.frame, "old": r.old, "new": r.new, "change": r.change} for r in self.reach],
-                "notes": self.notes}
+        return {
+            "old": self.old_name,
+            "new": self.new_name,
+            "samples": self.samples,
+            "params": [p.to_dict() for p in self.params],
+            "frames": [f.to_dict() for f in self.frames],
+            "reach": [{"frame": r.frame, "old": r.old, "new": r.new, "change": r.change} for r in self.reach],
+            "notes": self.notes,
+        }
 
 
 def reach(spec: ArmSpec, samples: int = REACH_SAMPLES, seed: int = 0) -> dict[str, float]:
@@ -96,9 +102,16 @@ def frame_changes(old: ArmSpec, new: ArmSpec, q: np.ndarray) -> list[FrameChange
         dr = geodesic_distance(po[:, g, :3, :3], pn[:, f, :3, :3])
         dj = jn[:, f] - jo[:, g]
         worst = int(np.argmax(dp)) if dp.max() > 0 else int(np.argmax(dr))
-        out.append(FrameChange(frame, float(dp.max()), float(dr.max()),
-                               float(np.linalg.norm(dj[:, :3], axis=(-2, -1)).max()),
-                               float(np.linalg.norm(dj[:, 3:], axis=(-2, -1)).max()), tuple(q[worst].tolist())))
+        out.append(
+            FrameChange(
+                frame,
+                float(dp.max()),
+                float(dr.max()),
+                float(np.linalg.norm(dj[:, :3], axis=(-2, -1)).max()),
+                float(np.linalg.norm(dj[:, 3:], axis=(-2, -1)).max()),
+                tuple(q[worst].tolist()),
+            )
+        )
     return out
 
 
@@ -106,7 +119,11 @@ def diff_models(old: ArmSpec, new: ArmSpec, samples: int = DIFF_SAMPLES, seed: i
     """Parameter-level and behaviour-level differences from ``old`` to ``new``."""
     result = ModelDiff(old.name, new.name, diff_specs(old, new))
     if old.nq != new.nq or old.floating != new.floating:
-        what = "the base floats in one version only" if old.floating != new.floating else f"joint count changed ({old.dof} -> {new.dof})"
+        what = (
+            "the base floats in one version only"
+            if old.floating != new.floating
+            else f"joint count changed ({old.dof} -> {new.dof})"
+        )
         result.notes.append(f"{what}: FK and Jacobians cannot be compared at the same configurations")
     else:
         q = spec_samples(old, samples, seed)

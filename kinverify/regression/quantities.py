@@ -48,8 +48,10 @@ def ik_fixed(spec: ArmSpec, q: np.ndarray) -> dict[str, Any]:
         return {"frame": frame, "position_only": spec.dof < 6, "targets": []}
     poses = frame_poses(spec, q[samples])[:, spec.frame_names.index(frame)]
     middle = (np.asarray(spec.lower) + np.asarray(spec.upper)) / 2
-    targets = [{"sample": s, "pose": poses[k].tolist(), "start": (q[s] + IK_START_BLEND * (middle - q[s])).tolist()}
-               for k, s in enumerate(samples)]
+    targets = [
+        {"sample": s, "pose": poses[k].tolist(), "start": (q[s] + IK_START_BLEND * (middle - q[s])).tolist()}
+        for k, s in enumerate(samples)
+    ]
     return {"frame": frame, "position_only": spec.dof < 6, "targets": targets}
 
 
@@ -78,15 +80,30 @@ def ik_records(spec: ArmSpec, q: np.ndarray, fixed: dict[str, Any]) -> list[dict
     if frame not in spec.frame_names or not targets or starts.shape[1] != spec.dof:
         return []
     model = FrameModel(AnalyticBackend(spec), frame)
-    opts = IKOptions(tol_pos=1e-12, tol_rot=1e-12, max_restarts=IK_RESTARTS, first_attempt_iter=IK_ITERATIONS,
-                     stall_window=IK_ITERATIONS, max_evaluations=IK_ITERATIONS, time_budget=60.0, seed=0)
-    sol = solve_lm(model, poses, spec.lower, spec.upper, position_only=bool(fixed.get("position_only")),
-                   options=opts, q0=starts, batch=True)
+    opts = IKOptions(
+        tol_pos=1e-12,
+        tol_rot=1e-12,
+        max_restarts=IK_RESTARTS,
+        first_attempt_iter=IK_ITERATIONS,
+        stall_window=IK_ITERATIONS,
+        max_evaluations=IK_ITERATIONS,
+        time_budget=60.0,
+        seed=0,
+    )
+    sol = solve_lm(
+        model, poses, spec.lower, spec.upper, position_only=bool(fixed.get("position_only")), options=opts, q0=starts, batch=True
+    )
     out = []
     for k, sample in enumerate(samples):
         out.append({"property": "ik.q", "frame": frame, "sample": sample, "value": sol.q[k].tolist()})
-        out.append({"property": "ik.error", "frame": frame, "sample": sample,
-                    "value": [float(sol.pos_error[k]), float(sol.rot_error[k])]})
+        out.append(
+            {
+                "property": "ik.error",
+                "frame": frame,
+                "sample": sample,
+                "value": [float(sol.pos_error[k]), float(sol.rot_error[k])],
+            }
+        )
     return out
 
 

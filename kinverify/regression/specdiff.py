@@ -40,8 +40,15 @@ class ParamChange:
         return f"{self.where}: {self.field} {_fmt(self.old)} -> {_fmt(self.new)}{size}"
 
     def to_dict(self) -> dict[str, Any]:
-        return {"where": self.where, "field": self.field, "kind": self.kind, "old": _plain(self.old),
-                "new": _plain(self.new), "delta": self.delta, "text": self.describe()}
+        return {
+            "where": self.where,
+            "field": self.field,
+            "kind": self.kind,
+            "old": _plain(self.old),
+            "new": _plain(self.new),
+            "delta": self.delta,
+            "text": self.describe(),
+        }
 
 
 def _plain(v):
@@ -121,9 +128,14 @@ def diff_specs(old: ArmSpec, new: ArmSpec, atol: float = ATOL) -> list[ParamChan
     for name in common:
         a, b = old_joints[name], new_joints[name]
         where = f"joint {name}"
-        for field, x, y in (("parent", old_parent[name], new_parent[name]), ("type", a.type, b.type), ("origin.xyz", a.origin.xyz, b.origin.xyz),
-                            ("origin.rpy", a.origin.rpy, b.origin.rpy), ("axis", a.axis, b.axis),
-                            ("link", a.link.name, b.link.name)):
+        for field, x, y in (
+            ("parent", old_parent[name], new_parent[name]),
+            ("type", a.type, b.type),
+            ("origin.xyz", a.origin.xyz, b.origin.xyz),
+            ("origin.rpy", a.origin.rpy, b.origin.rpy),
+            ("axis", a.axis, b.axis),
+            ("link", a.link.name, b.link.name),
+        ):
             _compare(out, where, field, x, y, atol)
         for attr in ("lower", "upper", "velocity", "effort"):
             _compare(out, where, f"limits.{attr}", getattr(a.limits, attr), getattr(b.limits, attr), atol)

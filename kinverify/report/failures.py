@@ -73,28 +73,59 @@ def failure_groups(result: VerifyResult) -> list[dict[str, Any]]:
             first = min(mine, key=lambda c: rank.get(c.frame, len(rank)))
             worst_check = max(mine, key=lambda c: ratio(c) if ratio(c) == ratio(c) else math.inf)
             against = list(dict.fromkeys(x for c in mine for x in c.backends if x != col)) or [col]
-            rows.append({"property": prop, "first": first, "worst": worst_check, "n": len(mine), "against": ", ".join(against),
-                         "of": sum(1 for c in result.checks if c.property == prop and col in c.backends)})
+            rows.append(
+                {
+                    "property": prop,
+                    "first": first,
+                    "worst": worst_check,
+                    "n": len(mine),
+                    "against": ", ".join(against),
+                    "of": sum(1 for c in result.checks if c.property == prop and col in c.backends),
+                }
+            )
         start = min((r["first"] for r in rows), key=lambda c: rank.get(c.frame, len(rank)))
         diag = diagnosis.get(col) or {}
         worst: list[dict[str, Any]] = []
         for w in diag.get("worst", []):
-            worst.append({**configuration(w["q"], rev), "where": w["frame"],
-                          "error": f"{w['position_error']:.3e} m, {w['rotation_error']:.3e} rad"})
+            worst.append(
+                {
+                    **configuration(w["q"], rev),
+                    "where": w["frame"],
+                    "error": f"{w['position_error']:.3e} m, {w['rotation_error']:.3e} rad",
+                }
+            )
         for c in sorted(failed, key=lambda c: -(ratio(c) if ratio(c) == ratio(c) else math.inf)):
             vec = configuration(c.worst_q, rev)
             if c.worst_q and vec["rad"] not in [w["rad"] for w in worst]:
-                worst.append({**vec, "where": f"{c.property} at {c.frame}", "error": f"{c.max_error:.3e} {display_unit(c.unit, rev)}"})
+                worst.append(
+                    {**vec, "where": f"{c.property} at {c.frame}", "error": f"{c.max_error:.3e} {display_unit(c.unit, rev)}"}
+                )
         v = values.get(col)
         both = None
         if v:
-            both = {**configuration(v["q"], rev), "frame": v["frame"], "reference": ref, "backend": col,
-                    "a": _vector(v["reference"], ".6g"), "b": _vector(v["value"], ".6g"),
-                    "error": f"{v['position_error']:.3g} m, {v['rotation_error']:.3g} rad"}
+            both = {
+                **configuration(v["q"], rev),
+                "frame": v["frame"],
+                "reference": ref,
+                "backend": col,
+                "a": _vector(v["reference"], ".6g"),
+                "b": _vector(v["value"], ".6g"),
+                "error": f"{v['position_error']:.3g} m, {v['rotation_error']:.3g} rad",
+            }
         hint = (diag.get("hint") or {}).get("text", "")
-        out.append({"column": col, "rows": rows, "start": start, "worst": worst[:8], "both": both,
-                    "hint": hint, "advice": advice(start), "n_failed": len(failed),
-                    "chain": _chain(result, col, ref, rank)})
+        out.append(
+            {
+                "column": col,
+                "rows": rows,
+                "start": start,
+                "worst": worst[:8],
+                "both": both,
+                "hint": hint,
+                "advice": advice(start),
+                "n_failed": len(failed),
+                "chain": _chain(result, col, ref, rank),
+            }
+        )
     return out
 
 
@@ -119,8 +150,10 @@ def _chain(result: VerifyResult, col: str, ref: str, rank) -> dict[str, Any]:
             cells[key] = c
     frames = sorted({c.frame for c in checks}, key=lambda f: rank[f])
     first = next((f for f in frames if any(not cells[(p, f)].passed for p in props if (p, f) in cells)), None)
-    return {"properties": props, "rows": [{"frame": f, "starts": f == first, "cells": [cells.get((p, f)) for p in props]}
-                                          for f in frames]}
+    return {
+        "properties": props,
+        "rows": [{"frame": f, "starts": f == first, "cells": [cells.get((p, f)) for p in props]} for f in frames],
+    }
 
 
 def _numbers(v):
@@ -172,8 +205,10 @@ def finding_groups(result: VerifyResult, errors: bool | None = None) -> list[dic
     an error first; accepted findings count as their own kind, after infos. ``errors``: only the
     findings that fail the verdict (True), only the others (False), or all (None)."""
     order = {s: i for i, s in enumerate(SEVERITIES)}
+
     def level(f):
         return len(SEVERITIES) if f.accepted else order[f.severity]
+
     groups: dict[tuple[str, str], dict[str, Any]] = {}
     for f in result.findings:
         if errors is not None and f.fails != errors:
@@ -181,8 +216,9 @@ def finding_groups(result: VerifyResult, errors: bool | None = None) -> list[dic
         key = (f.subject_type, f.subject)
         g = groups.setdefault(key, {"label": f.label, "type": f.subject_type, "subject": f.subject, "items": []})
         pairs, rest = side_by_side(f)
-        g["items"].append({"f": f, "pairs": pairs, "rest": rest, "level": level(f),
-                           "severity": "accepted" if f.accepted else f.severity})
+        g["items"].append(
+            {"f": f, "pairs": pairs, "rest": rest, "level": level(f), "severity": "accepted" if f.accepted else f.severity}
+        )
     out = sorted(groups.values(), key=lambda g: min(i["level"] for i in g["items"]))
     for g in out:
         g["items"].sort(key=lambda i: i["level"])

@@ -45,6 +45,8 @@ def load_result_json(path) -> VerifyResult:
     except (TypeError, KeyError, ValueError) as err:
         raise InputError(f"{path}: malformed results JSON: {err}") from None
     if result.verdict != data["verdict"]:
-        raise InputError(f"{path}: the saved verdict is {data['verdict']!r} but its checks and findings give "
-                         f"{result.verdict!r}: the file was changed after kinverify wrote it")
+        raise InputError(
+            f"{path}: the saved verdict is {data['verdict']!r} but its checks and findings give "
+            f"{result.verdict!r}: the file was changed after kinverify wrote it"
+        )
     return result

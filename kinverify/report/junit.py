@@ -50,8 +50,9 @@ def junit_xml(result: VerifyResult) -> str:
     frame_rank = {f: i for i, f in enumerate(result.frames)}
     root = ET.Element("testsuites", {"name": f"kinverify {result.model}", "time": f"{result.duration_s:.3f}"})
     for suite, keys in by_suite.items():
-        element = ET.SubElement(root, "testsuite", {"name": suite, "timestamp": result.started or "",
-                                                    "time": f"{result.timings.get(suite, 0.0):.3f}"})
+        element = ET.SubElement(
+            root, "testsuite", {"name": suite, "timestamp": result.started or "", "time": f"{result.timings.get(suite, 0.0):.3f}"}
+        )
         counts = {"tests": 0, "failures": 0, "skipped": 0, "errors": 0}
         for prop, pair in keys:
             checks = groups[(prop, pair)]
@@ -61,12 +62,15 @@ def junit_xml(result: VerifyResult) -> str:
             if not failed:
                 continue
             first = min(failed, key=lambda c: frame_rank.get(c.frame, len(frame_rank)))
-            text = (f"{prop} ({' vs '.join(pair)}) at {first.frame}: max error {first.max_error:.3e} {first.unit} > "
-                    f"tolerance {first.tolerance:.3g} {first.unit}; {len(failed)} of {len(checks)} checks; "
-                    f"worst configuration ({', '.join(result.joint_names)}): q = {_q(first)}")
+            text = (
+                f"{prop} ({' vs '.join(pair)}) at {first.frame}: max error {first.max_error:.3e} {first.unit} > "
+                f"tolerance {first.tolerance:.3g} {first.unit}; {len(failed)} of {len(checks)} checks; "
+                f"worst configuration ({', '.join(result.joint_names)}): q = {_q(first)}"
+            )
             if first.counts:
                 ET.SubElement(case, "failure", {"type": "disagreement", "message": text}).text = text + (
-                    f"\nnote: {first.note}" if first.note else "")
+                    f"\nnote: {first.note}" if first.note else ""
+                )
                 counts["failures"] += 1
             elif first.kind == EXPLAINED:
                 ET.SubElement(case, "skipped", {"message": f"explained by a finding (the finding counts): {text}"})
@@ -91,8 +95,17 @@ def junit_xml(result: VerifyResult) -> str:
                 ET.SubElement(case, "system-out").text = f"{f.severity}: {f.message}"
         element.attrib.update({k: str(v) for k, v in counts.items()})
     if result.internal_errors:
-        element = ET.SubElement(root, "testsuite", {"name": "internal", "tests": str(len(result.internal_errors)),
-                                                    "failures": "0", "skipped": "0", "errors": str(len(result.internal_errors))})
+        element = ET.SubElement(
+            root,
+            "testsuite",
+            {
+                "name": "internal",
+                "tests": str(len(result.internal_errors)),
+                "failures": "0",
+                "skipped": "0",
+                "errors": str(len(result.internal_errors)),
+            },
+        )
         for message in result.internal_errors:
             case = _case(element, "kinverify.internal", message.split(":", 1)[0])
             ET.SubElement(case, "error", {"type": "internal error", "message": message}).text = message

@@ -147,11 +147,22 @@ class Cell:
         w = self.worst
         n_fail = sum(not c.passed for c in self.checks)
         limit = "goal" if w.kind == PERFORMANCE else "tolerance"
-        verdict = ("all pass" if not n_fail else f"{n_fail} of {len(self.checks)} "
-                   + ("below goal" if w.kind == PERFORMANCE and not w.counts
-                      else "differ as a finding says" if w.kind == EXPLAINED else "fail"))
-        return (f"{w.property}: {' vs '.join(w.backends)} at {w.frame}: {w.max_error:.3g} {display_unit(w.unit, self.revolute)} "
-                f"({limit} {w.tolerance:.3g}); {len(self.checks)} check{'s' if len(self.checks) != 1 else ''}, {verdict}")
+        verdict = (
+            "all pass"
+            if not n_fail
+            else f"{n_fail} of {len(self.checks)} "
+            + (
+                "below goal"
+                if w.kind == PERFORMANCE and not w.counts
+                else "differ as a finding says"
+                if w.kind == EXPLAINED
+                else "fail"
+            )
+        )
+        return (
+            f"{w.property}: {' vs '.join(w.backends)} at {w.frame}: {w.max_error:.3g} {display_unit(w.unit, self.revolute)} "
+            f"({limit} {w.tolerance:.3g}); {len(self.checks)} check{'s' if len(self.checks) != 1 else ''}, {verdict}"
+        )
 
 
 @dataclass
@@ -243,9 +254,15 @@ def layout(groups: list[Group]) -> list[list[list[Group]]]:
 def legend(explained: bool = False) -> list[dict[str, Any]]:
     """Swatches for the legend: agreement ratios, performance, failures (and, when the run has
     them, differences a finding reports)."""
-    items = [(1e-9, True, False, "≤ 1e-9 of tolerance"), (1e-6, True, False, "1e-6"), (1e-3, True, False, "1e-3"),
-             (0.5, True, False, "near tolerance"), (10, False, False, "fails"),
-             (1e-3, True, True, "performance: goal met"), (10, False, True, "below goal (not counted)")]
+    items = [
+        (1e-9, True, False, "≤ 1e-9 of tolerance"),
+        (1e-6, True, False, "1e-6"),
+        (1e-3, True, False, "1e-3"),
+        (0.5, True, False, "near tolerance"),
+        (10, False, False, "fails"),
+        (1e-3, True, True, "performance: goal met"),
+        (10, False, True, "below goal (not counted)"),
+    ]
     out = []
     for r, passed, perf, label in items:
         bg, fg = colour(r, passed, perf, counts=not perf)

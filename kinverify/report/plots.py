@@ -29,7 +29,7 @@ def _svg(fig) -> str:
     fig.savefig(buf, format="svg", bbox_inches="tight", metadata={"Date": None, "Creator": None})
     plt.close(fig)
     text = buf.getvalue()
-    return text[text.index("<svg"):]
+    return text[text.index("<svg") :]
 
 
 def figure_entry(fig, title: str, caption: str) -> Figure:
@@ -96,7 +96,9 @@ def error_distributions_svg(result: VerifyResult) -> str | None:
             ax.yaxis.set_major_locator(matplotlib.ticker.LogLocator(numticks=5))
             ax.minorticks_off()  # log axes over many decades: minor ticks cost seconds and add nothing
             ax.set_title(prop)
-            ax.set_xlabel(f"error [{units[prop]}] (errors below 1e-18, incl. 0, in the first bin)" if i == 0 else f"error [{units[prop]}]")
+            ax.set_xlabel(
+                f"error [{units[prop]}] (errors below 1e-18, incl. 0, in the first bin)" if i == 0 else f"error [{units[prop]}]"
+            )
             ax.set_ylabel("samples × frames")
             ax.grid(True, which="major", alpha=0.3)
             ax.legend(fontsize=6, loc="upper right")  # a fixed place: "best" searches the data, seconds per panel

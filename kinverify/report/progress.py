@@ -8,8 +8,12 @@ from rich.progress import BarColumn, Progress, ProgressColumn, SpinnerColumn, Ta
 from rich.text import Text
 
 # What each suite counts when it reports progress (``VerifyOptions.on_progress(done, total)``).
-UNITS = {"kinematics": "configurations", "dynamics": "configurations", "ik": "solver backends",
-         "tracking": "steps"}  # tracking: one per controller run, then the animation
+UNITS = {
+    "kinematics": "configurations",
+    "dynamics": "configurations",
+    "ik": "solver backends",
+    "tracking": "steps",
+}  # tracking: one per controller run, then the animation
 
 
 class CountColumn(ProgressColumn):
@@ -40,8 +44,16 @@ class VerifyProgress:
 
     def __init__(self, console, label: str) -> None:
         self.label = label
-        self._progress = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), CountColumn(), EtaColumn(),
-                                  console=console, transient=True, disable=not console.is_terminal)
+        self._progress = Progress(
+            SpinnerColumn(),
+            TextColumn("{task.description}"),
+            BarColumn(),
+            CountColumn(),
+            EtaColumn(),
+            console=console,
+            transient=True,
+            disable=not console.is_terminal,
+        )
         self._task: TaskID | None = None
         self.suite_name = ""
 

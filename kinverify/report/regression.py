@@ -53,8 +53,16 @@ def _q_short(q) -> str:
 
 
 def param_table(changes: list[ParamChange]) -> dict[str, Any]:
-    rows = [[c.where, c.field if c.kind == "changed" else c.kind, "" if c.old is None else _fmt(c.old),
-             "" if c.new is None else _fmt(c.new), "" if c.delta is None else f"{c.delta:.6g}"] for c in changes]
+    rows = [
+        [
+            c.where,
+            c.field if c.kind == "changed" else c.kind,
+            "" if c.old is None else _fmt(c.old),
+            "" if c.new is None else _fmt(c.new),
+            "" if c.delta is None else f"{c.delta:.6g}",
+        ]
+        for c in changes
+    ]
     return {"title": "parameter changes", "columns": ["where", "field", "old", "new", "|Δ|"], "rows": rows}
 
 
@@ -68,44 +76,82 @@ def check_document(result: BaselineCheck) -> dict[str, Any]:
     moved_rows = []
     for m in result.moved:
         old, new = show_values(m.old, m.new)
-        moved_rows.append([m.frame, m.property, old, new, f"{m.delta:.3e} {m.unit}", f"{m.tolerance:.0e}",
-                           f"{m.count}/{m.of}", _q_short(m.q)])
-    summary = [f"{result.compared} records compared at {result.samples} configurations: "
-               + (f"{len(result.moved)} quantities moved beyond tolerance" if result.moved else "nothing moved beyond tolerance")]
+        moved_rows.append(
+            [m.frame, m.property, old, new, f"{m.delta:.3e} {m.unit}", f"{m.tolerance:.0e}", f"{m.count}/{m.of}", _q_short(m.q)]
+        )
+    summary = [
+        f"{result.compared} records compared at {result.samples} configurations: "
+        + (f"{len(result.moved)} quantities moved beyond tolerance" if result.moved else "nothing moved beyond tolerance")
+    ]
     if result.moved:
         first = result.moved[0]
-        summary.append(f"first moved: {first.property} at frame {first.frame}, delta {first.delta:.3e} {first.unit}, "
-                       f"at q = {_q(first.q)}")
+        summary.append(
+            f"first moved: {first.property} at frame {first.frame}, delta {first.delta:.3e} {first.unit}, at q = {_q(first.q)}"
+        )
     if result.frames_removed:
         summary.append("frames removed since the baseline: " + ", ".join(result.frames_removed))
     if result.frames_added:
         summary.append("frames added since the baseline: " + ", ".join(result.frames_added))
-    tables = [{"title": "moved quantities (worst configuration per frame and property)",
-               "columns": ["frame / joint", "property", "old", "new", "delta", "tolerance", "samples moved", "q"], "rows": moved_rows}]
+    tables = [
+        {
+            "title": "moved quantities (worst configuration per frame and property)",
+            "columns": ["frame / joint", "property", "old", "new", "delta", "tolerance", "samples moved", "q"],
+            "rows": moved_rows,
+        }
+    ]
     if result.spec_changes:
         tables.append(param_table(result.spec_changes))
-    return {"title": f"kinverify baseline check: {result.model} against {result.source}", "passed": result.passed,
-            "verdict": "PASS" if result.passed else "FAIL", "summary": summary, "tables": tables,
-            "notes": result.explanations}
+    return {
+        "title": f"kinverify baseline check: {result.model} against {result.source}",
+        "passed": result.passed,
+        "verdict": "PASS" if result.passed else "FAIL",
+        "summary": summary,
+        "tables": tables,
+        "notes": result.explanations,
+    }
 
 
 def diff_document(d: ModelDiff, old_path: str = "", new_path: str = "") -> dict[str, Any]:
-    frames = [[f.frame, f"{f.position:.3e}", f"{f.rotation:.3e}", f"{f.jacobian_linear:.3e}", f"{f.jacobian_angular:.3e}",
-               _q_short(f.q)] for f in d.frames]
-    reach = [[r.frame, "-" if r.old is None else f"{r.old:.6f}", "-" if r.new is None else f"{r.new:.6f}",
-              "-" if r.change is None else f"{r.change:+.6f}"] for r in d.reach]
+    frames = [
+        [
+            f.frame,
+            f"{f.position:.3e}",
+            f"{f.rotation:.3e}",
+            f"{f.jacobian_linear:.3e}",
+            f"{f.jacobian_angular:.3e}",
+            _q_short(f.q),
+        ]
+        for f in d.frames
+    ]
+    reach = [
+        [
+            r.frame,
+            "-" if r.old is None else f"{r.old:.6f}",
+            "-" if r.new is None else f"{r.new:.6f}",
+            "-" if r.change is None else f"{r.change:+.6f}",
+        ]
+        for r in d.reach
+    ]
     moved = [f for f in d.frames if max(f.position, f.rotation, f.jacobian_linear, f.jacobian_angular) > 0]
-    summary = [f"{len(d.params)} parameter changes; {len(moved)} of {len(d.frames)} common frames move "
-               f"(over {d.samples} configurations)"]
-    return {"title": f"kinverify diff: {old_path or d.old_name} -> {new_path or d.new_name}", "passed": d.identical,
-            "verdict": "IDENTICAL" if d.identical else "CHANGED", "summary": summary,
-            "tables": [param_table(d.params),
-                       {"title": "behaviour: largest change per frame over the sample set",
-                        "columns": ["frame", "position [m]", "rotation [rad]", "J linear", "J angular", "q (largest position change)"],
-                        "rows": frames},
-                       {"title": "workspace reach from the base link [m]", "columns": ["frame", "old", "new", "change"],
-                        "rows": reach}],
-            "notes": d.notes}
+    summary = [
+        f"{len(d.params)} parameter changes; {len(moved)} of {len(d.frames)} common frames move (over {d.samples} configurations)"
+    ]
+    return {
+        "title": f"kinverify diff: {old_path or d.old_name} -> {new_path or d.new_name}",
+        "passed": d.identical,
+        "verdict": "IDENTICAL" if d.identical else "CHANGED",
+        "summary": summary,
+        "tables": [
+            param_table(d.params),
+            {
+                "title": "behaviour: largest change per frame over the sample set",
+                "columns": ["frame", "position [m]", "rotation [rad]", "J linear", "J angular", "q (largest position change)"],
+                "rows": frames,
+            },
+            {"title": "workspace reach from the base link [m]", "columns": ["frame", "old", "new", "change"], "rows": reach},
+        ],
+        "notes": d.notes,
+    }
 
 
 def print_document(doc: dict[str, Any], console: Console | None = None) -> None:

@@ -62,8 +62,9 @@ def _view(points: np.ndarray) -> float:
     return float(np.degrees(np.arctan2(main[1], main[0]))) - 90.0
 
 
-def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None, keys=("home", "worst"),
-                 width: float = 3.5) -> str | None:
+def skeleton_svg(
+    data: dict, alignment=None, marks: dict[str, str] | None = None, keys=("home", "worst"), width: float = 3.5
+) -> str | None:
     """The skeleton figure of a pictures section (``None`` without poses): one panel per
     configuration of ``keys``, ``width`` inches each."""
     import matplotlib
@@ -98,18 +99,35 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
                     j = parents[i] if i < len(parents) else -1
                     if 0 <= j < len(poses) and poses[j] is not None:
                         seg = np.array([poses[j][:3, 3], p[:3, 3]])
-                        ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color=colour, alpha=alpha, lw=2.4 if not ghost else 2.0,
-                                ls="-" if not ghost else (0, (4, 2)))
+                        ax.plot(
+                            seg[:, 0],
+                            seg[:, 1],
+                            seg[:, 2],
+                            color=colour,
+                            alpha=alpha,
+                            lw=2.4 if not ghost else 2.0,
+                            ls="-" if not ghost else (0, (4, 2)),
+                        )
                     for axis in range(3):
                         tip = p[:3, 3] + triad * p[:3, axis]
-                        ax.plot(*zip(p[:3, 3], tip, strict=True), color=AXES[axis], alpha=1.0 if not ghost else 0.45, lw=1.3 if not ghost else 1.0)
+                        ax.plot(
+                            *zip(p[:3, 3], tip, strict=True),
+                            color=AXES[axis],
+                            alpha=1.0 if not ghost else 0.45,
+                            lw=1.3 if not ghost else 1.0,
+                        )
                 origins = np.array([p[:3, 3] for p in poses if p is not None])
                 ax.scatter(*origins.T, color=colour, alpha=alpha, s=10 if not ghost else 8, depthshade=False)
                 if not ghost:
                     for i, p in enumerate(poses):
                         name = frames[i] if i < len(frames) else ""  # a saved file's lists may disagree
                         if p is not None and (i in (0, len(poses) - 1) or marks.get(name) == "error"):
-                            ax.text(*p[:3, 3], " " + literal(name), fontsize=6.5, color="#b71c1c" if marks.get(name) == "error" else "#37474f")
+                            ax.text(
+                                *p[:3, 3],
+                                " " + literal(name),
+                                fontsize=6.5,
+                                color="#b71c1c" if marks.get(name) == "error" else "#37474f",
+                            )
             ax.set_xlim(lo[0], hi[0])
             ax.set_ylim(lo[1], hi[1])
             ax.set_zlim(lo[2], hi[2])
@@ -125,7 +143,9 @@ def skeleton_svg(data: dict, alignment=None, marks: dict[str, str] | None = None
             ax.set_zlabel("z [m]", fontsize=6, labelpad=-6)
         handles = [Line2D([], [], color=REF_COLOUR, lw=2.4, label=f"{literal(ref)} (solid)")]
         if other and any(other in drawn for _, drawn in todo):
-            handles.append(Line2D([], [], color=OTHER_COLOUR, lw=2.0, ls=(0, (4, 2)), alpha=0.6, label=f"{literal(other)} (ghosted)"))
+            handles.append(
+                Line2D([], [], color=OTHER_COLOUR, lw=2.0, ls=(0, (4, 2)), alpha=0.6, label=f"{literal(other)} (ghosted)")
+            )
         handles += [Line2D([], [], color=c, lw=1.3, label=f"frame {a}") for c, a in zip(AXES, "xyz", strict=True)]
         fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=6.5, frameon=False)
         fig.subplots_adjust(left=0.0, right=1.0, top=0.93, bottom=0.1, wspace=0.05)

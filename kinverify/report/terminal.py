@@ -48,8 +48,14 @@ def short(name: str) -> str:
     return SHORT.get(name, name)
 
 
-def fit_table(console: Console, columns: Sequence[Column], rows: Sequence[Sequence[str]], optional: Sequence[str] = (),
-              wrap_headers: bool = False, **table_options) -> Table:
+def fit_table(
+    console: Console,
+    columns: Sequence[Column],
+    rows: Sequence[Sequence[str]],
+    optional: Sequence[str] = (),
+    wrap_headers: bool = False,
+    **table_options,
+) -> Table:
     """A table of ``columns`` (plain headers) and ``rows`` (rich markup) as wide as the console
     allows. The ``optional`` headers are dropped in that order until every row fits on one line;
     only if none does even then, :data:`TEXT` cells wrap between words. No word (a number, a
@@ -222,11 +228,29 @@ def results_tables(result: VerifyResult, console: Console) -> list[tuple[str, Ta
     out = []
     rows = [(prop, who, checks, _worst(checks)) for prop, who, checks in _rows(result, "agreement")]
     if rows:
-        cells = [[escape(prop), escape(who), str(len(checks)), escape(w.frame), compact(w.max_error),
-                  compact(max(c.p99_error for c in checks)), _limit(w.tolerance, _unit(w.unit, revolute)), _mark(checks)]
-                 for prop, who, checks, w in rows]
-        cols = [("property", NAME), ("backends", TEXT), ("checks", NUMBER), ("worst at", TEXT), ("max error", NUMBER),
-                ("p99 error", NUMBER), ("tolerance", TEXT), ("", NAME)]
+        cells = [
+            [
+                escape(prop),
+                escape(who),
+                str(len(checks)),
+                escape(w.frame),
+                compact(w.max_error),
+                compact(max(c.p99_error for c in checks)),
+                _limit(w.tolerance, _unit(w.unit, revolute)),
+                _mark(checks),
+            ]
+            for prop, who, checks, w in rows
+        ]
+        cols = [
+            ("property", NAME),
+            ("backends", TEXT),
+            ("checks", NUMBER),
+            ("worst at", TEXT),
+            ("max error", NUMBER),
+            ("p99 error", NUMBER),
+            ("tolerance", TEXT),
+            ("", NAME),
+        ]
         title = f"{result.model}: {result.samples} configurations, seed {result.seed}, reference {short(reference(result))}"
         out.append((escape(title), fit_table(console, cols, cells, optional=("p99 error", "checks", "worst at"))))
     from kinverify.suites.registry import properties
@@ -234,10 +258,25 @@ def results_tables(result: VerifyResult, console: Console) -> list[tuple[str, Ta
     props = properties()
     perf = [(prop, who, checks, _worst(checks)) for prop, who, checks in _rows(result, PERFORMANCE)]
     if perf:
-        cells = [[escape(prop), escape(who), compact(w.max_error), _limit(w.tolerance, _unit(w.unit, revolute)),
-                  escape(props[prop].compares if prop in props else ""), _mark(checks)] for prop, who, checks, w in perf]
-        cols = [("performance", NAME), ("backends", TEXT), ("measured", NUMBER), ("goal", TEXT), ("what is measured", TEXT),
-                ("result", NAME)]
+        cells = [
+            [
+                escape(prop),
+                escape(who),
+                compact(w.max_error),
+                _limit(w.tolerance, _unit(w.unit, revolute)),
+                escape(props[prop].compares if prop in props else ""),
+                _mark(checks),
+            ]
+            for prop, who, checks, w in perf
+        ]
+        cols = [
+            ("performance", NAME),
+            ("backends", TEXT),
+            ("measured", NUMBER),
+            ("goal", TEXT),
+            ("what is measured", TEXT),
+            ("result", NAME),
+        ]
         out.append(("", fit_table(console, cols, cells, optional=("what is measured",))))
     return out
 
@@ -255,12 +294,17 @@ def print_result(result: VerifyResult, console: Console | None = None) -> None:
     notes.add_column(overflow="fold", ratio=1)
     for c in result.first_failures():
         q = ", ".join(f"{v:.6g}" for v in c.worst_q)
-        notes.add_row("[bold red]✗[/]", f"{c.property} ({escape(' vs '.join(c.backends))}): first disagreeing frame "
-                      f"[bold]{escape(c.frame)}[/], max error {c.max_error:.3e} {display_unit(c.unit, revolute)} at q = [{q}]")
+        notes.add_row(
+            "[bold red]✗[/]",
+            f"{c.property} ({escape(' vs '.join(c.backends))}): first disagreeing frame "
+            f"[bold]{escape(c.frame)}[/], max error {c.max_error:.3e} {display_unit(c.unit, revolute)} at q = [{q}]",
+        )
     style = {"error": "bold red", "warning": "yellow", "info": "cyan"}
     for f in result.findings:
         tag = "accepted" if f.accepted else f.severity
-        notes.add_row(f"[{style[f.severity] if not f.accepted else 'dim'}]{tag}[/]", f"{f.kind} ({escape(f.label)}): {escape(f.message)}")
+        notes.add_row(
+            f"[{style[f.severity] if not f.accepted else 'dim'}]{tag}[/]", f"{f.kind} ({escape(f.label)}): {escape(f.message)}"
+        )
     for note in result.notes:
         notes.add_row("[yellow]note[/]", escape(note))
     if notes.row_count:
@@ -284,12 +328,20 @@ def verdict_line(result: VerifyResult, width: int | None = None) -> str:
         return f"[bold red]FAIL[/] ({', '.join(p for p in parts if p)}): {what}{missed}"
 
     goals = f"{n_missed} performance goal{'s' if n_missed != 1 else ''} missed"
-    forms = [line(f"{checks} checks and {findings} findings across {', '.join(result.backends)} in {seconds}",
-                  f"; {goals} (not counted)"),
-             line(f"{checks} checks and {findings} findings across {len(result.backends)} backends in {seconds}",
-                  f"; {goals} (not counted)"),
-             line(f"{checks} checks, {findings} findings, {len(result.backends)} backends, {seconds}",
-                  f"; {goals.replace('performance ', '')}")]
+    forms = [
+        line(
+            f"{checks} checks and {findings} findings across {', '.join(result.backends)} in {seconds}",
+            f"; {goals} (not counted)",
+        ),
+        line(
+            f"{checks} checks and {findings} findings across {len(result.backends)} backends in {seconds}",
+            f"; {goals} (not counted)",
+        ),
+        line(
+            f"{checks} checks, {findings} findings, {len(result.backends)} backends, {seconds}",
+            f"; {goals.replace('performance ', '')}",
+        ),
+    ]
     return next((f for f in forms if width is None or cell_len(Text.from_markup(f, emoji=False).plain) <= width), forms[-1])
 
 
@@ -297,13 +349,44 @@ def track_table(spec, result, console: Console) -> Table:
     """``kinverify track``'s metrics per controller, units after the joint types (rad, m)."""
     u = joint_unit(j.type == "revolute" for j in spec.joints)
     t = result.trajectory
-    cols = [("controller", NAME), (f"RMS error (motion) [{u}]", NUMBER), (f"max error (whole run) [{u}]", NUMBER),
-            (f"error at end of motion [{u}]", NUMBER), ("tool path deviation [m]", NUMBER), (f"overshoot [{u}]", NUMBER),
-            ("settling time [s]", NUMBER), (f"residual speed [{u}/s]", NUMBER), (f"speed at end of hold [{u}/s]", NUMBER),
-            ("result", TEXT)]
-    rows = [[escape(m.controller), f"{m.rms_error:.3e}", f"{m.max_error:.3e}", f"{m.final_error:.3e}", f"{m.ee_path_deviation:.3e}",
-             f"{m.overshoot:.3e}", "-" if m.settling_time is None else f"{m.settling_time:.3f}", f"{m.residual_speed:.3e}",
-             f"{m.final_speed:.3e}", "[green]ok[/]" if m.passed else "[bold red]FAIL[/]"] for m in result.metrics]
-    return fit_table(console, cols, rows, optional=(f"speed at end of hold [{u}/s]", f"overshoot [{u}]", "settling time [s]",
-                                                    "tool path deviation [m]", f"error at end of motion [{u}]"),
-                     wrap_headers=True, title=f"kinverify track: {spec.name}, {t.duration:g} s motion + {t.hold:g} s hold")
+    cols = [
+        ("controller", NAME),
+        (f"RMS error (motion) [{u}]", NUMBER),
+        (f"max error (whole run) [{u}]", NUMBER),
+        (f"error at end of motion [{u}]", NUMBER),
+        ("tool path deviation [m]", NUMBER),
+        (f"overshoot [{u}]", NUMBER),
+        ("settling time [s]", NUMBER),
+        (f"residual speed [{u}/s]", NUMBER),
+        (f"speed at end of hold [{u}/s]", NUMBER),
+        ("result", TEXT),
+    ]
+    rows = [
+        [
+            escape(m.controller),
+            f"{m.rms_error:.3e}",
+            f"{m.max_error:.3e}",
+            f"{m.final_error:.3e}",
+            f"{m.ee_path_deviation:.3e}",
+            f"{m.overshoot:.3e}",
+            "-" if m.settling_time is None else f"{m.settling_time:.3f}",
+            f"{m.residual_speed:.3e}",
+            f"{m.final_speed:.3e}",
+            "[green]ok[/]" if m.passed else "[bold red]FAIL[/]",
+        ]
+        for m in result.metrics
+    ]
+    return fit_table(
+        console,
+        cols,
+        rows,
+        optional=(
+            f"speed at end of hold [{u}/s]",
+            f"overshoot [{u}]",
+            "settling time [s]",
+            "tool path deviation [m]",
+            f"error at end of motion [{u}]",
+        ),
+        wrap_headers=True,
+        title=f"kinverify track: {spec.name}, {t.duration:g} s motion + {t.hold:g} s hold",
+    )

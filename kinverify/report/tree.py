@@ -19,8 +19,11 @@ STYLE = {  # mark -> (fill, stroke, text)
     "warning": ("#fff8e1", "#f9a825", "#7a5a00"),
     "downstream": ("#fff5f5", "#ef9a9a", "#8e2a2a"),
 }
-WHY = {"error": "a finding or a failure starts here", "warning": "a warning finding",
-       "downstream": "a failing check (downstream of where the failure starts)"}
+WHY = {
+    "error": "a finding or a failure starts here",
+    "warning": "a warning finding",
+    "downstream": "a failing check (downstream of where the failure starts)",
+}
 
 
 def _short(name: str) -> str:
@@ -82,8 +85,10 @@ def tree_svg(tree: dict, marks: dict[str, str] | None = None) -> Markup | None:
         x0.append(x0[-1] + box_w[d] + gap[d])
     rows = max(r for _, r in place.values()) + 1
     width, height = x0[-1] + box_w[-1] + 8, rows * ROW_H + 10
+
     def centre(link):
         return (x0[place[link][0]], 8 + place[link][1] * ROW_H + BOX_H / 2)
+
     parts = []
     for j in joints:
         (xa, ya), (xb, yb) = centre(j["parent"]), centre(j["child"])
@@ -95,22 +100,28 @@ def tree_svg(tree: dict, marks: dict[str, str] | None = None) -> Markup | None:
         why = f" — {WHY[mark]}" if mark in WHY else ""
         bold = ' font-weight="700"' if mark == "error" else ""
         label_fill = text if mark else "#546e7a"
-        parts.append(f'<g><title>joint {escape(j["name"])} ({escape(j.get("type", "") or "?")}){escape(why)}</title>'
-                     f'<path d="M{xa:.1f},{ya:.1f} C{xa + 20:.1f},{ya:.1f} {xb - 20:.1f},{yb:.1f} {xb:.1f},{yb:.1f}" '
-                     f'fill="none" stroke="{colour}" stroke-width="{2.2 if mark else 1.3}"/>'
-                     f'<text x="{(xa + xb) / 2:.1f}" y="{yb - 5:.1f}" text-anchor="middle" font-size="{FONT - 2}" '
-                     f'fill="{label_fill}"{bold}>{escape(label)}</text></g>')
+        parts.append(
+            f"<g><title>joint {escape(j['name'])} ({escape(j.get('type', '') or '?')}){escape(why)}</title>"
+            f'<path d="M{xa:.1f},{ya:.1f} C{xa + 20:.1f},{ya:.1f} {xb - 20:.1f},{yb:.1f} {xb:.1f},{yb:.1f}" '
+            f'fill="none" stroke="{colour}" stroke-width="{2.2 if mark else 1.3}"/>'
+            f'<text x="{(xa + xb) / 2:.1f}" y="{yb - 5:.1f}" text-anchor="middle" font-size="{FONT - 2}" '
+            f'fill="{label_fill}"{bold}>{escape(label)}</text></g>'
+        )
     for link, (d, r) in place.items():
         mark = marks.get(link)
         fill, stroke, text = STYLE[mark if mark in STYLE else None]
         x, y = x0[d], 8 + r * ROW_H
         why = f" — {WHY[mark]}" if mark in WHY else ""
         dash = ' stroke-dasharray="4 2"' if mark == "downstream" else ""
-        parts.append(f'<g><title>link {escape(link)}{escape(why)}</title>'
-                     f'<rect x="{x:.1f}" y="{y:.1f}" width="{box_w[d]:.1f}" height="{BOX_H}" rx="5" fill="{fill}" '
-                     f'stroke="{stroke}" stroke-width="{2 if mark else 1}"{dash}/>'
-                     f'<text x="{x + box_w[d] / 2:.1f}" y="{y + BOX_H / 2 + 4:.1f}" text-anchor="middle" font-size="{FONT}" '
-                     f'fill="{text}">{escape(_short(link))}</text></g>')
-    return Markup(f'<svg class="tree" xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
-                  f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="ui-monospace, Menlo, Consolas, monospace" '
-                  f'role="img" aria-label="kinematic tree">' + "".join(parts) + "</svg>")
+        parts.append(
+            f"<g><title>link {escape(link)}{escape(why)}</title>"
+            f'<rect x="{x:.1f}" y="{y:.1f}" width="{box_w[d]:.1f}" height="{BOX_H}" rx="5" fill="{fill}" '
+            f'stroke="{stroke}" stroke-width="{2 if mark else 1}"{dash}/>'
+            f'<text x="{x + box_w[d] / 2:.1f}" y="{y + BOX_H / 2 + 4:.1f}" text-anchor="middle" font-size="{FONT}" '
+            f'fill="{text}">{escape(_short(link))}</text></g>'
+        )
+    return Markup(
+        f'<svg class="tree" xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
+        f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="ui-monospace, Menlo, Consolas, monospace" '
+        f'role="img" aria-label="kinematic tree">' + "".join(parts) + "</svg>"
+    )

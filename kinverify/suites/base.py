@@ -178,18 +178,35 @@ class Section:
         self.tables.append(Table(title, list(columns), [list(r) for r in rows]))
 
     def to_dict(self) -> dict[str, Any]:
-        return _plain({"title": self.title, "summary": self.summary, "tables": [asdict(t) for t in self.tables],
-                       "figures": [asdict(f) for f in self.figures], "notes": list(self.notes), "data": self.data})
+        return _plain(
+            {
+                "title": self.title,
+                "summary": self.summary,
+                "tables": [asdict(t) for t in self.tables],
+                "figures": [asdict(f) for f in self.figures],
+                "notes": list(self.notes),
+                "data": self.data,
+            }
+        )
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Section":
-        return cls(title=str(d.get("title", "")), summary=str(d.get("summary", "")),
-                   tables=[Table(str(t.get("title", "")), list(t.get("columns") or []), list(t.get("rows") or []))
-                           for t in d.get("tables") or [] if isinstance(t, dict)],
-                   figures=[Figure(**{k: f[k] for k in ("title", "mime", "data", "caption") if k in f})
-                            for f in d.get("figures") or [] if isinstance(f, dict) and {"mime", "data"} <= set(f)
-                            and isinstance(f.get("data"), str)],
-                   notes=[str(n) for n in d.get("notes") or []], data=dict(d.get("data") or {}))
+        return cls(
+            title=str(d.get("title", "")),
+            summary=str(d.get("summary", "")),
+            tables=[
+                Table(str(t.get("title", "")), list(t.get("columns") or []), list(t.get("rows") or []))
+                for t in d.get("tables") or []
+                if isinstance(t, dict)
+            ],
+            figures=[
+                Figure(**{k: f[k] for k in ("title", "mime", "data", "caption") if k in f})
+                for f in d.get("figures") or []
+                if isinstance(f, dict) and {"mime", "data"} <= set(f) and isinstance(f.get("data"), str)
+            ],
+            notes=[str(n) for n in d.get("notes") or []],
+            data=dict(d.get("data") or {}),
+        )
 
 
 @dataclass
@@ -253,33 +270,95 @@ class Suite(ABC):
         return next(p for p in cls.properties if p.name == name)
 
     @classmethod
-    def check(cls, options: VerifyOptions | None, prop: str, subject: str, pair: tuple[str, str], stats, note: str = "",
-              unit: str | None = None) -> Check:
+    def check(
+        cls,
+        options: VerifyOptions | None,
+        prop: str,
+        subject: str,
+        pair: tuple[str, str],
+        stats,
+        note: str = "",
+        unit: str | None = None,
+    ) -> Check:
         return stats_check(cls.property(prop), options, subject, pair, stats, note, unit)
 
     @classmethod
-    def value_check(cls, options: VerifyOptions | None, prop: str, subject: str, pair: tuple[str, str], error: float,
-                    worst_q=(), note: str = "", unit: str | None = None, samples: int = 1) -> Check:
+    def value_check(
+        cls,
+        options: VerifyOptions | None,
+        prop: str,
+        subject: str,
+        pair: tuple[str, str],
+        error: float,
+        worst_q=(),
+        note: str = "",
+        unit: str | None = None,
+        samples: int = 1,
+    ) -> Check:
         return value_check(cls.property(prop), options, subject, pair, error, worst_q, note, unit, samples)
 
 
-def stats_check(p: Property, options: VerifyOptions | None, subject: str, pair: tuple[str, str], stats, note: str = "",
-                unit: str | None = None) -> Check:
+def stats_check(
+    p: Property,
+    options: VerifyOptions | None,
+    subject: str,
+    pair: tuple[str, str],
+    stats,
+    note: str = "",
+    unit: str | None = None,
+) -> Check:
     """A :class:`Check` of ``p`` from streamed :class:`~kinverify.pipeline.stats.ErrorStats`,
     with the tolerance, kind and gate the property has under ``options``."""
     tol = tolerance(options, p)
     worst = tuple(stats.worst_q.tolist()) if stats.worst_q is not None else ()
-    return Check(p.name, subject, cast(tuple[str, str], tuple(pair)), stats.max_error, stats.percentile(99), tol, within(stats.max_error, tol),
-                 worst, unit or p.unit, stats.count, tuple(stats.histogram.tolist()), note, p.kind, gated(options, p))
+    return Check(
+        p.name,
+        subject,
+        cast(tuple[str, str], tuple(pair)),
+        stats.max_error,
+        stats.percentile(99),
+        tol,
+        within(stats.max_error, tol),
+        worst,
+        unit or p.unit,
+        stats.count,
+        tuple(stats.histogram.tolist()),
+        note,
+        p.kind,
+        gated(options, p),
+    )
 
 
-def value_check(p: Property, options: VerifyOptions | None, subject: str, pair: tuple[str, str], error: float,
-                worst_q=(), note: str = "", unit: str | None = None, samples: int = 1) -> Check:
+def value_check(
+    p: Property,
+    options: VerifyOptions | None,
+    subject: str,
+    pair: tuple[str, str],
+    error: float,
+    worst_q=(),
+    note: str = "",
+    unit: str | None = None,
+    samples: int = 1,
+) -> Check:
     """A :class:`Check` of ``p`` from one measured value (a parameter difference, a fraction)."""
     tol = tolerance(options, p)
     error = float(error)
-    return Check(p.name, subject, cast(tuple[str, str], tuple(pair)), error, error, tol, within(error, tol), tuple(float(v) for v in worst_q),
-                 unit or p.unit, samples, (), note, p.kind, gated(options, p))
+    return Check(
+        p.name,
+        subject,
+        cast(tuple[str, str], tuple(pair)),
+        error,
+        error,
+        tol,
+        within(error, tol),
+        tuple(float(v) for v in worst_q),
+        unit or p.unit,
+        samples,
+        (),
+        note,
+        p.kind,
+        gated(options, p),
+    )
 
 
 def floored(check: Check, backends) -> Check:
@@ -290,7 +369,9 @@ def floored(check: Check, backends) -> Check:
     if floor <= check.tolerance:
         return check
     note = f"tolerance raised to {name}'s agreement floor ({floor:.2g}: its library computes in float32)"
-    return replace(check, tolerance=floor, passed=within(check.max_error, floor), note="; ".join(x for x in (check.note, note) if x))
+    return replace(
+        check, tolerance=floor, passed=within(check.max_error, floor), note="; ".join(x for x in (check.note, note) if x)
+    )
 
 
 def tolerance(options: VerifyOptions | None, prop: Property) -> float:

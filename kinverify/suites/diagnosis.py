@@ -58,8 +58,17 @@ def _fmt(v) -> str:
     return "[" + ", ".join(f"{x:.6g}" for x in v + 0.0) + "]"
 
 
-def find_hint(ref, other_poses: np.ndarray, q: np.ndarray, frame: int, frames, joint_names, with_rotation: bool,
-              tol_pos: float, tol_rot: float) -> dict[str, Any] | None:
+def find_hint(
+    ref,
+    other_poses: np.ndarray,
+    q: np.ndarray,
+    frame: int,
+    frames,
+    joint_names,
+    with_rotation: bool,
+    tol_pos: float,
+    tol_rot: float,
+) -> dict[str, Any] | None:
     """The first recognised pattern for the disagreement at ``frame`` (index), or None.
 
     ``ref`` is the reference backend (re-evaluated for the sign-flip test); ``other_poses`` are
@@ -78,49 +87,79 @@ def find_hint(ref, other_poses: np.ndarray, q: np.ndarray, frame: int, frames, j
         if np.ptp(q[:, k]) == 0:
             continue
         if explained(*_errors(ref.poses(flipped), other_poses, with_rotation)):
-            return {"kind": "joint-sign-flip", "joint": joint, "frame": name,
-                    "text": f"sign flip of joint {joint}: this backend agrees with the reference when q[{joint}] is "
-                            f"negated, so the joint's axis (or its angle) has the opposite sign in one model"}
+            return {
+                "kind": "joint-sign-flip",
+                "joint": joint,
+                "frame": name,
+                "text": f"sign flip of joint {joint}: this backend agrees with the reference when q[{joint}] is "
+                f"negated, so the joint's axis (or its angle) has the opposite sign in one model",
+            }
     p_ref, p_oth = ref_poses[:, frame, :3, 3], other_poses[:, frame, :3, 3]
     for axis, label in enumerate("xyz"):  # one world coordinate mirrored
         mirrored = p_ref.copy()
         mirrored[:, axis] *= -1
         if np.ptp(p_ref[:, axis]) > 0 and np.linalg.norm(mirrored - p_oth, axis=-1).max() <= max(MATCH * scale_p, tol_pos):
-            return {"kind": "mirror-axis", "axis": label, "frame": name,
-                    "text": f"sign flip on the world {label} axis: at frame {name} this backend's positions are the "
-                            f"reference's with {label} negated"}
+            return {
+                "kind": "mirror-axis",
+                "axis": label,
+                "frame": name,
+                "text": f"sign flip on the world {label} axis: at frame {name} this backend's positions are the "
+                f"reference's with {label} negated",
+            }
     d = p_oth - p_ref
+
     def spread(v):
         return np.linalg.norm(v - v.mean(axis=0), axis=-1).max()
+
     tol_c = max(1e-3 * np.linalg.norm(d, axis=-1).max(), tol_pos)
     rot_ok = rot[:, frame].max() <= tol_rot
     if pos[:, frame].max() > tol_pos and spread(d) <= tol_c and rot_ok:
-        return {"kind": "constant-offset", "frame": name, "offset": d.mean(axis=0).tolist(), "axes": "world",
-                "text": f"constant offset at frame {name}: {_fmt(d.mean(axis=0))} m in world axes in every configuration"}
+        return {
+            "kind": "constant-offset",
+            "frame": name,
+            "offset": d.mean(axis=0).tolist(),
+            "axes": "world",
+            "text": f"constant offset at frame {name}: {_fmt(d.mean(axis=0))} m in world axes in every configuration",
+        }
     for j in range(frame, -1, -1):  # the same vector in some frame's axes, nearest the error first
         d_local = np.einsum("nji,nj->ni", ref_poses[:, j, :3, :3], d)
         if pos[:, frame].max() > tol_pos and spread(d_local) <= tol_c and rot_ok:
-            return {"kind": "constant-offset", "frame": name, "offset": d_local.mean(axis=0).tolist(), "axes": frames[j],
-                    "text": f"constant offset at frame {name}: {_fmt(d_local.mean(axis=0))} m in {frames[j]}'s axes in "
-                            f"every configuration (a link length or joint origin differs)"}
+            return {
+                "kind": "constant-offset",
+                "frame": name,
+                "offset": d_local.mean(axis=0).tolist(),
+                "axes": frames[j],
+                "text": f"constant offset at frame {name}: {_fmt(d_local.mean(axis=0))} m in {frames[j]}'s axes in "
+                f"every configuration (a link length or joint origin differs)",
+            }
     r_ref = ref_poses[:, frame, :3, :3]
     if with_rotation and rot[:, frame].max() > tol_rot:
         rel = rotation_log(np.swapaxes(r_ref, -1, -2) @ other_poses[:, frame, :3, :3])  # (N, 3), frame axes
         if spread(rel) <= max(1e-3 * np.linalg.norm(rel, axis=-1).max(), tol_rot):
             w = rel.mean(axis=0)
             angle = float(np.linalg.norm(w))
-            return {"kind": "constant-offset", "frame": name, "rotation": w.tolist(), "axes": "frame",
-                    "text": f"constant rotation offset at frame {name}: {angle:.6g} rad ({np.degrees(angle):.4g} deg) "
-                            f"about {_fmt(w / angle)} in the frame's own axes (a joint zero or frame orientation differs)"}
+            return {
+                "kind": "constant-offset",
+                "frame": name,
+                "rotation": w.tolist(),
+                "axes": "frame",
+                "text": f"constant rotation offset at frame {name}: {angle:.6g} rad ({np.degrees(angle):.4g} deg) "
+                f"about {_fmt(w / angle)} in the frame's own axes (a joint zero or frame orientation differs)",
+            }
     err = np.maximum(pos[:, frame] / scale_p, rot[:, frame] / scale_r)
     corr = np.array([spearman(np.abs(q[:, k]), err) for k in range(q.shape[1])])
     runner_up = np.sort(corr)[-2] if len(corr) > 1 else 0.0
     if len(corr) and corr.max() >= 0.8 and runner_up < 0.4:
         k = int(np.argmax(corr))
         joint = joint_names[k]
-        return {"kind": "grows-with-joint", "joint": joint, "frame": name, "correlation": float(corr[k]),
-                "text": f"error at frame {name} grows with |q[{joint}]| (rank correlation {corr[k]:.2f}; other joints "
-                        f"below 0.4): look at joint {joint}'s scale, axis or limits"}
+        return {
+            "kind": "grows-with-joint",
+            "joint": joint,
+            "frame": name,
+            "correlation": float(corr[k]),
+            "text": f"error at frame {name} grows with |q[{joint}]| (rank correlation {corr[k]:.2f}; other joints "
+            f"below 0.4): look at joint {joint}'s scale, axis or limits",
+        }
     return None
 
 
@@ -150,8 +189,13 @@ def diagnose_pair(ref, other, q: np.ndarray, frames, joint_names, tol_pos: float
         if len(worst) == N_WORST:
             break
     hint = find_hint(_Ref, other_poses, q, first, common, joint_names, other.has_rotation, tol_pos, tol_rot)
-    return {"backends": [ref.name, other.name], "first_frame": common[first], "worst": worst, "hint": hint,
-            "configurations": int(len(q))}
+    return {
+        "backends": [ref.name, other.name],
+        "first_frame": common[first],
+        "worst": worst,
+        "hint": hint,
+        "configurations": int(len(q)),
+    }
 
 
 class DiagnosisSuite(Suite):
@@ -177,11 +221,21 @@ def diagnosis(ctx: VerifyContext) -> SuiteResult:
     for name, backend in ctx.backends.items():
         if name == opts.reference or len(q) == 0:
             continue
-        found = diagnose_pair(ref, backend, q, ctx.sources.frames, list(ctx.sources.joint_names),
-                              max(tol_pos, pair_floor("fk.position", ref, backend)), max(tol_rot, pair_floor("fk.rotation", ref, backend)))
+        found = diagnose_pair(
+            ref,
+            backend,
+            q,
+            ctx.sources.frames,
+            list(ctx.sources.joint_names),
+            max(tol_pos, pair_floor("fk.position", ref, backend)),
+            max(tol_rot, pair_floor("fk.rotation", ref, backend)),
+        )
         if found is not None:
             pairs.append(found)
     hints = [f"{' vs '.join(p['backends'])}: {p['hint']['text']}" for p in pairs if p["hint"]]
-    summary = (f"{len(pairs)} backend(s) disagree with {opts.reference} on FK over the first {len(q)} configurations"
-               if pairs else f"every backend agrees with {opts.reference} on FK over the first {len(q)} configurations")
+    summary = (
+        f"{len(pairs)} backend(s) disagree with {opts.reference} on FK over the first {len(q)} configurations"
+        if pairs
+        else f"every backend agrees with {opts.reference} on FK over the first {len(q)} configurations"
+    )
     return SuiteResult([], Section("Diagnosis", summary, notes=hints, data={"pairs": pairs}))

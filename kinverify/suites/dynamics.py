@@ -47,12 +47,20 @@ STATE_PROPERTIES = ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias",
 def _units(revolute) -> dict[str, str]:
     """Units of each property for this model's joints (N·m for revolute, N for prismatic)."""
     rev = list(revolute)
+
     def pick(r, p):
         return r if all(rev) else p if not any(rev) else f"{r}|{p}"
-    return {"dynamics.mass_matrix": pick("kg·m²", "kg"), "dynamics.gravity": pick("N·m", "N"),
-            "dynamics.bias": pick("N·m", "N"), "dynamics.inverse": pick("N·m", "N"),
-            "dynamics.forward": pick("N·m", "N"), "dynamics.damping": pick("N·m·s/rad", "N·s/m"),
-            "dynamics.friction": pick("N·m", "N"), "dynamics.armature": pick("kg·m²", "kg")}
+
+    return {
+        "dynamics.mass_matrix": pick("kg·m²", "kg"),
+        "dynamics.gravity": pick("N·m", "N"),
+        "dynamics.bias": pick("N·m", "N"),
+        "dynamics.inverse": pick("N·m", "N"),
+        "dynamics.forward": pick("N·m", "N"),
+        "dynamics.damping": pick("N·m·s/rad", "N·s/m"),
+        "dynamics.friction": pick("N·m", "N"),
+        "dynamics.armature": pick("kg·m²", "kg"),
+    }
 
 
 class DynamicsSuite(Suite):
@@ -62,12 +70,24 @@ class DynamicsSuite(Suite):
     # The same double-precision recursions agree to ~1e-13 on the shipped arms.
     properties = (
         Property("dynamics.mass_matrix", "kg·m²", 1e-9, compares="pin.crba vs mujoco.mj_fullM: max |ΔM_ij| ≤ tol·max(1, |M|)"),
-        Property("dynamics.gravity", "N·m", 1e-9, compares="pin.computeGeneralizedGravity vs qfrc_bias at rest, ≤ tol·max(1, |g|)"),
-        Property("dynamics.bias", "N·m", 1e-9, compares="pin.nonLinearEffects (Coriolis + gravity) vs qfrc_bias, ≤ tol·max(1, |h|)"),
-        Property("dynamics.inverse", "N·m", 1e-9,
-                 compares="pin.rnea + damping·q̇ vs mujoco.mj_inverse (constraints off), ≤ tol·max(1, |τ|)"),
-        Property("dynamics.forward", "N·m", 1e-9,
-                 compares="pin.aba vs mj_forward from the same state and forces: |M·Δq̈| ≤ tol·max(1, |τ|)"),
+        Property(
+            "dynamics.gravity", "N·m", 1e-9, compares="pin.computeGeneralizedGravity vs qfrc_bias at rest, ≤ tol·max(1, |g|)"
+        ),
+        Property(
+            "dynamics.bias", "N·m", 1e-9, compares="pin.nonLinearEffects (Coriolis + gravity) vs qfrc_bias, ≤ tol·max(1, |h|)"
+        ),
+        Property(
+            "dynamics.inverse",
+            "N·m",
+            1e-9,
+            compares="pin.rnea + damping·q̇ vs mujoco.mj_inverse (constraints off), ≤ tol·max(1, |τ|)",
+        ),
+        Property(
+            "dynamics.forward",
+            "N·m",
+            1e-9,
+            compares="pin.aba vs mj_forward from the same state and forces: |M·Δq̈| ≤ tol·max(1, |τ|)",
+        ),
         Property("dynamics.damping", "N·m·s/rad", 1e-12, compares="URDF <dynamics damping> vs MJCF damping"),
         Property("dynamics.friction", "N·m", 1e-12, compares="URDF <dynamics friction> vs MJCF frictionloss"),
         Property("dynamics.armature", "kg·m²", 1e-12, compares="spec (or the MJCF in file mode) vs MJCF armature"),
@@ -109,11 +129,19 @@ class DynamicsSuite(Suite):
         units = _units(sources.revolute)
         # with a floating base: the mass matrix and gravity in the base coordinates (tracking/models.py)
         compared = STATE_PROPERTIES[:2] if floating else STATE_PROPERTIES
-        stats, scales, breakdown = self.state_errors(pin, mj, q, vmax, effort, opts.seed, compared, opts.on_progress,
-                                                     self.forward_scales_with_acceleration)
+        stats, scales, breakdown = self.state_errors(
+            pin, mj, q, vmax, effort, opts.seed, compared, opts.on_progress, self.forward_scales_with_acceleration
+        )
         snapped = mj.snapped_inertia_frames()
-        quirk = ("MuJoCo treats the principal inertia axes of " + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
-                 + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo") if snapped else ""
+        quirk = (
+            (
+                "MuJoCo treats the principal inertia axes of "
+                + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
+                + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo"
+            )
+            if snapped
+            else ""
+        )
         checks = []
         for p in compared:
             check = self.check(ctx.options, p, "joints", PAIR, stats[p], quirk, units[p])
@@ -130,29 +158,73 @@ class DynamicsSuite(Suite):
         checks += self.parameter_checks(ctx, pin, mj, origin, units, drake)
         findings = []
         if breakdown:
-            findings.append(Finding("numerical_breakdown", "warning", "non-finite dynamics at q = "
-                                    f"{np.round(breakdown, 6).tolist()}: a numerical breakdown of a library, not a disagreement "
-                                    "between the models; those states are left out of the comparison", property="dynamics.forward"))
-        section = Section(self.title, f"{len(q)} configurations with random joint speeds, accelerations and forces; "
-                          f"{sum(c.passed for c in checks)} of {len(checks)} checks pass.")
-        section.table("Checks", ["property", "max error", "tolerance", "worst q", "ok"],
-                      [[c.property, f"{c.max_error:.3e} {c.unit}", f"{c.tolerance:.0e}", ", ".join(f"{x:.4g}" for x in c.worst_q),
-                        "ok" if c.passed else "FAIL"] for c in checks])
+            findings.append(
+                Finding(
+                    "numerical_breakdown",
+                    "warning",
+                    "non-finite dynamics at q = "
+                    f"{np.round(breakdown, 6).tolist()}: a numerical breakdown of a library, not a disagreement "
+                    "between the models; those states are left out of the comparison",
+                    property="dynamics.forward",
+                )
+            )
+        section = Section(
+            self.title,
+            f"{len(q)} configurations with random joint speeds, accelerations and forces; "
+            f"{sum(c.passed for c in checks)} of {len(checks)} checks pass.",
+        )
+        section.table(
+            "Checks",
+            ["property", "max error", "tolerance", "worst q", "ok"],
+            [
+                [
+                    c.property,
+                    f"{c.max_error:.3e} {c.unit}",
+                    f"{c.tolerance:.0e}",
+                    ", ".join(f"{x:.4g}" for x in c.worst_q),
+                    "ok" if c.passed else "FAIL",
+                ]
+                for c in checks
+            ],
+        )
         arm_pin = np.array(pin.model.armature)[pin.idx_v]
-        section.table("Joint parameters", ["joint", "damping URDF", "damping MJCF", "friction URDF", "frictionloss MJCF",
-                                           "armature (Pinocchio)", "armature MJCF"],
-                      [[name, pin.damping[i], mj.damping[i], pin.friction[i], mj.friction[i],
-                        f"URDF cannot express; taken from the {origin} ({arm_pin[i]:.6g})", mj.armature[i]]
-                       for i, name in enumerate(sources.joint_names[6 * floating:])])
+        section.table(
+            "Joint parameters",
+            [
+                "joint",
+                "damping URDF",
+                "damping MJCF",
+                "friction URDF",
+                "frictionloss MJCF",
+                "armature (Pinocchio)",
+                "armature MJCF",
+            ],
+            [
+                [
+                    name,
+                    pin.damping[i],
+                    mj.damping[i],
+                    pin.friction[i],
+                    mj.friction[i],
+                    f"URDF cannot express; taken from the {origin} ({arm_pin[i]:.6g})",
+                    mj.armature[i],
+                ]
+                for i, name in enumerate(sources.joint_names[6 * floating :])
+            ],
+        )
         if drake is not None:
-            section.notes.append("Drake (drake-sdf) on the SDFormat file: its CalcMassMatrix, gravity, bias and "
-                                 "CalcInverseDynamics (with its own gravity and joint damping forces) against Pinocchio's, "
-                                 "same states; armature is Drake's reflected inertia from drake:rotor_inertia; Drake "
-                                 "models no Coulomb joint friction, so friction is not compared for it.")
+            section.notes.append(
+                "Drake (drake-sdf) on the SDFormat file: its CalcMassMatrix, gravity, bias and "
+                "CalcInverseDynamics (with its own gravity and joint damping forces) against Pinocchio's, "
+                "same states; armature is Drake's reflected inertia from drake:rotor_inertia; Drake "
+                "models no Coulomb joint friction, so friction is not compared for it."
+            )
         if floating:
-            section.notes.append("Floating base: the mass matrix and gravity are compared in the base coordinates "
-                                 "(base:x ... base:yaw, then the joints; S^T·M·S and S^T·g from each library's own base "
-                                 "velocity); Coriolis, inverse and forward dynamics are not compared for a floating base.")
+            section.notes.append(
+                "Floating base: the mass matrix and gravity are compared in the base coordinates "
+                "(base:x ... base:yaw, then the joints; S^T·M·S and S^T·g from each library's own base "
+                "velocity); Coriolis, inverse and forward dynamics are not compared for a floating base."
+            )
         section.notes += ([quirk] if quirk else []) + [
             "Compared exactly on both sides: rigid-body dynamics and joint damping (Pinocchio's algorithms ignore "
             "model.damping, so -D·q̇ is added on its side; MuJoCo applies it as a passive force).",
@@ -164,8 +236,17 @@ class DynamicsSuite(Suite):
         return SuiteResult(checks, section, findings)
 
     @staticmethod
-    def state_errors(pin: PinocchioDynamics, mj: MujocoDynamics, q: np.ndarray, vmax, effort, seed: int = 0,
-                     compared=STATE_PROPERTIES, on_progress=None, forward_scales_with_acceleration: bool = False):
+    def state_errors(
+        pin: PinocchioDynamics,
+        mj: MujocoDynamics,
+        q: np.ndarray,
+        vmax,
+        effort,
+        seed: int = 0,
+        compared=STATE_PROPERTIES,
+        on_progress=None,
+        forward_scales_with_acceleration: bool = False,
+    ):
         """Max |difference| per state property over configurations ``q`` (N, n) with random
         speeds in ±vmax, accelerations in ±ACCELERATION and joint forces in ±effort. Returns the
         stats, the largest |value| per property (the scale of its tolerance) and the first
@@ -192,8 +273,9 @@ class DynamicsSuite(Suite):
                 "dynamics.bias": lambda qk=qk, v=v: (pin.bias(qk, v), mj.bias(qk, v)),  # type: ignore[misc]  # mypy cannot type a lambda with defaults
                 "dynamics.inverse": lambda qk=qk, v=v, a=a: (pin.inverse(qk, v, a), mj.inverse(qk, v, a)),  # type: ignore[misc]  # mypy cannot type a lambda with defaults
                 # force residual of MuJoCo's acceleration in Pinocchio's equations: M·(a_mj − a_pin)
-                "dynamics.forward": lambda qk=qk, v=v, tau=tau, mass=mass, accel=accel:  # type: ignore[misc]  # mypy cannot type a lambda with defaults
-                    (tau, tau + mass @ (accel[0] - pin.forward(qk, v, tau))),
+                "dynamics.forward": lambda qk=qk, v=v, tau=tau, mass=mass, accel=accel: (  # type: ignore[misc]  # mypy cannot type a lambda with defaults
+                    (tau, tau + mass @ (accel[0] - pin.forward(qk, v, tau)))
+                ),
             }
             pairs = {p: terms[p]() for p in compared}
             if not all(np.isfinite(x).all() and np.isfinite(y).all() for x, y in pairs.values()):
@@ -202,41 +284,82 @@ class DynamicsSuite(Suite):
             for prop, (x, y) in pairs.items():
                 stats[prop].update(np.array([np.abs(x - y).max()]), qk[None])
                 scales[prop] = max(scales[prop], float(np.abs(x).max()))
-            if forward_scales_with_acceleration and accel[0] is not None:  # the residual is (M_pin − M_mj)·a_mj + (b_pin − b_mj): its scale is |M|·|a| too,
+            if (
+                forward_scales_with_acceleration and accel[0] is not None
+            ):  # the residual is (M_pin − M_mj)·a_mj + (b_pin − b_mj): its scale is |M|·|a| too,
                 # far above |τ| where light links take large accelerations (a relative error in M grows with it)
                 scales["dynamics.forward"] = max(scales["dynamics.forward"], float(np.abs(mass).max() * np.abs(accel[0]).max()))
         report(len(q), len(q))
         return stats, scales, breakdown
 
-    def parameter_checks(self, ctx: VerifyContext, pin: PinocchioDynamics, mj: MujocoDynamics, origin: str, units,
-                         drake=None) -> list:
+    def parameter_checks(
+        self, ctx: VerifyContext, pin: PinocchioDynamics, mj: MujocoDynamics, origin: str, units, drake=None
+    ) -> list:
         """Joint damping and friction (URDF vs MJCF), armature (spec vs MJCF; in file mode the
         MJCF's is what Pinocchio uses, so there is nothing to compare); with Drake, damping (URDF
         vs SDFormat) and armature (spec vs Drake's reflected inertia)."""
-        joints = ctx.sources.joint_names[6 if has_base(ctx.sources.joint_names) else 0:]
+        joints = ctx.sources.joint_names[6 if has_base(ctx.sources.joint_names) else 0 :]
 
         def worst(a, b) -> tuple[float, str]:
             k = int(np.argmax(np.abs(a - b)))
             return float(np.abs(a - b)[k]), joints[k]
 
         checks = []
-        for prop, urdf_vals, mjcf_vals in (("dynamics.damping", pin.damping, mj.damping),
-                                           ("dynamics.friction", pin.friction, mj.friction)):
+        for prop, urdf_vals, mjcf_vals in (
+            ("dynamics.damping", pin.damping, mj.damping),
+            ("dynamics.friction", pin.friction, mj.friction),
+        ):
             err, joint = worst(urdf_vals, mjcf_vals)
-            checks.append(self.value_check(ctx.options, prop, "parameters", ("urdf", "mjcf"), err, unit=units[prop],
-                                           note=f"largest at {joint}" if err > 0 else ""))
+            checks.append(
+                self.value_check(
+                    ctx.options,
+                    prop,
+                    "parameters",
+                    ("urdf", "mjcf"),
+                    err,
+                    unit=units[prop],
+                    note=f"largest at {joint}" if err > 0 else "",
+                )
+            )
         if origin == "spec":
             assert ctx.sources.spec is not None  # the armature came from it
             spec_arm = np.array([j.armature for j in ctx.sources.spec.joints])
             err, joint = worst(spec_arm, mj.armature)
-            checks.append(self.value_check(ctx.options, "dynamics.armature", "parameters", ("spec", "mjcf"), err, unit=units["dynamics.armature"],
-                                           note="URDF cannot express armature; Pinocchio's is taken from the spec"))
+            checks.append(
+                self.value_check(
+                    ctx.options,
+                    "dynamics.armature",
+                    "parameters",
+                    ("spec", "mjcf"),
+                    err,
+                    unit=units["dynamics.armature"],
+                    note="URDF cannot express armature; Pinocchio's is taken from the spec",
+                )
+            )
         if drake is not None:
             err, joint = worst(pin.damping, drake.damping)
-            checks.append(self.value_check(ctx.options, "dynamics.damping", "parameters", ("urdf", "sdf"), err,
-                                           unit=units["dynamics.damping"], note=f"largest at {joint}" if err > 0 else ""))
+            checks.append(
+                self.value_check(
+                    ctx.options,
+                    "dynamics.damping",
+                    "parameters",
+                    ("urdf", "sdf"),
+                    err,
+                    unit=units["dynamics.damping"],
+                    note=f"largest at {joint}" if err > 0 else "",
+                )
+            )
             if origin == "spec":
                 err, joint = worst(spec_arm, drake.armature)
-                checks.append(self.value_check(ctx.options, "dynamics.armature", "parameters", ("spec", "sdf"), err,
-                                               unit=units["dynamics.armature"], note="Drake's reflected inertia (drake:rotor_inertia)"))
+                checks.append(
+                    self.value_check(
+                        ctx.options,
+                        "dynamics.armature",
+                        "parameters",
+                        ("spec", "sdf"),
+                        err,
+                        unit=units["dynamics.armature"],
+                        note="Drake's reflected inertia (drake:rotor_inertia)",
+                    )
+                )
         return checks

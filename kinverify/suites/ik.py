@@ -15,8 +15,18 @@ import numpy as np
 
 from kinverify.errors import InputError
 from kinverify.model.floating import has_base
-from kinverify.suites.base import (AGREEMENT, PERFORMANCE, Check, Finding, Property, Section, Suite, SuiteResult, VerifyContext,
-                                   floored)
+from kinverify.suites.base import (
+    AGREEMENT,
+    PERFORMANCE,
+    Check,
+    Finding,
+    Property,
+    Section,
+    Suite,
+    SuiteResult,
+    VerifyContext,
+    floored,
+)
 from kinverify.ik.closed_form import Arm3ClosedForm
 from kinverify.ik.figures import ik_figures, solver_data
 from kinverify.ik.frame_model import FrameModel, residuals
@@ -35,15 +45,35 @@ class IKSuite(Suite):
     name = "ik"
     title = "Inverse kinematics"
     properties = (
-        Property("ik.failure_rate", "fraction", 0.001, PERFORMANCE,
-                 f"fraction of random reachable targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad by the LM solver"),
-        Property("ik.cross_fk", "m|rad", 1e-6, AGREEMENT,
-                 "each IK solution through every other backend's FK: max(position [m], rotation [rad]) error"),
+        Property(
+            "ik.failure_rate",
+            "fraction",
+            0.001,
+            PERFORMANCE,
+            f"fraction of random reachable targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad by the LM solver",
+        ),
+        Property(
+            "ik.cross_fk",
+            "m|rad",
+            1e-6,
+            AGREEMENT,
+            "each IK solution through every other backend's FK: max(position [m], rotation [rad]) error",
+        ),
         Property("ik.limits", "rad|m", 0.0, PERFORMANCE, "largest distance of a returned configuration outside the limits"),
-        Property("ik.closed_form", "ratio", 1.0, AGREEMENT,
-                 "joint distance to the nearest closed-form branch over 1e-6 rad + residual/σ_min(J) (arm3-shaped specs)"),
-        Property("ik.unreachable", "fraction", 0.0, AGREEMENT,
-                 "fraction of targets beyond the reach bound reported solved, or approached closer than the bound"),
+        Property(
+            "ik.closed_form",
+            "ratio",
+            1.0,
+            AGREEMENT,
+            "joint distance to the nearest closed-form branch over 1e-6 rad + residual/σ_min(J) (arm3-shaped specs)",
+        ),
+        Property(
+            "ik.unreachable",
+            "fraction",
+            0.0,
+            AGREEMENT,
+            "fraction of targets beyond the reach bound reported solved, or approached closer than the bound",
+        ),
     )
 
     def solve(self, backend, model: FrameModel, targets, lower, upper, position_only: bool, options: IKOptions) -> IKSolutions:
@@ -66,8 +96,10 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
         section.summary = "skipped (--ik-targets 0)"
         return SuiteResult([], section)
     if has_base(src.joint_names):
-        section.summary = ("skipped: the base floats, so moving it reaches every target; IK of the arm from a held "
-                           "base is not run for floating-base models")
+        section.summary = (
+            "skipped: the base floats, so moving it reaches every target; IK of the arm from a held "
+            "base is not run for floating-base models"
+        )
         return SuiteResult([], section)
     frame, dof = src.frames[-1], len(src.joint_names)
     position_only = dof < 6
@@ -99,8 +131,18 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
             seed_ok = (pos <= TOL_POS) & (rot <= TOL_ROT)
             rows.append(_row(seed, seed_ok))
             plotted.append(solver_data(seed, seed_ok, seed.success))
-        failures += [[backend.name, int(k), _fmt(q_gen[k]), _fmt(targets[k, :3, 3]), _fmt(sol.seed_q[k]),
-                      float(sol.pos_error[k]), float(sol.rot_error[k])] for k in np.flatnonzero(~ok)[:10]]
+        failures += [
+            [
+                backend.name,
+                int(k),
+                _fmt(q_gen[k]),
+                _fmt(targets[k, :3, 3]),
+                _fmt(sol.seed_q[k]),
+                float(sol.pos_error[k]),
+                float(sol.rot_error[k]),
+            ]
+            for k in np.flatnonzero(~ok)[:10]
+        ]
     report(len(solvers), len(solvers))
     unreach_rows = []
     if src.spec is not None:
@@ -109,22 +151,54 @@ def ik_suite(suite: IKSuite, ctx: VerifyContext) -> SuiteResult:
     else:
         section.notes.append("ik.unreachable needs a spec (reach bound); not run in file mode")
     solved = sum(int(r[3]) for r in rows if r[0] == "lm")  # within TOL_POS / TOL_ROT
-    section.summary = (f"{n} random reachable {'position' if position_only else 'full-pose'} targets for {frame}; "
-                          f"LM solved {solved} of {n * len(solvers)} across {len(solvers)} backends "
-                          f"within {TOL_POS:g} m / {TOL_ROT:g} rad")
-    section.table("Solvers (timings and iterations per solve; not asserted)",
-                  ["solver", "backend", "targets", "solved", "success rate", "solved at own tolerance", "median ms",
-                   "p95 ms", "median iterations", "p95 iterations", "max restarts",
-                   "max position error [m]", "max rotation error [rad]", "batched"], rows)
+    section.summary = (
+        f"{n} random reachable {'position' if position_only else 'full-pose'} targets for {frame}; "
+        f"LM solved {solved} of {n * len(solvers)} across {len(solvers)} backends "
+        f"within {TOL_POS:g} m / {TOL_ROT:g} rad"
+    )
+    section.table(
+        "Solvers (timings and iterations per solve; not asserted)",
+        [
+            "solver",
+            "backend",
+            "targets",
+            "solved",
+            "success rate",
+            "solved at own tolerance",
+            "median ms",
+            "p95 ms",
+            "median iterations",
+            "p95 iterations",
+            "max restarts",
+            "max position error [m]",
+            "max rotation error [rad]",
+            "batched",
+        ],
+        rows,
+    )
     # the plots' data stays in the section: ik_figures(data["solvers"], **data["tolerance"]) redraws them
     section.data.update(solvers=plotted, tolerance={"tol_pos": TOL_POS, "tol_rot": TOL_ROT})
     section.figures += ik_figures(plotted, TOL_POS, TOL_ROT)
     if failures:
-        section.table("Failures (first 10 per backend)", ["backend", "target", "target q [rad/m]", "target xyz [m]", "last seed q",
-                                                          "position error [m]", "rotation error [rad]"], failures)
+        section.table(
+            "Failures (first 10 per backend)",
+            [
+                "backend",
+                "target",
+                "target q [rad/m]",
+                "target xyz [m]",
+                "last seed q",
+                "position error [m]",
+                "rotation error [rad]",
+            ],
+            failures,
+        )
     if unreach_rows:
-        section.table("Unreachable targets", ["solver", "targets", "reported solved", "min closest approach [m]",
-                                              "reach lower bound [m]"], unreach_rows)
+        section.table(
+            "Unreachable targets",
+            ["solver", "targets", "reported solved", "min closest approach [m]", "reach lower bound [m]"],
+            unreach_rows,
+        )
     section.notes += [
         "ik.failure_rate: max_error and p99_error are the fraction of targets not solved within "
         f"{TOL_POS:g} m / {TOL_ROT:g} rad; the goal is the largest fraction allowed. A solver's performance: shown, "
@@ -151,14 +225,25 @@ def _unsolved_findings(solved_by: dict[str, int], n: int, frame: str) -> list[Fi
         return []
     others = {b: k for b, k in solved_by.items() if b not in broken}
     told = "; ".join(f"{b} solves {k} of {n}" for b, k in broken.items())
-    rest = (f" (the other solvers: {', '.join(f'{b} {k}' for b, k in others.items())} of {n})" if others else
-            " (so does every other solver)")
-    return [Finding("ik_solver_fails", "warning",
-                    f"LM IK on reachable targets for {frame}: {told}{rest}; each target is the FK of a configuration inside "
-                    "the limits, so a solution exists: the solver or this backend's FK or Jacobian of the frame is wrong",
-                    subject=frame, subject_type="frame", property="ik.failure_rate",
-                    values={"solved": dict(solved_by), "targets": n, "backends": list(broken)},
-                    magnitude=1.0 - min(broken.values()) / n, unit="fraction")]
+    rest = (
+        f" (the other solvers: {', '.join(f'{b} {k}' for b, k in others.items())} of {n})"
+        if others
+        else " (so does every other solver)"
+    )
+    return [
+        Finding(
+            "ik_solver_fails",
+            "warning",
+            f"LM IK on reachable targets for {frame}: {told}{rest}; each target is the FK of a configuration inside "
+            "the limits, so a solution exists: the solver or this backend's FK or Jacobian of the frame is wrong",
+            subject=frame,
+            subject_type="frame",
+            property="ik.failure_rate",
+            values={"solved": dict(solved_by), "targets": n, "backends": list(broken)},
+            magnitude=1.0 - min(broken.values()) / n,
+            unit="fraction",
+        )
+    ]
 
 
 def _models(solvers, frame, revolute, reference) -> dict[str, FrameModel]:
@@ -187,26 +272,54 @@ def _fmt(v) -> list[float]:
 
 def _row(sol: IKSolutions, ok) -> list:
     t = sol.time_s * 1e3
-    return [sol.solver, sol.backend, len(sol), int(ok.sum()), float(ok.mean()) if len(ok) else 0.0, int(sol.success.sum()),
-            float(np.median(t)), float(np.percentile(t, 95)), float(np.median(sol.iterations)),
-            float(np.percentile(sol.iterations, 95)), int(sol.restarts.max()), float(sol.pos_error.max()),
-            float(sol.rot_error.max()), sol.batched]
+    return [
+        sol.solver,
+        sol.backend,
+        len(sol),
+        int(ok.sum()),
+        float(ok.mean()) if len(ok) else 0.0,
+        int(sol.success.sum()),
+        float(np.median(t)),
+        float(np.percentile(t, 95)),
+        float(np.median(sol.iterations)),
+        float(np.percentile(sol.iterations, 95)),
+        int(sol.restarts.max()),
+        float(sol.pos_error.max()),
+        float(sol.rot_error.max()),
+        sol.batched,
+    ]
 
 
 def _failure_check(ctx, sol, ok, frame) -> Check:
     fail = float(1 - ok.mean())
     worst = int(np.argmin(ok)) if not ok.all() else int(np.argmax(np.maximum(sol.pos_error, sol.rot_error)))
     q = sol.seed_q[worst] if not ok.all() else sol.q[worst]
-    return IKSuite.value_check(ctx.options, "ik.failure_rate", frame, (sol.backend, sol.backend), fail, q, samples=len(sol),
-                               note=f"fraction of {len(sol)} targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad "
-                               "(max_error = p99_error = that fraction); worst_q: a failing target's last seed, else the worst solution")
+    return IKSuite.value_check(
+        ctx.options,
+        "ik.failure_rate",
+        frame,
+        (sol.backend, sol.backend),
+        fail,
+        q,
+        samples=len(sol),
+        note=f"fraction of {len(sol)} targets not solved within {TOL_POS:g} m / {TOL_ROT:g} rad "
+        "(max_error = p99_error = that fraction); worst_q: a failing target's last seed, else the worst solution",
+    )
 
 
 def _limits_check(ctx, sol, lower, upper, frame) -> Check:
     over = np.maximum(lower - sol.q, sol.q - upper).max(axis=1).clip(min=0.0)
     k = int(np.argmax(over))
-    return IKSuite.value_check(ctx.options, "ik.limits", frame, (sol.backend, "limits"), float(over.max()), sol.q[k], samples=len(sol),
-                               note="largest distance of a returned configuration outside the joint limits")
+    return IKSuite.value_check(
+        ctx.options,
+        "ik.limits",
+        frame,
+        (sol.backend, "limits"),
+        float(over.max()),
+        sol.q[k],
+        samples=len(sol),
+        note="largest distance of a returned configuration outside the joint limits",
+    )
 
 
 def _stats(errors, q):
@@ -226,9 +339,19 @@ def _cross_checks(ctx, sol, ok, targets, backends, frame) -> list[Check]:
         poses = other.evaluate(q, with_jacobians=False).poses[:, other.frames.index(frame)]
         pos, rot = residuals(poses, targets[ok], sol.position_only or not other.has_rotation)
         err = np.maximum(pos, rot)
-        out.append(floored(IKSuite.check(ctx.options, "ik.cross_fk", frame, (sol.backend, name), _stats(err, q),
-                                         "max(position [m], rotation [rad]) error of the solutions through this backend's FK"),
-                           [other]))
+        out.append(
+            floored(
+                IKSuite.check(
+                    ctx.options,
+                    "ik.cross_fk",
+                    frame,
+                    (sol.backend, name),
+                    _stats(err, q),
+                    "max(position [m], rotation [rad]) error of the solutions through this backend's FK",
+                ),
+                [other],
+            )
+        )
     return out
 
 
@@ -238,27 +361,50 @@ def _closed_form_check(ctx, sol, ok, targets, closed, frame, model) -> Check:
     solution (large next to singularities, e.g. a straight elbow)."""
     q = sol.q[ok]
     if not len(q):
-        return IKSuite.value_check(ctx.options, "ik.closed_form", frame, (sol.backend, "closed-form"), 0.0, sol.q[0], samples=0,
-                                   note="no solution to compare")
+        return IKSuite.value_check(
+            ctx.options,
+            "ik.closed_form",
+            frame,
+            (sol.backend, "closed-form"),
+            0.0,
+            sol.q[0],
+            samples=0,
+            note="no solution to compare",
+        )
     sigma = np.linalg.svd(model(q)[1][:, :3], compute_uv=False)[:, -1]
     ratio = []
     for qk, tk, res, sk in zip(q, targets[ok], sol.pos_error[ok], sigma, strict=True):
         branches = closed.all_branches(tk[:3, 3])
         d = np.abs(np.angle(np.exp(1j * (branches - qk)))).max(axis=1).min() if len(branches) else np.inf
         ratio.append(d / (TOL_JOINT + res / max(sk, 1e-300)))
-    return IKSuite.check(ctx.options, "ik.closed_form", frame, (sol.backend, "closed-form"), _stats(np.array(ratio), q),
-                         f"joint distance (wrapped, rad) to the nearest closed-form branch over its allowance "
-                         f"{TOL_JOINT:g} rad + residual/σ_min(J); passes at <= 1")
+    return IKSuite.check(
+        ctx.options,
+        "ik.closed_form",
+        frame,
+        (sol.backend, "closed-form"),
+        _stats(np.array(ratio), q),
+        f"joint distance (wrapped, rad) to the nearest closed-form branch over its allowance "
+        f"{TOL_JOINT:g} rad + residual/σ_min(J); passes at <= 1",
+    )
 
 
 def _unreachable(suite, ctx, solvers, models, frame, position_only, lower, upper, closed):
     targets, bound = unreachable_targets(ctx.sources.spec, frame, DEFAULT_UNREACHABLE, ctx.options.seed + 5)
     checks, rows = [], []
-    note = ("fraction of targets beyond the reach bound reported solved or with a closest approach below the bound; "
-            "max_error = p99_error = that fraction")
+    note = (
+        "fraction of targets beyond the reach bound reported solved or with a closest approach below the bound; "
+        "max_error = p99_error = that fraction"
+    )
     for backend in solvers:
-        sol = suite.solve(backend, models[backend.name], targets, lower, upper, position_only,
-                          IKOptions(seed=ctx.options.seed, max_restarts=3, start="seeded"))
+        sol = suite.solve(
+            backend,
+            models[backend.name],
+            targets,
+            lower,
+            upper,
+            position_only,
+            IKOptions(seed=ctx.options.seed, max_restarts=3, start="seeded"),
+        )
         bad = sol.success | (sol.pos_error < bound - 1e-9)
         checks.append(_fraction_check(ctx, bad, (backend.name, "geometry"), frame, sol.q, note))
         rows.append([backend.name, len(targets), int(sol.success.sum()), float(sol.pos_error.min()), float(bound.min())])

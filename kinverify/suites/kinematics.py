@@ -104,8 +104,9 @@ class KinematicsSuite(Suite):
         Property("jacobian.angular", "rad/rad", 1e-9, compares="Frobenius norm of the 3×n difference of the angular rows"),
         # central differences (step 1e-6): truncation ~1e-12, round-off ~1e-10, so 1e-6 flags
         # only a wrong Jacobian, never numerical noise
-        Property("jacobian.fd", "norm", 1e-6,
-                 compares="a backend's Jacobian against central differences (step 1e-6) of its own FK"),
+        Property(
+            "jacobian.fd", "norm", 1e-6, compares="a backend's Jacobian against central differences (step 1e-6) of its own FK"
+        ),
     )
 
     def run(self, ctx: VerifyContext) -> SuiteResult:
@@ -122,12 +123,16 @@ class KinematicsSuite(Suite):
                 fd_pairs[pair] = f"{name} Jacobian is finite-difference: compared at the FD tolerance on {n_fd} samples"
             rows = capped_rows(backend, opts, 0, n).stop
             if name != opts.reference and getattr(backend, "slow", False):
-                capped[pair] = (f"{name} is slow: compared on a fixed subset, the first {rows} of {n} configurations "
-                                f"(at most --slow-samples {opts.slow_samples})")
+                capped[pair] = (
+                    f"{name} is slow: compared on a fixed subset, the first {rows} of {n} configurations "
+                    f"(at most --slow-samples {opts.slow_samples})"
+                )
         order = [p.name for p in self.properties]
         rank = {f: i for i, f in enumerate(ctx.sources.frames)}
         checks = []
-        for (prop, frame, pair), st in sorted(acc.stats.items(), key=lambda kv: (order.index(kv[0][0]), kv[0][2], rank.get(kv[0][1], 0))):
+        for (prop, frame, pair), st in sorted(
+            acc.stats.items(), key=lambda kv: (order.index(kv[0][0]), kv[0][2], rank.get(kv[0][1], 0))
+        ):
             fd_note = fd_pairs.get(pair, "") if prop.startswith("jacobian.") and prop != "jacobian.fd" else ""
             note = "; ".join(x for x in (fd_note, capped.get(pair, "")) if x)
             check = self.check(ctx.options, prop, frame, pair, st, note)
@@ -136,4 +141,3 @@ class KinematicsSuite(Suite):
                 check = dataclasses.replace(check, tolerance=tol, passed=within(check.max_error, tol))
             checks.append(floored(check, [ctx.backends.get(n) for n in pair]))
         return SuiteResult(checks)
-

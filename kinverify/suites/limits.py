@@ -32,8 +32,11 @@ UNIT_RATIO = 2e-3  # relative closeness to 180/π for limits written in the othe
 
 
 def _unit(revolute: bool, prop: str) -> str:
-    return {"limits.position": "rad" if revolute else "m", "limits.velocity": "rad/s" if revolute else "m/s",
-            "limits.effort": "N·m" if revolute else "N"}[prop]
+    return {
+        "limits.position": "rad" if revolute else "m",
+        "limits.velocity": "rad/s" if revolute else "m/s",
+        "limits.effort": "N·m" if revolute else "N",
+    }[prop]
 
 
 def mapped_bounds(lower: float, upper: float, sign: int, offset: float) -> tuple[float, float]:
@@ -57,8 +60,11 @@ def _actuated(effort: float | None, joint) -> tuple[float | None, list[tuple[flo
     state it; else the largest (none stating it: 0)."""
     if effort is None or not joint.effort_each:
         return joint.effort, [], 0
-    same = [b for b, _ in joint.effort_each if b == effort or (math.isfinite(b) and math.isfinite(effort)
-                                                               and math.isclose(b, effort, rel_tol=1e-9, abs_tol=1e-12))]
+    same = [
+        b
+        for b, _ in joint.effort_each
+        if b == effort or (math.isfinite(b) and math.isfinite(effort) and math.isclose(b, effort, rel_tol=1e-9, abs_tol=1e-12))
+    ]
     if not same:
         return joint.effort, [], 0
     return same[0], [(b, how) for b, how in joint.effort_each if b not in same], len(same)
@@ -79,10 +85,20 @@ class LimitsSuite(Suite):
     name = "limits"
     title = "Joint limits: URDF vs MJCF"
     properties = (
-        Property("limits.position", "rad", 1e-9, compares="lower and upper bounds, URDF <limit> vs MJCF range (file mode: "
-                 "through the joint's sign and zero offset); limited in one file only: inf"),
-        Property("limits.effort", "N·m", 1e-9, compares="URDF <limit effort> vs the force the MJCF's actuators can exert "
-                 "(forcerange, or ctrlrange × gain for a motor, × gear and tendon coefficient); no force bound: inf"),
+        Property(
+            "limits.position",
+            "rad",
+            1e-9,
+            compares="lower and upper bounds, URDF <limit> vs MJCF range (file mode: "
+            "through the joint's sign and zero offset); limited in one file only: inf",
+        ),
+        Property(
+            "limits.effort",
+            "N·m",
+            1e-9,
+            compares="URDF <limit effort> vs the force the MJCF's actuators can exert "
+            "(forcerange, or ctrlrange × gain for a motor, × gear and tendon coefficient); no force bound: inf",
+        ),
         Property("limits.velocity", "rad/s", 1e-9, compares="spec velocity limit vs URDF <limit velocity> (MJCF has none)"),
     )
 
@@ -101,24 +117,56 @@ class LimitsSuite(Suite):
             floor = info.floor(prop, info.floors.limit) if prop == "limits.position" else 0.0
             worst = max(measured, key=lambda r: r[prop])
             revolute = {r["revolute"] for r in measured}
-            unit = _unit(True, prop) if revolute == {True} else _unit(False, prop) if revolute == {False} else \
-                f"{_unit(True, prop)}|{_unit(False, prop)}"
+            unit = (
+                _unit(True, prop)
+                if revolute == {True}
+                else _unit(False, prop)
+                if revolute == {False}
+                else f"{_unit(True, prop)}|{_unit(False, prop)}"
+            )
             limit = max(tol, floor)
-            note = f"largest at {worst['joint']}" + (f"; tolerance raised to the written precision ({floor:.2g})" if floor > tol else "")
-            check = self.value_check(ctx.options, prop, "joints", worst["pair"], worst[prop], note=note, unit=unit,
-                                     samples=len(measured))
+            note = f"largest at {worst['joint']}" + (
+                f"; tolerance raised to the written precision ({floor:.2g})" if floor > tol else ""
+            )
+            check = self.value_check(
+                ctx.options, prop, "joints", worst["pair"], worst[prop], note=note, unit=unit, samples=len(measured)
+            )
             checks.append(dataclasses.replace(check, tolerance=limit, passed=within(worst[prop], limit)))
         findings = limit_findings(rows, info, {c.property: c.tolerance for c in checks}) if info.file_mode else []
         section = Section(self.title, f"{len(rows)} joints; {sum(c.passed for c in checks)} of {len(checks)} checks pass.")
-        section.table("Joint limits (MJCF coordinates)", ["joint (URDF / MJCF)", "lower URDF", "lower MJCF", "upper URDF",
-                                                          "upper MJCF", "effort URDF", "effort MJCF", "MJCF effort from"],
-                      [[r["label"], r["lower"][0], r["lower"][1], r["upper"][0], r["upper"][1], r["effort"][0], r["effort"][1],
-                        r["effort_how"]] for r in rows])
+        section.table(
+            "Joint limits (MJCF coordinates)",
+            [
+                "joint (URDF / MJCF)",
+                "lower URDF",
+                "lower MJCF",
+                "upper URDF",
+                "upper MJCF",
+                "effort URDF",
+                "effort MJCF",
+                "MJCF effort from",
+            ],
+            [
+                [
+                    r["label"],
+                    r["lower"][0],
+                    r["lower"][1],
+                    r["upper"][0],
+                    r["upper"][1],
+                    r["effort"][0],
+                    r["effort"][1],
+                    r["effort_how"],
+                ]
+                for r in rows
+            ],
+        )
         if info.file_mode:
             velocity = [r for r in rows if r["velocity_urdf"] is not None]
             if velocity:
-                section.notes.append("URDF velocity limits (the MJCF has no such field): " + ", ".join(
-                    f"{r['joint']} {r['velocity_urdf']:g}" for r in velocity))
+                section.notes.append(
+                    "URDF velocity limits (the MJCF has no such field): "
+                    + ", ".join(f"{r['joint']} {r['velocity_urdf']:g}" for r in velocity)
+                )
             silent = [r["joint"] for r in rows if r["limits.effort"] is None]
             if silent:
                 section.notes.append("effort not compared (one file states none): " + ", ".join(silent))
@@ -134,16 +182,30 @@ class LimitsSuite(Suite):
             ju, jmj = info.u.joint(jm.urdf), info.m.joint(jm.mjcf)
             lo, up = mapped_bounds(ju.lower, ju.upper, jm.sign, jm.offset)
             if ju.type == "revolute" and jm.offset:  # a zero offset is a turn, known up to whole turns: the one that fits
-                lo, up = min(((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)),
-                             key=lambda b: max(_error(b[0], jmj.lower) or 0.0, _error(b[1], jmj.upper) or 0.0))
+                lo, up = min(
+                    ((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)),
+                    key=lambda b: max(_error(b[0], jmj.lower) or 0.0, _error(b[1], jmj.upper) or 0.0),
+                )
             pos = cast(list[float], [_error(lo, jmj.lower), _error(up, jmj.upper)])  # floats: both bounds are (±inf when none)
             effort, others, alike = _actuated(ju.effort, jmj)
-            row = {"joint": jm.urdf, "mjcf": jm.mjcf, "label": jm.urdf if jm.urdf == jm.mjcf else f"{jm.urdf} / {jm.mjcf}",
-                   "revolute": ju.type == "revolute", "pair": ("urdf", "mjcf"), "lower": (lo, jmj.lower),
-                   "upper": (up, jmj.upper), "effort": (ju.effort, effort), "effort_how": jmj.effort_how,
-                   "effort_others": others, "effort_alike": alike, "limits.position": max(pos), "limits.effort": _error(ju.effort, effort),
-                   "limits.velocity": None, "velocity_urdf": ju.velocity,
-                   "unset": {v: "URDF" if _silent(ju, v) else "MJCF" if _silent(jmj, v) else "" for v in ("range", "effort")}}
+            row = {
+                "joint": jm.urdf,
+                "mjcf": jm.mjcf,
+                "label": jm.urdf if jm.urdf == jm.mjcf else f"{jm.urdf} / {jm.mjcf}",
+                "revolute": ju.type == "revolute",
+                "pair": ("urdf", "mjcf"),
+                "lower": (lo, jmj.lower),
+                "upper": (up, jmj.upper),
+                "effort": (ju.effort, effort),
+                "effort_how": jmj.effort_how,
+                "effort_others": others,
+                "effort_alike": alike,
+                "limits.position": max(pos),
+                "limits.effort": _error(ju.effort, effort),
+                "limits.velocity": None,
+                "velocity_urdf": ju.velocity,
+                "unset": {v: "URDF" if _silent(ju, v) else "MJCF" if _silent(jmj, v) else "" for v in ("range", "effort")},
+            }
             if jm.urdf in spec_joints and ju.velocity is not None:
                 row["limits.velocity"] = abs(spec_joints[jm.urdf].limits.velocity - ju.velocity)
             rows.append(row)
@@ -166,56 +228,114 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
         elif err <= tol:
             if err > 1e-9:
                 rounded.append(r)
-        elif all(y == x or (x != 0 and abs(abs(y / x) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs) or \
-                all(y == x or (y != 0 and abs(abs(x / y) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs):
+        elif all(y == x or (x != 0 and abs(abs(y / x) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs) or all(
+            y == x or (y != 0 and abs(abs(x / y) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs
+        ):
             degrees.append(r)
         else:
             other.append(r)
     unit = lambda r: "rad" if r["revolute"] else "m"  # noqa: E731
     for r in other:
-        out.append(finding("limit_difference", f"joint {r['label']}: limits [{r['lower'][0]:.6g}, {r['upper'][0]:.6g}] in the URDF, "
-                           f"[{r['lower'][1]:.6g}, {r['upper'][1]:.6g}] in the MJCF (MJCF coordinates): {r['limits.position']:.4g} "
-                           f"{unit(r)} apart", {"urdf": [r["lower"][0], r["upper"][0]], "mjcf": [r["lower"][1], r["upper"][1]],
-                                                "checks": [["limits.position", "joints"]]},
-                           magnitude=r["limits.position"], unit=unit(r), prop="limits.position", joint=r["joint"], mjcf_joint=r["mjcf"]))
+        out.append(
+            finding(
+                "limit_difference",
+                f"joint {r['label']}: limits [{r['lower'][0]:.6g}, {r['upper'][0]:.6g}] in the URDF, "
+                f"[{r['lower'][1]:.6g}, {r['upper'][1]:.6g}] in the MJCF (MJCF coordinates): {r['limits.position']:.4g} "
+                f"{unit(r)} apart",
+                {
+                    "urdf": [r["lower"][0], r["upper"][0]],
+                    "mjcf": [r["lower"][1], r["upper"][1]],
+                    "checks": [["limits.position", "joints"]],
+                },
+                magnitude=r["limits.position"],
+                unit=unit(r),
+                prop="limits.position",
+                joint=r["joint"],
+                mjcf_joint=r["mjcf"],
+            )
+        )
     for side, group in unlimited.items():
         silent = [r for r in group if r["unset"]["range"] == side]
         if silent:
             limiting = "MJCF" if side == "URDF" else "URDF"
-            out.append(finding("limit_unset", f"the {side} leaves {len(silent)} joints without limits (no range stated: "
-                               f"unlimited by default); the {limiting} limits them: " + ", ".join(
-                                   f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, "
-                                   f"{r['upper'][0 if side == 'MJCF' else 1]:.6g}]" for r in silent),
-                               {"unset_in": side, "urdf": [[r["lower"][0], r["upper"][0]] for r in silent],
-                                "mjcf": [[r["lower"][1], r["upper"][1]] for r in silent], "checks": [["limits.position", "joints"]]},
-                               magnitude=math.inf, unit="rad", prop="limits.position",
-                               joint=[r["joint"] for r in silent], mjcf_joint=[r["mjcf"] for r in silent]))
+            out.append(
+                finding(
+                    "limit_unset",
+                    f"the {side} leaves {len(silent)} joints without limits (no range stated: "
+                    f"unlimited by default); the {limiting} limits them: "
+                    + ", ".join(
+                        f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, "
+                        f"{r['upper'][0 if side == 'MJCF' else 1]:.6g}]"
+                        for r in silent
+                    ),
+                    {
+                        "unset_in": side,
+                        "urdf": [[r["lower"][0], r["upper"][0]] for r in silent],
+                        "mjcf": [[r["lower"][1], r["upper"][1]] for r in silent],
+                        "checks": [["limits.position", "joints"]],
+                    },
+                    magnitude=math.inf,
+                    unit="rad",
+                    prop="limits.position",
+                    joint=[r["joint"] for r in silent],
+                    mjcf_joint=[r["mjcf"] for r in silent],
+                )
+            )
             group = [r for r in group if r not in silent]
         if not group:
             continue
-        out.append(finding("limit_difference", f"{len(group)} joints are unlimited in the {side} and limited in the other file: "
-                           + ", ".join(f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, "
-                                       f"{r['upper'][0 if side == 'MJCF' else 1]:.6g}]" for r in group),
-                           {"unlimited_in": side, "urdf": [[r["lower"][0], r["upper"][0]] for r in group],
-                            "mjcf": [[r["lower"][1], r["upper"][1]] for r in group], "checks": [["limits.position", "joints"]]},
-                           magnitude=math.inf, unit="rad", prop="limits.position",
-                           joint=[r["joint"] for r in group], mjcf_joint=[r["mjcf"] for r in group]))
+        out.append(
+            finding(
+                "limit_difference",
+                f"{len(group)} joints are unlimited in the {side} and limited in the other file: "
+                + ", ".join(
+                    f"{r['label']} [{r['lower'][0 if side == 'MJCF' else 1]:.6g}, {r['upper'][0 if side == 'MJCF' else 1]:.6g}]"
+                    for r in group
+                ),
+                {
+                    "unlimited_in": side,
+                    "urdf": [[r["lower"][0], r["upper"][0]] for r in group],
+                    "mjcf": [[r["lower"][1], r["upper"][1]] for r in group],
+                    "checks": [["limits.position", "joints"]],
+                },
+                magnitude=math.inf,
+                unit="rad",
+                prop="limits.position",
+                joint=[r["joint"] for r in group],
+                mjcf_joint=[r["mjcf"] for r in group],
+            )
+        )
     if degrees:
-        big = "MJCF" if max(abs(x) for r in degrees for x in (r["lower"][1], r["upper"][1]) if math.isfinite(x)) > \
-            max(abs(x) for r in degrees for x in (r["lower"][0], r["upper"][0]) if math.isfinite(x)) else "URDF"
-        how = {("URDF", "degree"): "the MJCF's ranges are written in radians, but without <compiler angle=\"radian\"> "
-                                   "MuJoCo reads them in degrees",
-               ("URDF", "radian"): "the URDF's limits are written in degrees (URDF limits are radians)",
-               ("MJCF", "radian"): "the MJCF's ranges are written in degrees, but <compiler angle=\"radian\"> makes "
-                                   "MuJoCo read them in radians"}.get((big, info.mjcf_angle),
-                                                                       "one file's limits are the other's in degrees")
-        out.append(finding("limit_units", f"{how}: {len(degrees)} joints' limits differ by the factor 180/π: "
-                           + ", ".join(r["label"] for r in degrees),
-                           {"file": "MJCF" if "MJCF" in how.split(" ")[1] else big,
-                            "urdf": [[r["lower"][0], r["upper"][0]] for r in degrees],
-                            "mjcf": [[r["lower"][1], r["upper"][1]] for r in degrees], "checks": [["limits.position", "joints"]]},
-                           magnitude=max(r["limits.position"] for r in degrees), unit="rad", prop="limits.position",
-                           joint=[r["joint"] for r in degrees], mjcf_joint=[r["mjcf"] for r in degrees]))
+        big = (
+            "MJCF"
+            if max(abs(x) for r in degrees for x in (r["lower"][1], r["upper"][1]) if math.isfinite(x))
+            > max(abs(x) for r in degrees for x in (r["lower"][0], r["upper"][0]) if math.isfinite(x))
+            else "URDF"
+        )
+        how = {
+            ("URDF", "degree"): 'the MJCF\'s ranges are written in radians, but without <compiler angle="radian"> '
+            "MuJoCo reads them in degrees",
+            ("URDF", "radian"): "the URDF's limits are written in degrees (URDF limits are radians)",
+            ("MJCF", "radian"): 'the MJCF\'s ranges are written in degrees, but <compiler angle="radian"> makes '
+            "MuJoCo read them in radians",
+        }.get((big, info.mjcf_angle), "one file's limits are the other's in degrees")
+        out.append(
+            finding(
+                "limit_units",
+                f"{how}: {len(degrees)} joints' limits differ by the factor 180/π: " + ", ".join(r["label"] for r in degrees),
+                {
+                    "file": "MJCF" if "MJCF" in how.split(" ")[1] else big,
+                    "urdf": [[r["lower"][0], r["upper"][0]] for r in degrees],
+                    "mjcf": [[r["lower"][1], r["upper"][1]] for r in degrees],
+                    "checks": [["limits.position", "joints"]],
+                },
+                magnitude=max(r["limits.position"] for r in degrees),
+                unit="rad",
+                prop="limits.position",
+                joint=[r["joint"] for r in degrees],
+                mjcf_joint=[r["mjcf"] for r in degrees],
+            )
+        )
     by_side: dict[str, list[dict]] = {}
     for r in rounded:
         x, y = max((r["lower"], r["upper"]), key=lambda p: abs(p[0] - p[1]))
@@ -224,16 +344,24 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
         largest = max(r["limits.position"] for r in group)
         precision = next((p for p in info.precision if p.file == side), None)
         how = precision.describe(["limit"]) if precision is not None else "both files round them"
-        out.append(finding("rounding", f"{len(group)} joints' limits agree to {largest:.2g} only, rounded where written: {how} "
-                           f"(within the written precision, {tol:.2g}): " + ", ".join(r["label"] for r in group),
-                           {"file": side, "joints": [r["joint"] for r in group], "largest": largest},
-                           magnitude=largest, unit="rad", prop="limits.position"))
+        out.append(
+            finding(
+                "rounding",
+                f"{len(group)} joints' limits agree to {largest:.2g} only, rounded where written: {how} "
+                f"(within the written precision, {tol:.2g}): " + ", ".join(r["label"] for r in group),
+                {"file": side, "joints": [r["joint"] for r in group], "largest": largest},
+                magnitude=largest,
+                unit="rad",
+                prop="limits.position",
+            )
+        )
     # followers: coupled in the comparison, or in either file to any joint (a finger an MJCF couples
     # to a gripper slide the URDF lacks is driven through the slide's actuator)
     coupled_m = {c.follower for c in info.m.couplings}
     coupled_u = {c.follower for c in info.u.couplings}
-    followers = set(info.alignment.couplings) | {j.urdf for j in info.alignment.joints
-                                                 if j.mjcf in coupled_m or j.urdf in coupled_u}
+    followers = set(info.alignment.couplings) | {
+        j.urdf for j in info.alignment.joints if j.mjcf in coupled_m or j.urdf in coupled_u
+    }
     out += effort_findings(rows, tolerances.get("limits.effort", 1e-9), followers)
     return out
 
@@ -259,59 +387,107 @@ def effort_findings(rows: list[dict], tol: float, followers=frozenset()) -> list
             how = "no <limit effort>" if side == "URDF" else "no actuator on them"
             custom = [r["effort_how"] for r in silent if r["effort_how"].startswith("no drive: urdf:limit:effort")]
             if side == "MJCF" and len(custom) == len(silent):  # a USD side: the converter kept the effort as a custom attribute
-                how = ("no drive; the effort survives only as the custom attribute urdf:limit:effort ("
-                       + ", ".join(c.split(" = ")[1].split(" ")[0] for c in custom) + "), which no simulator reads")
+                how = (
+                    "no drive; the effort survives only as the custom attribute urdf:limit:effort ("
+                    + ", ".join(c.split(" = ")[1].split(" ")[0] for c in custom)
+                    + "), which no simulator reads"
+                )
             elif side == "MJCF" and all(r["effort_how"].startswith("no drive") for r in silent):  # a USD side
                 how = "no drive and no mjc:actuatorfrcrange"
-            out.append(finding("effort_unset", f"the {side} states no force bound on {len(silent)} joints ({how}); the "
-                               f"{other} bounds them: " + ", ".join(f"{r['label']} {r['effort'][1 - k]:g}" for r in silent)
-                               + f" {unit}", {"unset_in": side, "urdf": [r["effort"][0] for r in silent],
-                                              "mjcf": [r["effort"][1] for r in silent]},
-                               magnitude=max(r["effort"][1 - k] for r in silent), unit=unit, prop="limits.effort",
-                               joint=[r["joint"] for r in silent], mjcf_joint=[r["mjcf"] for r in silent]))
+            out.append(
+                finding(
+                    "effort_unset",
+                    f"the {side} states no force bound on {len(silent)} joints ({how}); the "
+                    f"{other} bounds them: " + ", ".join(f"{r['label']} {r['effort'][1 - k]:g}" for r in silent) + f" {unit}",
+                    {"unset_in": side, "urdf": [r["effort"][0] for r in silent], "mjcf": [r["effort"][1] for r in silent]},
+                    magnitude=max(r["effort"][1 - k] for r in silent),
+                    unit=unit,
+                    prop="limits.effort",
+                    joint=[r["joint"] for r in silent],
+                    mjcf_joint=[r["mjcf"] for r in silent],
+                )
+            )
     alike = [r for r in rows if r.get("effort_alike", 0) > 1 and not r.get("effort_others")]
     if alike:  # every actuator of the joint states the URDF's bound
-        out.append(finding(
-            "several_actuators", f"the MJCF drives {len(alike)} joints by several actuators, each bounded as the URDF "
-            "bounds the joint (compared as alternatives; acting together in MuJoCo their forces add up): " + ", ".join(
-                f"{r['label']} {r['effort_alike']} × {r['effort'][0]:g}" for r in alike),
-            {"urdf": [r["effort"][0] for r in alike], "actuators": [r["effort_alike"] for r in alike]},
-            prop="limits.effort", joint=[r["joint"] for r in alike], mjcf_joint=[r["mjcf"] for r in alike]))
+        out.append(
+            finding(
+                "several_actuators",
+                f"the MJCF drives {len(alike)} joints by several actuators, each bounded as the URDF "
+                "bounds the joint (compared as alternatives; acting together in MuJoCo their forces add up): "
+                + ", ".join(f"{r['label']} {r['effort_alike']} × {r['effort'][0]:g}" for r in alike),
+                {"urdf": [r["effort"][0] for r in alike], "actuators": [r["effort_alike"] for r in alike]},
+                prop="limits.effort",
+                joint=[r["joint"] for r in alike],
+                mjcf_joint=[r["mjcf"] for r in alike],
+            )
+        )
     several = [r for r in rows if r.get("effort_others")]
     if several:  # one actuator of a joint states the URDF's bound, another on it a different one
         unit = _force_unit(several)
-        out.append(finding(
-            "actuator_alternatives", f"the MJCF drives {len(several)} joints by several actuators, one of which bounds the "
-            "force as the URDF does while another allows a different force: " + "; ".join(
-                f"{r['label']} {r['effort'][0]:g} {unit} in the URDF, " + ", ".join(how for _, how in r["effort_others"])
-                for r in several), {"urdf": [r["effort"][0] for r in several],
-                                    "mjcf_others": [[b for b, _ in r["effort_others"]] for r in several]},
-            magnitude=max(abs(b - r["effort"][0]) for r in several for b, _ in r["effort_others"]), unit=unit,
-            prop="limits.effort", joint=[r["joint"] for r in several], mjcf_joint=[r["mjcf"] for r in several]))
+        out.append(
+            finding(
+                "actuator_alternatives",
+                f"the MJCF drives {len(several)} joints by several actuators, one of which bounds the "
+                "force as the URDF does while another allows a different force: "
+                + "; ".join(
+                    f"{r['label']} {r['effort'][0]:g} {unit} in the URDF, " + ", ".join(how for _, how in r["effort_others"])
+                    for r in several
+                ),
+                {"urdf": [r["effort"][0] for r in several], "mjcf_others": [[b for b, _ in r["effort_others"]] for r in several]},
+                magnitude=max(abs(b - r["effort"][0]) for r in several for b, _ in r["effort_others"]),
+                unit=unit,
+                prop="limits.effort",
+                joint=[r["joint"] for r in several],
+                mjcf_joint=[r["mjcf"] for r in several],
+            )
+        )
     for key, group in groups.items():
         unit = _force_unit(group)
         names: dict[str, Any] = {"joint": [r["joint"] for r in group], "mjcf_joint": [r["mjcf"] for r in group]}
-        values = {"urdf": [r["effort"][0] for r in group], "mjcf": [r["effort"][1] for r in group],
-                  "mjcf_from": [r["effort_how"] for r in group], "checks": [["limits.effort", "joints"]]}
+        values = {
+            "urdf": [r["effort"][0] for r in group],
+            "mjcf": [r["effort"][1] for r in group],
+            "mjcf_from": [r["effort_how"] for r in group],
+            "checks": [["limits.effort", "joints"]],
+        }
         if key[0] == "unbounded":
             side = "MJCF" if key[1] else "URDF"
             if all(r["unset"]["effort"] == side for r in group):
                 other = "URDF" if side == "MJCF" else "MJCF"
-                msg = (f"the {side} leaves the force on {len(group)} joints unbounded (" + "; ".join(
-                    f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'no effort'}" for r in group[:3])
-                    + ("; …" if len(group) > 3 else "") + f"); the {other} limits it to "
-                    + ", ".join(f"{r['effort'][0 if side == 'MJCF' else 1]:g}" for r in group) + f" {unit}")
-                out.append(finding("effort_unset", msg, {**values, "unset_in": side}, magnitude=math.inf, unit=unit,
-                                   prop="limits.effort", **names))
+                msg = (
+                    f"the {side} leaves the force on {len(group)} joints unbounded ("
+                    + "; ".join(f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'no effort'}" for r in group[:3])
+                    + ("; …" if len(group) > 3 else "")
+                    + f"); the {other} limits it to "
+                    + ", ".join(f"{r['effort'][0 if side == 'MJCF' else 1]:g}" for r in group)
+                    + f" {unit}"
+                )
+                out.append(
+                    finding(
+                        "effort_unset",
+                        msg,
+                        {**values, "unset_in": side},
+                        magnitude=math.inf,
+                        unit=unit,
+                        prop="limits.effort",
+                        **names,
+                    )
+                )
                 continue
-            msg = (f"{len(group)} joints: the {side}'s actuators put no bound on the joint force ("
-                   + "; ".join(f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'URDF'}" for r in group[:3])
-                   + ("; …" if len(group) > 3 else "") + "), the other file limits it to "
-                   + ", ".join(f"{r['effort'][0 if side == 'MJCF' else 1]:g}" for r in group) + f" {unit}")
+            msg = (
+                f"{len(group)} joints: the {side}'s actuators put no bound on the joint force ("
+                + "; ".join(f"{r['label']}: {r['effort_how'] if side == 'MJCF' else 'URDF'}" for r in group[:3])
+                + ("; …" if len(group) > 3 else "")
+                + "), the other file limits it to "
+                + ", ".join(f"{r['effort'][0 if side == 'MJCF' else 1]:g}" for r in group)
+                + f" {unit}"
+            )
             out.append(finding("effort_difference", msg, values, magnitude=math.inf, unit=unit, prop="limits.effort", **names))
         else:
             u, m = group[0]["effort"]
-            msg = (f"{', '.join(r['label'] for r in group)}: effort limit {u:g} {unit} in the URDF, {m:g} {unit} in the MJCF "
-                   f"({group[0]['effort_how']})" + (f": ×{m / u:.4g}" if u else ""))
+            msg = (
+                f"{', '.join(r['label'] for r in group)}: effort limit {u:g} {unit} in the URDF, {m:g} {unit} in the MJCF "
+                f"({group[0]['effort_how']})" + (f": ×{m / u:.4g}" if u else "")
+            )
             out.append(finding("effort_difference", msg, values, magnitude=abs(u - m), unit=unit, prop="limits.effort", **names))
     return out

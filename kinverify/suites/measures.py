@@ -33,6 +33,8 @@ def fk_errors(reference: Evaluation, other: Evaluation, with_rotation: bool = Tr
         if rot is not None:  # with_rotation
             out[("fk.rotation", frame)] = rot[:, k]
     return out
+
+
 def jacobian_errors(reference: Evaluation, other: Evaluation, rows: slice | None = None) -> dict[tuple[str, str], np.ndarray]:
     """Errors ``(N,)`` keyed by ``(property, frame)``; ``rows`` selects the configurations of the
     reference that ``other`` was evaluated on (default: all)."""

@@ -53,8 +53,12 @@ def render_pngs(mjcf: str, joint_names, configurations, width: int = WIDTH, heig
     for q in configurations:
         _pose(model, data, adr, q)
         points += [data.xpos[b] for b in arm]
-        points += [p for g in range(model.ngeom) if model.geom_bodyid[g] in arm
-                   for p in data.geom_xpos[g] + model.geom_rbound[g] * corners]
+        points += [
+            p
+            for g in range(model.ngeom)
+            if model.geom_bodyid[g] in arm
+            for p in data.geom_xpos[g] + model.geom_rbound[g] * corners
+        ]
         reach = data.xpos[arm[-1], :2] - data.xpos[arm[0], :2]
     cloud = np.array(points)
     lo, hi = cloud.min(axis=0), cloud.max(axis=0)
@@ -133,8 +137,12 @@ def png_bytes(rgb: np.ndarray) -> bytes:
     def chunk(tag: bytes, payload: bytes) -> bytes:
         return struct.pack(">I", len(payload)) + tag + payload + struct.pack(">I", zlib.crc32(tag + payload) & 0xFFFFFFFF)
 
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+        + chunk(b"IDAT", zlib.compress(raw, 6))
+        + chunk(b"IEND", b"")
+    )
 
 
 def render_in_child(mjcf: str, joint_names, configurations) -> tuple[list[bytes], str]:
@@ -156,14 +164,25 @@ def kinematic_tree(urdf: str | None, frames, joint_names) -> dict:
         except Exception:  # an unreadable URDF never gets this far; stay drawable regardless
             root = None
         if root is not None:
-            joints = [{"name": j.get("name", ""), "type": j.get("type", ""),
-                       "parent": (j.find("parent").get("link", "") if j.find("parent") is not None else ""),
-                       "child": (j.find("child").get("link", "") if j.find("child") is not None else "")}
-                      for j in root.iter("joint") if j.find("parent") is not None and j.find("child") is not None]
+            joints = [
+                {
+                    "name": j.get("name", ""),
+                    "type": j.get("type", ""),
+                    "parent": (j.find("parent").get("link", "") if j.find("parent") is not None else ""),
+                    "child": (j.find("child").get("link", "") if j.find("child") is not None else ""),
+                }
+                for j in root.iter("joint")
+                if j.find("parent") is not None and j.find("child") is not None
+            ]
             return {"links": [el.get("name", "") for el in root.iter("link")], "joints": joints}
     names = list(joint_names) + [""] * len(frames)
-    return {"links": list(frames), "joints": [{"name": names[i] or f"{a}-{b}", "type": "", "parent": a, "child": b}
-                                              for i, (a, b) in enumerate(zip(frames, frames[1:], strict=False))]}
+    return {
+        "links": list(frames),
+        "joints": [
+            {"name": names[i] or f"{a}-{b}", "type": "", "parent": a, "child": b}
+            for i, (a, b) in enumerate(zip(frames, frames[1:], strict=False))
+        ],
+    }
 
 
 def frame_parents(frames, tree: dict) -> list[int]:
@@ -224,25 +243,48 @@ def skeleton_data(ctx: VerifyContext, home: np.ndarray) -> dict:
         overall = max(overall, (float(pos[i, f]), int(i)))
         if worst_ratio > 1:
             score[name] = worst_ratio
-            disagreements.append({"backend": name, "q": q[i].tolist(), "frame": common[f],
-                                  "reference": ref_poses[i, ri[f], :3, 3].tolist(), "value": backend.poses(q[i:i + 1])[0, oi[f], :3, 3].tolist(),
-                                  "position_error": float(pos[i, f]), "rotation_error": float(rot[i, f])})
+            disagreements.append(
+                {
+                    "backend": name,
+                    "q": q[i].tolist(),
+                    "frame": common[f],
+                    "reference": ref_poses[i, ri[f], :3, 3].tolist(),
+                    "value": backend.poses(q[i : i + 1])[0, oi[f], :3, 3].tolist(),
+                    "position_error": float(pos[i, f]),
+                    "rotation_error": float(rot[i, f]),
+                }
+            )
     other = max(score, key=score.__getitem__) if score else ""
     if src.spec is None:  # file mode: the MJCF as MuJoCo reads it is drawn over the URDF side, agreeing or not
         readers = [n for n in MJCF_READERS if n in ctx.backends and n != ref.name]
         other = next((n for n in readers if n in score or not score), other)
     if other in score:
         d = next(d for d in disagreements if d["backend"] == other)
-        worst, label = np.asarray(d["q"]), (f"largest FK disagreement of {other} with {ref.name} among the first {len(q)} "
-                                            f"configurations: {d['position_error']:.3g} m, {d['rotation_error']:.3g} rad at {d['frame']}")
+        worst, label = (
+            np.asarray(d["q"]),
+            (
+                f"largest FK disagreement of {other} with {ref.name} among the first {len(q)} "
+                f"configurations: {d['position_error']:.3g} m, {d['rotation_error']:.3g} rad at {d['frame']}"
+            ),
+        )
     else:
         worst = q[overall[1]] if len(q) else home
         label = f"largest FK position difference among the first {len(q)} configurations: {max(overall[0], 0.0):.3g} m"
     drawn = [b for b in (ref.name, other) if b]
-    poses = {key: {b: _poses_by_frame(ctx.backends[b], frames, cfg) for b in drawn} for key, cfg in (("home", home), ("worst", worst))}
-    return {"frames": frames, "parents": frame_parents(frames, tree), "reference": ref.name, "other": other,
-            "configurations": {"home": home.tolist(), "worst": np.asarray(worst).tolist()}, "worst_label": label,
-            "poses": poses, "disagreements": disagreements, "tree": tree}
+    poses = {
+        key: {b: _poses_by_frame(ctx.backends[b], frames, cfg) for b in drawn} for key, cfg in (("home", home), ("worst", worst))
+    }
+    return {
+        "frames": frames,
+        "parents": frame_parents(frames, tree),
+        "reference": ref.name,
+        "other": other,
+        "configurations": {"home": home.tolist(), "worst": np.asarray(worst).tolist()},
+        "worst_label": label,
+        "poses": poses,
+        "disagreements": disagreements,
+        "tree": tree,
+    }
 
 
 class PicturesSuite(Suite):
@@ -277,8 +319,11 @@ class PicturesSuite(Suite):
             pngs, reason = render_in_child(src.mjcf, src.mjcf_joint_names or src.joint_names, [home, worst])
         if reason:
             section.notes.append(reason)
-        for png, (title, q, caption) in zip(pngs, [("MuJoCo: home pose", home, "q = 0 (clipped into the limits)"),
-                                                   ("MuJoCo: worst configuration", worst, label)], strict=False):
+        for png, (title, q, caption) in zip(
+            pngs,
+            [("MuJoCo: home pose", home, "q = 0 (clipped into the limits)"), ("MuJoCo: worst configuration", worst, label)],
+            strict=False,
+        ):
             qs = ", ".join(f"{v:.4f}" for v in q)
             section.figures.append(Figure(title, "image/png", base64.b64encode(png).decode("ascii"), f"{caption}; q = [{qs}]"))
         return SuiteResult([], section)

@@ -24,8 +24,14 @@ class TrackingSuite(Suite):
         if spec is None or not ctx.sources.urdf:
             return SuiteResult([], Section(self.title, "skipped: tracking needs a spec (file mode has none)"))
         if spec.floating:
-            return SuiteResult([], Section(self.title, "skipped: tracking needs a fixed base (this base floats: its "
-                                           "controllers would have to hold the whole robot up)"))
+            return SuiteResult(
+                [],
+                Section(
+                    self.title,
+                    "skipped: tracking needs a fixed base (this base floats: its "
+                    "controllers would have to hold the whole robot up)",
+                ),
+            )
         controllers = ctx.options.extra.get("tracking_controllers")
         if controllers is None:
             controllers, checked = list(VERIFY_CONTROLLERS) + [NEGATIVE_EXAMPLE], list(VERIFY_CONTROLLERS)

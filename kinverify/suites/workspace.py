@@ -29,8 +29,7 @@ def reach_statistics(points: np.ndarray, base: np.ndarray) -> dict[str, float]:
     rel = points - base
     dist = np.linalg.norm(rel, axis=1)
     horizontal = np.linalg.norm(rel[:, :2], axis=1)
-    out = {"max_reach": dist.max(), "min_reach": dist.min(), "mean_reach": dist.mean(),
-           "max_horizontal_reach": horizontal.max()}
+    out = {"max_reach": dist.max(), "min_reach": dist.min(), "mean_reach": dist.mean(), "max_horizontal_reach": horizontal.max()}
     for i, axis in enumerate("xyz"):
         out[f"{axis}_min"], out[f"{axis}_max"] = points[:, i].min(), points[:, i].max()
     return {k: float(v) for k, v in out.items()}
@@ -38,15 +37,21 @@ def reach_statistics(points: np.ndarray, base: np.ndarray) -> dict[str, float]:
 
 def workspace_section(points: np.ndarray, base: np.ndarray, frame: str, source: str) -> Section:
     stats = reach_statistics(points, base)
-    rows = [["max reach from the first joint", stats["max_reach"]], ["min reach", stats["min_reach"]],
-            ["mean reach", stats["mean_reach"]], ["max horizontal reach", stats["max_horizontal_reach"]]]
+    rows = [
+        ["max reach from the first joint", stats["max_reach"]],
+        ["min reach", stats["min_reach"]],
+        ["mean reach", stats["mean_reach"]],
+        ["max horizontal reach", stats["max_horizontal_reach"]],
+    ]
     rows += [[f"{a} range", f"{stats[a + '_min']:.4f} … {stats[a + '_max']:.4f}"] for a in "xyz"]
     rows = [[k, f"{v:.4f}" if isinstance(v, float) else v] for k, v in rows]
-    section = Section("Workspace", f"{len(points)} uniform random configurations inside the joint limits; position of {frame} "
-                      f"from {source}, coloured by height. Reach measured from the first joint's origin "
-                      f"{np.round(base, 4).tolist()} m.",
-                      data={"frame": frame, "base": [float(v) for v in base], "stats": stats,
-                            "points": np.round(points, 4).tolist()})
+    section = Section(
+        "Workspace",
+        f"{len(points)} uniform random configurations inside the joint limits; position of {frame} "
+        f"from {source}, coloured by height. Reach measured from the first joint's origin "
+        f"{np.round(base, 4).tolist()} m.",
+        data={"frame": frame, "base": [float(v) for v in base], "stats": stats, "points": np.round(points, 4).tolist()},
+    )
     section.table("Reach statistics [m]", ["statistic", "value [m]"], rows)
     return section
 

@@ -33,6 +33,7 @@ from kinverify.model.transforms import geodesic_distance
 FD_TOLERANCE = KinematicsSuite.property("jacobian.fd").tolerance
 FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics")  # file mode without its drawings
 
+
 @lru_cache(maxsize=32)
 def _cached_backends(sources: ModelSources, names: tuple[str, ...] | None) -> tuple[Backend, ...]:
     return tuple(build_backends(sources, list(names) if names else None))
@@ -63,10 +64,14 @@ def format_q(q, joint_names: Sequence[str]) -> str:
     return f"  failing configuration ({', '.join(joint_names)}), paste to reproduce:\n    q = [{values}]"
 
 
-def _failure(prop: str, frame: str, pair: str, error: float, tol: float, unit: str, q, joint_names,
-             others: list[str], detail: str = "") -> AssertionError:
-    lines = [f"kinverify: {prop} disagrees at frame {frame!r} (first along the chain): {pair}",
-             f"  error {error:.3e} {unit} > tolerance {tol:.0e} {unit}{detail}", format_q(q, joint_names)]
+def _failure(
+    prop: str, frame: str, pair: str, error: float, tol: float, unit: str, q, joint_names, others: list[str], detail: str = ""
+) -> AssertionError:
+    lines = [
+        f"kinverify: {prop} disagrees at frame {frame!r} (first along the chain): {pair}",
+        f"  error {error:.3e} {unit} > tolerance {tol:.0e} {unit}{detail}",
+        format_q(q, joint_names),
+    ]
     if others:
         lines.append(f"  also failing: {'; '.join(others[:8])}" + (f" (+{len(others) - 8} more)" if len(others) > 8 else ""))
     return AssertionError("\n".join(lines))
@@ -93,8 +98,9 @@ def _q2d(q, n: int) -> np.ndarray:
     return q
 
 
-def assert_fk_agree(model, q, *, backends: Sequence[str] | None = None, position_tol: float = 1e-9,
-                    rotation_tol: float = 1e-9) -> None:
+def assert_fk_agree(
+    model, q, *, backends: Sequence[str] | None = None, position_tol: float = 1e-9, rotation_tol: float = 1e-9
+) -> None:
     """Every backend's FK of every frame matches the reference's at ``q`` ((n,) or (N, n))."""
     __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
     built = resolve_backends(model, backends)
@@ -131,8 +137,17 @@ def assert_jacobians_agree(model, q, *, backends: Sequence[str] | None = None, t
     _raise_first(errors, ref.frames, q, ref.joint_names)
 
 
-def assert_ik_valid(model, q, target, frame: str | None = None, *, backends: Sequence[str] | None = None,
-                    position_tol: float = 1e-6, rotation_tol: float = 1e-6, check_limits: bool = True) -> None:
+def assert_ik_valid(
+    model,
+    q,
+    target,
+    frame: str | None = None,
+    *,
+    backends: Sequence[str] | None = None,
+    position_tol: float = 1e-6,
+    rotation_tol: float = 1e-6,
+    check_limits: bool = True,
+) -> None:
     """An IK solution ``q`` (n,) reaches ``target`` (a 4×4 pose ``T_world_from_frame`` or a
     position (3,)) for ``frame`` (default: the last frame) in *every* backend, inside the
     joint limits."""
@@ -152,8 +167,10 @@ def assert_ik_valid(model, q, target, frame: str | None = None, *, backends: Seq
         outside = (q[0] < lower - 1e-12) | (q[0] > upper + 1e-12)
         if outside.any():
             j = int(np.argmax(outside))
-            raise AssertionError(f"kinverify: ik.limits: joint {ref.joint_names[j]!r} at {float(q[0, j])!r} is outside "
-                                 f"[{float(lower[j])!r}, {float(upper[j])!r}]\n" + format_q(q[0], ref.joint_names))
+            raise AssertionError(
+                f"kinverify: ik.limits: joint {ref.joint_names[j]!r} at {float(q[0, j])!r} is outside "
+                f"[{float(lower[j])!r}, {float(upper[j])!r}]\n" + format_q(q[0], ref.joint_names)
+            )
     target_text = np.array2string(target, precision=17, separator=", ").replace("\n", "")
     for b in built:
         if frame not in b.frames:
@@ -161,13 +178,16 @@ def assert_ik_valid(model, q, target, frame: str | None = None, *, backends: Seq
         pose = b.poses(q)[0, list(b.frames).index(frame)]
         checks = [("ik.position", float(np.linalg.norm(pose[:3, 3] - goal_p)), position_tol, "m")]
         if target.shape == (4, 4) and b.has_rotation:
-            checks.append(("ik.rotation", float(geodesic_distance(pose[None, :3, :3], target[None, :3, :3])[0]),
-                           rotation_tol, "rad"))
+            checks.append(
+                ("ik.rotation", float(geodesic_distance(pose[None, :3, :3], target[None, :3, :3])[0]), rotation_tol, "rad")
+            )
         for prop, err, tol, unit in checks:
             if not err <= tol:
-                raise AssertionError(f"kinverify: {prop}: frame {frame!r} misses the target in backend {b.name}\n"
-                                     f"  error {err:.3e} {unit} > tolerance {tol:.0e} {unit}\n"
-                                     f"  target = {target_text}\n" + format_q(q[0], ref.joint_names))
+                raise AssertionError(
+                    f"kinverify: {prop}: frame {frame!r} misses the target in backend {b.name}\n"
+                    f"  error {err:.3e} {unit} > tolerance {tol:.0e} {unit}\n"
+                    f"  target = {target_text}\n" + format_q(q[0], ref.joint_names)
+                )
 
 
 def _limits(model):
@@ -190,8 +210,10 @@ def assert_matches_baseline(spec: ArmSpec, path, *, update: bool = False, tolera
         save_baseline(spec, path)
         return None
     if not path.exists():
-        raise AssertionError(f"kinverify: no baseline for {spec.name!r} at {path}; create it deliberately with "
-                             f"`pytest --kinverify-update-baselines` (or `kinverify baseline save MODEL --out {path}`)")
+        raise AssertionError(
+            f"kinverify: no baseline for {spec.name!r} at {path}; create it deliberately with "
+            f"`pytest --kinverify-update-baselines` (or `kinverify baseline save MODEL --out {path}`)"
+        )
     tolerances = None if tolerance is None else {k: Tolerance(tolerance, t.unit) for k, t in BASELINE_TOLERANCES.items()}
     result = check(spec, path, tolerances)
     if result.passed:
@@ -199,8 +221,10 @@ def assert_matches_baseline(spec: ArmSpec, path, *, update: bool = False, tolera
     lines = [f"kinverify: {spec.name} does not match baseline {path}: {len(result.moved)} quantities moved beyond tolerance"]
     for m in result.moved[:10]:
         old, new = show_values(m.old, m.new)
-        lines.append(f"  {m.property} at frame {m.frame!r}: old {old} new {new}, delta {m.delta:.3e} {m.unit} "
-                     f"> tolerance {m.tolerance:.0e} {m.unit} ({m.count}/{m.of} samples)")
+        lines.append(
+            f"  {m.property} at frame {m.frame!r}: old {old} new {new}, delta {m.delta:.3e} {m.unit} "
+            f"> tolerance {m.tolerance:.0e} {m.unit} ({m.count}/{m.of} samples)"
+        )
     if len(result.moved) > 10:
         lines.append(f"  ... and {len(result.moved) - 10} more")
     for frames, what in ((result.frames_removed, "removed"), (result.frames_added, "added")):
@@ -213,8 +237,7 @@ def assert_matches_baseline(spec: ArmSpec, path, *, update: bool = False, tolera
     raise AssertionError("\n".join(lines))
 
 
-def assert_files_agree(urdf, mjcf, *, accept=None, backends: Sequence[str] | None = None, samples: int = 50,
-                       seed: int = 0):
+def assert_files_agree(urdf, mjcf, *, accept=None, backends: Sequence[str] | None = None, samples: int = 50, seed: int = 0):
     """File mode's verdict on a URDF/MJCF pair (``kinverify verify --urdf URDF --mjcf MJCF``) as an
     assertion: the failure message lists every error finding (kind, subject, size, message).
     ``accept``: an accepted-differences TOML file (default: ``kinverify-accepted.toml`` beside the
@@ -223,8 +246,14 @@ def assert_files_agree(urdf, mjcf, *, accept=None, backends: Sequence[str] | Non
     :class:`~kinverify.results.VerifyResult` when the files agree; a file that cannot be read
     raises :class:`~kinverify.errors.InputError` as the command exits 2."""
     __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
-    options = VerifyOptions(samples=samples, fd_samples=min(samples, 10), seed=seed, backends=list(backends) if backends else None,
-                            suites=list(FILE_SUITES), extra={"dynamics_samples": min(samples, 20)})
+    options = VerifyOptions(
+        samples=samples,
+        fd_samples=min(samples, 10),
+        seed=seed,
+        backends=list(backends) if backends else None,
+        suites=list(FILE_SUITES),
+        extra={"dynamics_samples": min(samples, 20)},
+    )
     result = verify_files(str(urdf), str(mjcf), options, accept=str(accept) if accept else None)
     if result.passed:
         return result

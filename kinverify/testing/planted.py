@@ -28,8 +28,19 @@ from hypothesis import strategies as st
 
 from kinverify.model.transforms import axis_angle_to_matrix, matrix_to_quat, quat_to_matrix
 
-KINDS = ("axis_flip", "axis_tilt", "frame_offset_along", "frame_offset_across", "frame_turn", "frame_turn_twist",
-         "mass", "com", "inertia", "range", "damping")
+KINDS = (
+    "axis_flip",
+    "axis_tilt",
+    "frame_offset_along",
+    "frame_offset_across",
+    "frame_turn",
+    "frame_turn_twist",
+    "mass",
+    "com",
+    "inertia",
+    "range",
+    "damping",
+)
 FRAME_KINDS = ("axis_flip", "axis_tilt", "frame_offset_along", "frame_offset_across", "frame_turn", "frame_turn_twist")
 JOINT_KINDS = FRAME_KINDS + ("range", "damping")  # planted on a joint (and the body holding it); the rest on a body
 DEG = math.pi / 180
@@ -56,6 +67,7 @@ class Planted:
 
 
 # --- reading and writing numbers ------------------------------------------------------------------
+
 
 def _vec(el: ET.Element, attr: str, default) -> np.ndarray:
     text = el.get(attr)
@@ -84,6 +96,7 @@ def _perpendicular(axis: np.ndarray, angle: float) -> np.ndarray:
 
 
 # --- what can be planted where ---------------------------------------------------------------------
+
 
 @dataclasses.dataclass
 class _Site:
@@ -146,7 +159,7 @@ def _applicable(kind: str, site: _Site) -> bool:
         return not (kind.startswith("frame_turn") and joint.get("type") == "slide")
     inertial = _inertial(site.body)
     if inertial is None or site.rigid is not None:  # a body welded to another is one rigid body with it: its own
-        return False                                 # centre of mass and mass are not what is compared
+        return False  # centre of mass and mass are not what is compared
     share = float(inertial.get("mass", "0")) / _group_mass(site.body)
     if kind == "inertia":  # alone in its rigid body: the moment planted is one of the rigid body's
         return share == 1.0 and bool(np.all(_vec(inertial, "diaginertia", [0, 0, 0]) > 0))
@@ -167,6 +180,7 @@ def _group_mass(body: ET.Element) -> float:
 
 
 # --- the changes --------------------------------------------------------------------------------
+
 
 def _plant(draw, kind: str, site: _Site) -> Planted:
     body, joint = site.body, site.joint
@@ -252,8 +266,9 @@ def _slot(kind: str) -> str:
 
 
 @st.composite
-def planted_changes(draw, mjcf_text: str, kinds=KINDS, max_changes: int = 2, min_changes: int = 1,
-                    stacked: bool | None = None) -> tuple[str, tuple[Planted, ...]]:
+def planted_changes(
+    draw, mjcf_text: str, kinds=KINDS, max_changes: int = 2, min_changes: int = 1, stacked: bool | None = None
+) -> tuple[str, tuple[Planted, ...]]:
     """The MJCF with ``min_changes`` to ``max_changes`` (at most 2) random changes of ``kinds``
     planted, and what was planted. Of two, the second is sometimes on the joint above the first's
     (a change stacked on its parent's); ``stacked=True``: always (``False``: never)."""
@@ -273,7 +288,11 @@ def planted_changes(draw, mjcf_text: str, kinds=KINDS, max_changes: int = 2, min
     planted = [_plant(draw, kind, site)]
     if count == 2:
         on_parent = bool(above(kind, site)) and (stacked if stacked is not None else draw(st.booleans()))
-        pool = above(kind, site) if on_parent else [(k, s) for k, s in options if (_slot(k), id(s.body)) != (_slot(kind), id(site.body))]
+        pool = (
+            above(kind, site)
+            if on_parent
+            else [(k, s) for k, s in options if (_slot(k), id(s.body)) != (_slot(kind), id(site.body))]
+        )
         if pool:
             planted.append(_plant(draw, *draw(st.sampled_from(pool))))
     return ET.tostring(root, encoding="unicode"), tuple(planted)

@@ -25,13 +25,20 @@ FIXTURES = ("kinverify_spec", "kinverify_backends", "kinverify_baseline", "kinve
 
 def pytest_addoption(parser) -> None:
     group = parser.getgroup("kinverify", "kinverify: robot model verification")
-    group.addoption(UPDATE_OPTION, action="store_true", default=False,
-                    help="rewrite kinverify baselines (kinverify_baseline / assert_matches_baseline) instead of checking them")
+    group.addoption(
+        UPDATE_OPTION,
+        action="store_true",
+        default=False,
+        help="rewrite kinverify baselines (kinverify_baseline / assert_matches_baseline) instead of checking them",
+    )
 
 
 def pytest_configure(config) -> None:
-    config.addinivalue_line("markers", "kinverify(model=None): a kinverify model test; `model` is the spec file that "
-                            "the kinverify_spec fixture loads when called without an argument")
+    config.addinivalue_line(
+        "markers",
+        "kinverify(model=None): a kinverify model test; `model` is the spec file that "
+        "the kinverify_spec fixture loads when called without an argument",
+    )
 
 
 def pytest_report_header(config) -> str:

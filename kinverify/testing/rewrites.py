@@ -38,11 +38,14 @@ def _turn_back(el: ET.Element, back: np.ndarray) -> None:
 def _turnable(site: _Site) -> bool:
     """A body whose frame can be turned about its hinge with all it holds turned back: every
     orientation it holds is a ``quat`` (or none)."""
-    if site.joint is None or site.joint.get("type", "hinge") != "hinge" or site.body.get("quat") is None and \
-            any(site.body.get(a) is not None for a in ("euler", "axisangle", "xyaxes", "zaxis")):
+    if (
+        site.joint is None
+        or site.joint.get("type", "hinge") != "hinge"
+        or site.body.get("quat") is None
+        and any(site.body.get(a) is not None for a in ("euler", "axisangle", "xyaxes", "zaxis"))
+    ):
         return False
-    return not any(c.get(a) is not None for c in site.body if c.tag in HELD
-                   for a in ("euler", "axisangle", "xyaxes", "zaxis"))
+    return not any(c.get(a) is not None for c in site.body if c.tag in HELD for a in ("euler", "axisangle", "xyaxes", "zaxis"))
 
 
 @st.composite

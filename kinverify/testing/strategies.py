@@ -102,8 +102,9 @@ def _limits(draw, joint_type: str) -> dict:
 
 
 @st.composite
-def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False,
-               floating: bool = False) -> dict:
+def spec_dicts(
+    draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False, floating: bool = False
+) -> dict:
     """The TOML structure of a random valid arm (1-8 joints by default): a serial chain, or with
     ``trees`` a tree in which each joint may hang from the base or any earlier joint's link; with
     ``floating``, the base floats in some of them (its pose then leads the configuration)."""
@@ -129,15 +130,20 @@ def spec_dicts(draw, min_joints: int = 1, max_joints: int = 8, prismatic: bool =
         tools.append({"name": "aux", "parent": f"l{parent}", "xyz": draw(tool_offsets())})
     return {
         "name": "random_arm",
-        "base": {"xyz": draw(vectors(-0.5, 0.5)), "rpy": draw(angles_rpy()), "link": {"name": "base"},
-                 **({"floating": True} if floating and draw(st.booleans()) else {})},
+        "base": {
+            "xyz": draw(vectors(-0.5, 0.5)),
+            "rpy": draw(angles_rpy()),
+            "link": {"name": "base"},
+            **({"floating": True} if floating and draw(st.booleans()) else {}),
+        },
         "joints": joints,
         "tools": tools,
     }
 
 
-def arm_specs(min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False,
-              floating: bool = False) -> st.SearchStrategy[ArmSpec]:
+def arm_specs(
+    min_joints: int = 1, max_joints: int = 8, prismatic: bool = True, trees: bool = False, floating: bool = False
+) -> st.SearchStrategy[ArmSpec]:
     """Random valid :class:`ArmSpec` (random joint types, axes, origins, limits, tools; with
     ``trees``, branching chains; with ``floating``, some with a floating base)."""
     return spec_dicts(min_joints, max_joints, prismatic, trees, floating).map(spec_from_dict)

@@ -133,14 +133,31 @@ def nearest_equivalent(q: np.ndarray, ref: np.ndarray, lower, upper, wrap) -> np
     return q
 
 
-def solve_target(spec: ArmSpec, model: FrameModel, target: np.ndarray, position_only: bool, q_ref: np.ndarray,
-                 seed: int = 0, extra_starts: int = EXTRA_STARTS) -> IKChoice:
+def solve_target(
+    spec: ArmSpec,
+    model: FrameModel,
+    target: np.ndarray,
+    position_only: bool,
+    q_ref: np.ndarray,
+    seed: int = 0,
+    extra_starts: int = EXTRA_STARTS,
+) -> IKChoice:
     """The IK solution of ``target`` closest to ``q_ref`` (see the module docstring)."""
     lower, upper = spec.lower, spec.upper
     wrap = wrappable(lower, upper, model)
     first = solve_lm(model, target[None], lower, upper, position_only, IKOptions(seed=seed), q0=q_ref[None])
-    spread = solve_lm(model, np.repeat(target[None], extra_starts, axis=0), lower, upper, position_only,
-                      IKOptions(seed=seed + 1, max_restarts=0)) if extra_starts else None
+    spread = (
+        solve_lm(
+            model,
+            np.repeat(target[None], extra_starts, axis=0),
+            lower,
+            upper,
+            position_only,
+            IKOptions(seed=seed + 1, max_restarts=0),
+        )
+        if extra_starts
+        else None
+    )
     qs, sources = [first.q], ["lm"]
     if spread is not None:
         qs.append(spread.q)
@@ -156,12 +173,18 @@ def solve_target(spec: ArmSpec, model: FrameModel, target: np.ndarray, position_
     if not ok.any():
         k = int(np.argmin(pos + rot))
         what = f"{pos[k]:.3e} m" + ("" if position_only else f", {rot[k]:.3e} rad")
-        also = "" if closed is None else \
-            f"; closed form: no branch inside the limits, closest {closed.closest_distance(target[:3, 3]):.3e} m"
+        also = (
+            ""
+            if closed is None
+            else f"; closed form: no branch inside the limits, closest {closed.closest_distance(target[:3, 3]):.3e} m"
+        )
         raise UnreachableError(
-            f"{model.frame} cannot reach xyz = {_fmt(target[:3, 3])} m" + ("" if position_only else " with that rpy")
+            f"{model.frame} cannot reach xyz = {_fmt(target[:3, 3])} m"
+            + ("" if position_only else " with that rpy")
             + f": closest approach {what} at q = {_fmt(q_all[k])} ({int(first.restarts[0]) + 1 + extra_starts} IK starts{also})",
-            float(pos[k]), q_all[k])
+            float(pos[k]),
+            q_all[k],
+        )
     candidates = [nearest_equivalent(q, q_ref, lower, upper, wrap) for q in q_all[ok]]
     where = np.flatnonzero(ok)
     dist = [float(np.linalg.norm(q - q_ref)) for q in candidates]
@@ -193,8 +216,17 @@ def auto_duration(spec: ArmSpec, qa, qb, minimum: float) -> float:
     return max(float(minimum), math.ceil(need * 10 - 1e-9) / 10)
 
 
-def plan_cartesian(spec: ArmSpec, targets, q_start, durations=None, position_only: bool = True, backend: str | None = None,
-                   frame: str | None = None, min_duration: float = 1.0, seed: int = 0) -> CartesianPlan:
+def plan_cartesian(
+    spec: ArmSpec,
+    targets,
+    q_start,
+    durations=None,
+    position_only: bool = True,
+    backend: str | None = None,
+    frame: str | None = None,
+    min_duration: float = 1.0,
+    seed: int = 0,
+) -> CartesianPlan:
     """Solve each target in turn (each preferring the solution closest to the previous one) and
     plan quintic segments through them. ``durations``: one per segment, or None (automatic)."""
     targets = np.asarray(targets, dtype=float).reshape(-1, 4, 4)
@@ -220,7 +252,9 @@ def plan_cartesian(spec: ArmSpec, targets, q_start, durations=None, position_onl
     return CartesianPlan(spec.name, model.frame, model.name, position_only, q_start, choices, durations)
 
 
-def end_effector_errors(spec: ArmSpec, frame: str, q: np.ndarray, target: np.ndarray, position_only: bool = True) -> tuple[float, float]:
+def end_effector_errors(
+    spec: ArmSpec, frame: str, q: np.ndarray, target: np.ndarray, position_only: bool = True
+) -> tuple[float, float]:
     """Position error [m] and rotation error [rad] (0 for position-only) of ``frame`` at
     configuration ``q`` against ``target``, by the analytic FK."""
     pose = frame_poses(spec, np.asarray(q, float)[None])[0, spec.frame_names.index(frame)]
@@ -248,6 +282,8 @@ def track_waypoints(spec: ArmSpec, urdf: str, cplan: CartesianPlan, hold_s: floa
     result = track(spec, urdf, trajectory, controllers, plots=False, render=False, plan=hold(motion, hold_s), options=options)
     assert result.section is not None  # track always makes its section
     result.section.title = "Trajectory tracking through Cartesian waypoints"
-    result.section.summary = (f"{len(cplan.choices)} waypoints for {cplan.frame} solved by IK ({cplan.backend}), "
-                                 f"quintic segments of {', '.join(f'{d:g}' for d in cplan.durations)} s, then a {hold_s:g} s hold")
+    result.section.summary = (
+        f"{len(cplan.choices)} waypoints for {cplan.frame} solved by IK ({cplan.backend}), "
+        f"quintic segments of {', '.join(f'{d:g}' for d in cplan.durations)} s, then a {hold_s:g} s hold"
+    )
     return result

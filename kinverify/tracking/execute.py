@@ -71,7 +71,14 @@ def execute(spec: ArmSpec, urdf: str, plan: Plan, controller: str, motion_end: f
         mujoco.mj_step(m, d)
         tau[k] = d.qfrc_actuator[mj.vadr]
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
-            return Run(controller, plan, motion_end, q[: k + 1], qd[: k + 1], tau[: k + 1],
-                       f"diverged: MuJoCo reported a bad acceleration at t = {plan.t[k]:.3f} s")
+            return Run(
+                controller,
+                plan,
+                motion_end,
+                q[: k + 1],
+                qd[: k + 1],
+                tau[: k + 1],
+                f"diverged: MuJoCo reported a bad acceleration at t = {plan.t[k]:.3f} s",
+            )
     tau[-1] = tau[-2] if K > 1 else 0.0
     return Run(controller, plan, motion_end, q, qd, tau)

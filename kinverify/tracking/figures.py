@@ -44,7 +44,7 @@ def joint_plot(run: Run, joint_names) -> Figure:
     s = _every(len(run.t))
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
     for j, name in enumerate(joint_names):
-        line, = ax1.plot(run.t[s], run.q[s, j], label=literal(name))
+        (line,) = ax1.plot(run.t[s], run.q[s, j], label=literal(name))
         ax1.plot(run.plan.t[s], run.plan.q[s, j], "--", color=line.get_color(), linewidth=0.8)
         ax2.plot(run.t[s], run.qd[s, j], color=line.get_color())
     for ax in (ax1, ax2):
@@ -57,8 +57,12 @@ def joint_plot(run: Run, joint_names) -> Figure:
     fig.suptitle(f"{run.controller}: joint angles and speeds")
     data = _svg(fig)
     plt.close(fig)
-    return Figure(f"Joint angles and speeds under {run.controller}", "image/svg+xml", data,
-                  "executed (solid) vs planned (dashed) joint angles, and executed joint speeds")
+    return Figure(
+        f"Joint angles and speeds under {run.controller}",
+        "image/svg+xml",
+        data,
+        "executed (solid) vs planned (dashed) joint angles, and executed joint speeds",
+    )
 
 
 def error_plot(runs: list[Run]) -> Figure:
@@ -79,8 +83,9 @@ def error_plot(runs: list[Run]) -> Figure:
     ax.legend(fontsize=7)
     data = _svg(fig)
     plt.close(fig)
-    return Figure("Tracking error over time", "image/svg+xml", data,
-                  "joint error norm per controller (log scale); grey line: end of motion")
+    return Figure(
+        "Tracking error over time", "image/svg+xml", data, "joint error norm per controller (log scale); grey line: end of motion"
+    )
 
 
 FPS = 8.0  # frames per second of the animation (the run itself is simulated at 1 kHz)
@@ -129,8 +134,7 @@ def render_gifs(mjcf: str, qadr, clips, fps: float = FPS, size=SIZE) -> list[byt
                 renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = False  # 15x faster in software GL
                 frames.append(Image.fromarray(renderer.render()))
             buf = io.BytesIO()
-            frames[0].save(buf, format="GIF", save_all=True, append_images=frames[1:], duration=int(round(1000 / fps)),
-                           loop=0)
+            frames[0].save(buf, format="GIF", save_all=True, append_images=frames[1:], duration=int(round(1000 / fps)), loop=0)
             out.append(buf.getvalue())
     return out
 
@@ -144,17 +148,22 @@ def animations(runs: list[Run], mjcf: str, qadr, fps: float = FPS, size=SIZE) ->
         return [], "rendering unavailable: no finite executed states to show"
     from kinverify.mujoco_gl import render_in_child
 
-    request = {"mjcf": mjcf, "qadr": [int(a) for a in qadr], "clips": [c.tolist() for c in clips],
-               "fps": fps, "size": list(size)}
+    request = {"mjcf": mjcf, "qadr": [int(a) for a in qadr], "clips": [c.tolist() for c in clips], "fps": fps, "size": list(size)}
     gifs, reason = render_in_child("kinverify.tracking.figures", request, TIMEOUT_S)
     if reason:
         return [], reason
     if len(gifs) != len(runs) or not all(g.startswith(b"GIF8") for g in gifs):
         return [], "rendering unavailable: the renderer returned no GIF"
-    return [Figure(f"Execution under {run.controller}", "image/gif", base64.b64encode(gif).decode("ascii"),
-                   f"MuJoCo offscreen rendering of the executed joint states, a frame every {1 / fps:.3g} s of "
-                   f"simulated time ({len(clip)} frames, {size[0]}×{size[1]} px, loops)")
-            for run, clip, gif in zip(runs, clips, gifs, strict=True)], ""
+    return [
+        Figure(
+            f"Execution under {run.controller}",
+            "image/gif",
+            base64.b64encode(gif).decode("ascii"),
+            f"MuJoCo offscreen rendering of the executed joint states, a frame every {1 / fps:.3g} s of "
+            f"simulated time ({len(clip)} frames, {size[0]}×{size[1]} px, loops)",
+        )
+        for run, clip, gif in zip(runs, clips, gifs, strict=True)
+    ], ""
 
 
 def animation(run: Run, mjcf: str, qadr, fps: float = FPS, size=SIZE) -> tuple[Figure | None, str]:

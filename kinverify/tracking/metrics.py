@@ -78,8 +78,24 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
     qd_plan = run.plan.q[: len(q)]
     if len(q) < 2:
         inf = float("inf")
-        return Metrics(run.controller, inf, inf, inf, inf, inf, inf, None, inf, inf, inf, inf, 0.0, run.diverged or "no samples",
-                       False, run.diverged or "no samples")
+        return Metrics(
+            run.controller,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            None,
+            inf,
+            inf,
+            inf,
+            inf,
+            0.0,
+            run.diverged or "no samples",
+            False,
+            run.diverged or "no samples",
+        )
     err = np.linalg.norm(qd_plan - q, axis=1)
     motion, after = t <= run.motion_end + 1e-12, t > run.motion_end + 1e-12
     dt = run.plan.dt
@@ -98,11 +114,17 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
     else:
         settling = max(0.0, float(t[outside[-1] + 1] - run.motion_end)) if len(outside) else 0.0
     m: dict[str, Any] = dict(
-        rms_error=float(np.sqrt(np.mean(err[motion] ** 2))), max_error=float(err.max()),
-        final_error=float(err[motion][-1]), hold_final_error=float(err[-1]), ee_path_deviation=float(path.max()),
-        overshoot=overshoot, settling_time=settling,
-        residual_speed=float(speed[late].max()) if late.any() else float("nan"), final_speed=float(speed[-1]),
-        error_energy=float(np.sum(err[after] ** 2) * dt), max_effort=float(np.abs(run.tau).max()),
+        rms_error=float(np.sqrt(np.mean(err[motion] ** 2))),
+        max_error=float(err.max()),
+        final_error=float(err[motion][-1]),
+        hold_final_error=float(err[-1]),
+        ee_path_deviation=float(path.max()),
+        overshoot=overshoot,
+        settling_time=settling,
+        residual_speed=float(speed[late].max()) if late.any() else float("nan"),
+        final_speed=float(speed[-1]),
+        error_energy=float(np.sum(err[after] ** 2) * dt),
+        max_effort=float(np.abs(run.tau).max()),
         saturation=float(np.mean(np.any(np.abs(run.tau) >= effort * (1 - 1e-9), axis=1))),
     )
     reasons = []
@@ -116,8 +138,10 @@ def compute_metrics(spec: ArmSpec, run: Run, criteria: Criteria | None = None) -
     if not late.any():
         reasons.append(f"no hold samples {RESIDUAL_DELAY} s after the motion")
     elif not m["residual_speed"] < criteria.residual_speed:
-        reasons.append(f"oscillating: joints still move at {m['residual_speed']:.3g} rad/s "
-                       f"{RESIDUAL_DELAY} s after the end (limit {criteria.residual_speed:g})")
+        reasons.append(
+            f"oscillating: joints still move at {m['residual_speed']:.3g} rad/s "
+            f"{RESIDUAL_DELAY} s after the end (limit {criteria.residual_speed:g})"
+        )
     if reasons and m["saturation"] > 0:  # why it failed: the actuators could not deliver the law's torque
         reasons.append(f"joint forces at their effort limit for {100 * m['saturation']:.3g} % of the run")
     return Metrics(run.controller, **m, diverged=run.diverged, passed=not reasons, reason="; ".join(reasons))

@@ -42,14 +42,18 @@ class PinocchioDynamics:
         if self.floating:
             root = next((i for i in range(1, m.njoints) if m.parents[i] == 0), None)
             if root is None or m.joints[root].shortname() != "JointModelFreeFlyer":
-                raise BackendError("pinocchio-urdf", "the configuration has a floating base but the URDF's root joint is not floating")
+                raise BackendError(
+                    "pinocchio-urdf", "the configuration has a floating base but the URDF's root joint is not floating"
+                )
             self._ff = (m.joints[root].idx_q, m.joints[root].idx_v, m.jointPlacements[root].inverse().homogeneous)
             joint_names = joint_names[6:]
         missing = [j for j in joint_names if not m.existJointName(j)]
         if missing:
             raise UnknownNameError("joint", missing[0], [m.names[i] for i in range(1, m.njoints)])
         if m.nv != len(joint_names) + 6 * self.floating:
-            raise BackendError("pinocchio-urdf", f"dynamics needs exactly the compared joints ({len(joint_names)}), model has {m.nv} dofs")
+            raise BackendError(
+                "pinocchio-urdf", f"dynamics needs exactly the compared joints ({len(joint_names)}), model has {m.nv} dofs"
+            )
         self.idx_v = np.array([m.joints[m.getJointId(j)].idx_v for j in joint_names])
         self.idx_q = np.array([m.joints[m.getJointId(j)].idx_q for j in joint_names])
         self.urdf_armature = np.array(m.armature)[self.idx_v].copy()  # always 0: URDF has no field for it
@@ -81,8 +85,8 @@ class PinocchioDynamics:
         iq, _, placement_inv = self._ff
         full = pin.neutral(self.model)
         t = placement_inv @ base_transforms(q[:6])
-        full[iq:iq + 3] = t[:3, 3]
-        full[iq + 3:iq + 7] = np.roll(matrix_to_quat(t[:3, :3]), -1)  # wxyz -> xyzw
+        full[iq : iq + 3] = t[:3, 3]
+        full[iq + 3 : iq + 7] = np.roll(matrix_to_quat(t[:3, :3]), -1)  # wxyz -> xyzw
         full[self.idx_q] = q[6:]
         return full
 
@@ -148,15 +152,21 @@ class MujocoDynamics:
         self._free: tuple[int, int] | None = None
         self.floating = has_base(joint_names)
         if self.floating:
-            free = [j for j in range(m.njnt) if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)
-                    and m.body_parentid[m.jnt_bodyid[j]] == 0]
+            free = [
+                j
+                for j in range(m.njnt)
+                if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE) and m.body_parentid[m.jnt_bodyid[j]] == 0
+            ]
             if len(free) != 1:
-                raise BackendError("mujoco", f"the configuration has a floating base but the MJCF has {len(free)} free "
-                                   "joints on top-level bodies (expected one)")
+                raise BackendError(
+                    "mujoco",
+                    f"the configuration has a floating base but the MJCF has {len(free)} free "
+                    "joints on top-level bodies (expected one)",
+                )
             self._free = (int(m.jnt_qposadr[free[0]]), int(m.jnt_dofadr[free[0]]))
             if rigid:  # a free joint's armature and damping (a URDF's floating base has neither)
-                m.dof_armature[self._free[1]:self._free[1] + 6] = 0.0
-                m.dof_damping[self._free[1]:self._free[1] + 6] = 0.0
+                m.dof_armature[self._free[1] : self._free[1] + 6] = 0.0
+                m.dof_damping[self._free[1] : self._free[1] + 6] = 0.0
             joint_names = joint_names[6:]
         ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joint_names]
         if min(ids) < 0:
@@ -190,7 +200,7 @@ class MujocoDynamics:
             t = base_transforms(q[:6])
             assert self._free is not None  # set whenever the base floats
             a = self._free[0]
-            d.qpos[a:a + 3], d.qpos[a + 3:a + 7] = t[:3, 3], matrix_to_quat(t[:3, :3])
+            d.qpos[a : a + 3], d.qpos[a + 3 : a + 7] = t[:3, 3], matrix_to_quat(t[:3, :3])
             if v is not None:
                 raise ValueError("velocity-dependent dynamics of a floating base are not compared")
             q = q[6:]

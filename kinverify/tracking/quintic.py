@@ -84,8 +84,10 @@ def hold(plan: Plan, seconds: float) -> Plan:
     if extra == 0:
         return plan
     t = np.concatenate([plan.t, plan.t[-1] + plan.dt * np.arange(1, extra + 1)])
+
     def pad(a, last):
         return np.concatenate([a, np.repeat(last[None], extra, axis=0)])
+
     zero = np.zeros_like(plan.q[-1])
     return Plan(t, pad(plan.q, plan.q[-1]), pad(plan.qd, zero), pad(plan.qdd, zero))
 

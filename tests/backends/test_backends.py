@@ -26,8 +26,12 @@ def _agree(spec, q, float32=True):
     USD stores its joint frames in it); Newton only when ``float32`` (random specs leave it to
     tests/backends/test_newton.py: each build costs ~1 s)."""
     sources = ModelSources.from_spec(spec)
-    backends = [b for b in build_backends(sources, [n for n in default_backend_names(sources)
-                                                    if float32 or available_backends()[n].extra != "newton"])]
+    backends = [
+        b
+        for b in build_backends(
+            sources, [n for n in default_backend_names(sources) if float32 or available_backends()[n].extra != "newton"]
+        )
+    ]
     assert {b.name for b in backends} >= {"analytic", "pinocchio-urdf", "pinocchio-mjcf", "mujoco", "yourdfpy"}
     ref = backends[0].evaluate(q)
     for b in backends[1:]:
@@ -91,8 +95,9 @@ def test_seed_closed_form_as_a_user_backend():
     q = spec_samples(spec, 200)
     ref = build_backends(ModelSources.from_spec(spec), ["analytic"])[0].poses(q)[:, -1, :3, 3]
     assert np.abs(user.poses(q)[:, 0, :3, 3] - ref).max() < 1e-12
-    np.testing.assert_allclose(user.poses(np.array([[0, np.pi / 4, -np.pi / 4]]))[0, 0, :3, 3],
-                               [0.1767767, 0.0, 1.0467767], atol=5e-8)
+    np.testing.assert_allclose(
+        user.poses(np.array([[0, np.pi / 4, -np.pi / 4]]))[0, 0, :3, 3], [0.1767767, 0.0, 1.0467767], atol=5e-8
+    )
 
 
 def test_unknown_frame_lists_the_available_ones():
@@ -109,8 +114,17 @@ def test_backend_errors_are_kinverify_errors():
 
 def test_registry_reports_every_backend():
     registry = available_backends()
-    assert set(registry) >= {"analytic", "analytic-dh", "pinocchio-urdf", "pinocchio-mjcf", "mujoco", "yourdfpy",
-                             "drake-urdf", "drake-mjcf", "drake-sdf"}
+    assert set(registry) >= {
+        "analytic",
+        "analytic-dh",
+        "pinocchio-urdf",
+        "pinocchio-mjcf",
+        "mujoco",
+        "yourdfpy",
+        "drake-urdf",
+        "drake-mjcf",
+        "drake-sdf",
+    }
     assert all(info.available for info in registry.values() if not info.extra)  # the core libraries always import
     for info in registry.values():  # an optional library: available, or says which extra brings it
         assert info.available or f"pip install 'kinverify[{info.extra}]'" in info.reason, info
@@ -122,9 +136,15 @@ def test_single_joint_arm(joint_type):
     from kinverify import spec_from_dict
 
     unit = "rad" if joint_type == "revolute" else "m"
-    spec = spec_from_dict({"name": "one", "joints": [{"type": joint_type, "axis": [0, 1, 0], "xyz": [0, 0, 0.1],
-                                                      "limits": {"lower": -0.5, "upper": 0.5, "unit": unit}}],
-                           "tools": [{"name": "tip", "xyz": [0.2, 0, 0]}]})
+    spec = spec_from_dict(
+        {
+            "name": "one",
+            "joints": [
+                {"type": joint_type, "axis": [0, 1, 0], "xyz": [0, 0, 0.1], "limits": {"lower": -0.5, "upper": 0.5, "unit": unit}}
+            ],
+            "tools": [{"name": "tip", "xyz": [0.2, 0, 0]}],
+        }
+    )
     _agree(spec, spec_samples(spec, 10))
 
 

@@ -37,7 +37,7 @@ def test_without_the_extra_drake_is_listed_unavailable_with_the_pip_line_and_not
         names = default_backend_names(ModelSources.from_spec(load_spec("models/arm3.toml")))
         assert not [n for n in names if n.startswith("drake")], names
         code = main(["verify", "models/arm3.toml", "--samples", "10", "--skip", "ik", "--skip", "tracking", "--skip", "pictures",
-                     "--quiet", "--json", "{tmp_path / 'r.json'}", "--report", "{tmp_path / 'r.html'}"])
+                     "--quiet", "--json", "{tmp_path / "r.json"}", "--report", "{tmp_path / "r.html"}"])
         assert code == 0, code
         assert main(["verify", "--sdf", "x.sdf", "--urdf", "y.urdf"]) == 2
     """)
@@ -47,7 +47,9 @@ def test_without_the_extra_drake_is_listed_unavailable_with_the_pip_line_and_not
 
 
 def test_importing_kinverify_does_not_import_drake():
-    proc = run_python("import sys, kinverify, kinverify.cli, kinverify.run; assert 'pydrake' not in sys.modules, 'pydrake imported'")
+    proc = run_python(
+        "import sys, kinverify, kinverify.cli, kinverify.run; assert 'pydrake' not in sys.modules, 'pydrake imported'"
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
 
 
@@ -58,8 +60,10 @@ needs_drake = pytest.mark.skipif(not backend_info("drake-sdf").available, reason
 def test_an_unwelded_urdf_root_is_welded_like_pinocchio_does_and_floats_only_with_base_coordinates():
     spec = load_spec("models/arm3.toml")
     sources = ModelSources.from_spec(spec)
-    bare = sources.urdf.replace('<link name="world"/>', "").split('<joint name="world_to_base"')[0] + \
-        sources.urdf.split("</joint>", 1)[1]  # no world link, no weld: Drake alone would make base a free body
+    bare = (
+        sources.urdf.replace('<link name="world"/>', "").split('<joint name="world_to_base"')[0]
+        + sources.urdf.split("</joint>", 1)[1]
+    )  # no world link, no weld: Drake alone would make base a free body
     q = np.array([[0.3, -0.4, 0.5]])
     drake = build_backend("drake-urdf", ModelSources(spec.name, spec.joint_names, ("link3",), (), (), (), urdf=bare))
     pin = build_backend("pinocchio-urdf", ModelSources(spec.name, spec.joint_names, ("link3",), (), (), (), urdf=bare))
@@ -92,6 +96,11 @@ def test_drake_dynamics_of_the_sdf_agree_with_pinocchio_and_carry_the_armature()
     pin = PinocchioDynamics(sources.urdf, spec.joint_names, [j.armature for j in spec.joints])
     assert np.allclose(drake.armature, [j.armature for j in spec.joints], rtol=0, atol=1e-15)
     q, v, a, tau = np.array([0.3, -0.7, 1.1]), np.array([0.5, -1.0, 2.0]), np.array([1.0, 2.0, -3.0]), np.array([5.0, -2.0, 1.0])
-    for ours, theirs in ((drake.mass(q), pin.mass(q)), (drake.gravity(q), pin.gravity(q)), (drake.bias(q, v), pin.bias(q, v)),
-                         (drake.inverse(q, v, a), pin.inverse(q, v, a)), (drake.forward(q, v, tau), pin.forward(q, v, tau))):
+    for ours, theirs in (
+        (drake.mass(q), pin.mass(q)),
+        (drake.gravity(q), pin.gravity(q)),
+        (drake.bias(q, v), pin.bias(q, v)),
+        (drake.inverse(q, v, a), pin.inverse(q, v, a)),
+        (drake.forward(q, v, tau), pin.forward(q, v, tau)),
+    ):
         assert np.abs(ours - theirs).max() < 1e-10 * max(1.0, np.abs(theirs).max())

@@ -30,18 +30,22 @@ needs_newton = pytest.mark.skipif(not backend_info("newton-urdf").available, rea
 
 
 def test_importing_kinverify_imports_neither_warp_nor_newton():
-    proc = run_python("import sys, kinverify, kinverify.cli, kinverify.run, kinverify.backends; "
-                      "assert not {'warp', 'newton'} & set(sys.modules), 'warp or newton imported'")
+    proc = run_python(
+        "import sys, kinverify, kinverify.cli, kinverify.run, kinverify.backends; "
+        "assert not {'warp', 'newton'} & set(sys.modules), 'warp or newton imported'"
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
 
 
 def test_without_the_extra_newton_is_listed_unavailable_with_the_pip_line():
-    proc = run_python("import sys; sys.modules['newton'] = None\n"
-                      "from kinverify.backends import available_backends\n"
-                      "infos = available_backends()\n"
-                      "for name in ('newton-urdf', 'newton-mjcf'):\n"
-                      "    assert not infos[name].available and \"pip install 'kinverify[newton]'\" in infos[name].reason, infos[name]\n"
-                      "assert all(i.available for n, i in infos.items() if not n.startswith(('newton', 'drake'))), infos\n")
+    proc = run_python(
+        "import sys; sys.modules['newton'] = None\n"
+        "from kinverify.backends import available_backends\n"
+        "infos = available_backends()\n"
+        "for name in ('newton-urdf', 'newton-mjcf'):\n"
+        "    assert not infos[name].available and \"pip install 'kinverify[newton]'\" in infos[name].reason, infos[name]\n"
+        "assert all(i.available for n, i in infos.items() if not n.startswith(('newton', 'drake'))), infos\n"
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
 
 
@@ -106,26 +110,41 @@ def test_quirk_newton_mjcf_quaternions_drift_off_unit_length_along_the_chain():
     assert 2e-6 < (axis_norm - 1).max() < 1e-5, axis_norm - 1
 
 
-PAIRS = {"panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
-         "z1": ("z1_erd.urdf", "z1_menagerie.xml"), "go2": ("go2_erd.urdf", "go2_menagerie.xml"),
-         "a1": ("a1_unitree_ros.urdf", "a1_menagerie.xml"), "anymal_c": ("anymal_c_anybotics.urdf", "anymal_c_menagerie.xml"),
-         "leap_hand": ("leap_hand_dexurdf.urdf", "leap_hand_menagerie.xml"), "ur5e": ("ur5e_ur_description.urdf", "ur5e_menagerie.xml")}
+PAIRS = {
+    "panda": ("panda_erd.urdf", "panda_menagerie.xml"),
+    "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
+    "z1": ("z1_erd.urdf", "z1_menagerie.xml"),
+    "go2": ("go2_erd.urdf", "go2_menagerie.xml"),
+    "a1": ("a1_unitree_ros.urdf", "a1_menagerie.xml"),
+    "anymal_c": ("anymal_c_anybotics.urdf", "anymal_c_menagerie.xml"),
+    "leap_hand": ("leap_hand_dexurdf.urdf", "leap_hand_menagerie.xml"),
+    "ur5e": ("ur5e_ur_description.urdf", "ur5e_menagerie.xml"),
+}
 QUICK = ("panda", "go2")  # the others with -m slow (each pair builds two Newton models)
 
 
 def _urdf_names(text: str) -> tuple[list[str], list[str], np.ndarray]:
     """Moving joints (no mimic followers), links, and each joint's range (±π where none is written)."""
     root = ET.fromstring(text)
-    moving = [j for j in root.findall("joint") if j.get("type") in ("revolute", "continuous", "prismatic") and j.find("mimic") is None]
-    ranges = [[float(j.find("limit").get(k, d)) if j.find("limit") is not None and j.get("type") != "continuous" else d
-               for k, d in (("lower", -np.pi), ("upper", np.pi))] for j in moving]
+    moving = [
+        j for j in root.findall("joint") if j.get("type") in ("revolute", "continuous", "prismatic") and j.find("mimic") is None
+    ]
+    ranges = [
+        [
+            float(j.find("limit").get(k, d)) if j.find("limit") is not None and j.get("type") != "continuous" else d
+            for k, d in (("lower", -np.pi), ("upper", np.pi))
+        ]
+        for j in moving
+    ]
     return [j.get("name") for j in moving], [link.get("name") for link in root.findall("link")], np.array(ranges)
 
 
 def _mjcf_names(text: str) -> tuple[list[str], list[str], np.ndarray]:
     """Hinge and slide joints, bodies and sites, and each joint's range (±π where it is not limited)."""
     m = mujoco.MjModel.from_xml_string(text)
-    moving = [i for i in range(m.njnt) if int(m.jnt_type[i]) in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))]
+    moving = [
+        i for i in range(m.njnt) if int(m.jnt_type[i]) in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+    ]
     ranges = np.array([m.jnt_range[i] if m.jnt_limited[i] else (-np.pi, np.pi) for i in moving])
     frames = [n for n in [m.body(i).name for i in range(1, m.nbody)] + [m.site(i).name for i in range(m.nsite)] if n]
     return [m.joint(i).name for i in moving], frames, ranges
@@ -142,8 +161,10 @@ def test_newton_reads_each_shared_file_as_pinocchio_and_mujoco_do_within_its_flo
     urdf = read_urdf(str(folder / PAIRS[robot][0]), [], [])[1]
     mjcf = read_mjcf(str(folder / PAIRS[robot][1]), [])[1]
     rng = np.random.default_rng(0)
-    for text, load, names, ref_cls, name in ((urdf, "from_urdf", _urdf_names, PinocchioBackend, "newton-urdf"),
-                                            (mjcf, "from_mjcf", _mjcf_names, MujocoBackend, "newton-mjcf")):
+    for text, load, names, ref_cls, name in (
+        (urdf, "from_urdf", _urdf_names, PinocchioBackend, "newton-urdf"),
+        (mjcf, "from_mjcf", _mjcf_names, MujocoBackend, "newton-mjcf"),
+    ):
         joints, frames, ranges = names(text)
         assert joints and frames, (robot, name)
         newton_ = getattr(backend_info(name).backend_class, load)(text, joints, frames, name=name)
@@ -172,8 +193,25 @@ def test_verify_the_panda_passes_with_the_newton_backends(tmp_path):
     from kinverify.cli import main
 
     out = tmp_path / "r.json"
-    code = main(["verify", "models/panda.toml", "--samples", "20", "--ik-targets", "5", "--skip", "tracking", "--skip", "pictures", "--quiet",
-                 "--json", str(out), "--report", str(tmp_path / "r.html")])
+    code = main(
+        [
+            "verify",
+            "models/panda.toml",
+            "--samples",
+            "20",
+            "--ik-targets",
+            "5",
+            "--skip",
+            "tracking",
+            "--skip",
+            "pictures",
+            "--quiet",
+            "--json",
+            str(out),
+            "--report",
+            str(tmp_path / "r.html"),
+        ]
+    )
     result = json.loads(out.read_text())
     newton_checks = [c for c in result["checks"] if {"newton-urdf", "newton-mjcf"} & set(c["backends"])]
     assert code == 0 and result["verdict"] == "pass"
@@ -185,8 +223,11 @@ def test_verify_the_panda_passes_with_the_newton_backends(tmp_path):
 def test_quirk_newton_mjcf_makes_one_joint_of_two_in_one_body():
     """backends/quirks.py, newton-mjcf: two hinges in one body become one joint named by joining theirs."""
     sources = ModelSources.from_spec(load_spec("models/panda.toml"))
-    two = sources.mjcf.replace('<joint name="panda_joint4" ',
-                               '<joint name="extra" type="hinge" axis="1 0 0" range="-1 1"/><joint name="panda_joint4" ', 1)
+    two = sources.mjcf.replace(
+        '<joint name="panda_joint4" ',
+        '<joint name="extra" type="hinge" axis="1 0 0" range="-1 1"/><joint name="panda_joint4" ',
+        1,
+    )
     with pytest.raises(UnknownNameError) as err:
         backend_info("newton-mjcf").backend_class.from_mjcf(two, ["extra"], ["flange"])
     assert "extra_panda_joint4" in err.value.available and "panda_joint4" not in err.value.available

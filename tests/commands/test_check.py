@@ -52,7 +52,9 @@ def test_a_model_that_moved_from_its_baseline_fails(tmp_path, monkeypatch, capsy
     assert main(["check", "models/arm3.toml", *FAST]) == 1
     (out,), _ = lines(capsys)
     assert out.startswith("models/arm3.toml: FAIL: 0 of ")  # the models still agree with each other...
-    assert "baseline baselines/arm3.json: 10 quantities moved, first fk.position at link3 by 0.001 m" in out  # ...not with the baseline
+    assert (
+        "baseline baselines/arm3.json: 10 quantities moved, first fk.position at link3 by 0.001 m" in out
+    )  # ...not with the baseline
     assert out.endswith("(details: kinverify baseline check models/arm3.toml --baseline baselines/arm3.json)")
 
     # baselines/ beside the spec comes first; --baselines names another folder
@@ -76,11 +78,34 @@ def test_a_pair_that_disagrees_fails_and_an_accepted_file_rechecks_it(tmp_path, 
     assert out.startswith("pair/ur5e.urdf + ur5e.xml: FAIL: 0 of ") and "1 error finding; first: base_transform (model)" in out
     assert out.endswith("details: kinverify verify --urdf pair/ur5e.urdf --mjcf pair/ur5e.xml")
 
-    skip = [f"--skip={suite}" for suite in ("limits", "inertia", "ik", "dynamics", "tracking", "diagnosis", "workspace", "pictures")]
-    assert main(["verify", "--urdf", "pair/ur5e.urdf", "--mjcf", "pair/ur5e.xml", "--quiet", *FAST, *skip,
-                 "--json", "r.json", "--report", "r.html", "--write-accepted", "pair/kinverify-accepted.toml"]) == 1
+    skip = [
+        f"--skip={suite}" for suite in ("limits", "inertia", "ik", "dynamics", "tracking", "diagnosis", "workspace", "pictures")
+    ]
+    assert (
+        main(
+            [
+                "verify",
+                "--urdf",
+                "pair/ur5e.urdf",
+                "--mjcf",
+                "pair/ur5e.xml",
+                "--quiet",
+                *FAST,
+                *skip,
+                "--json",
+                "r.json",
+                "--report",
+                "r.html",
+                "--write-accepted",
+                "pair/kinverify-accepted.toml",
+            ]
+        )
+        == 1
+    )
     capsys.readouterr()
-    assert main(["check", "pair/kinverify-accepted.toml", *FAST, "--suites", "kinematics"]) == 0  # the reviewed difference is accepted
+    assert (
+        main(["check", "pair/kinverify-accepted.toml", *FAST, "--suites", "kinematics"]) == 0
+    )  # the reviewed difference is accepted
     (out,), _ = lines(capsys)
     assert out.startswith("pair/ur5e.urdf + ur5e.xml: ok: 0 of ") and out.endswith("0 error findings")
 
@@ -96,12 +121,16 @@ def test_bad_input_and_other_files(tmp_path, capsys):
     files = [str(tmp_path / n) for n in ("broken.toml", "missing.toml", "alone.urdf", "launch.xml", "notes.md")]
     assert main(["check", *files, str(MODELS / "scara.toml"), *FAST]) == 2  # the worst code; the good model still runs
     out, err = lines(capsys)
-    assert err == [f"error: {files[0]}: malformed TOML: Invalid value (at end of document)",
-                   f"error: {files[1]}: cannot read spec file: No such file or directory"]
+    assert err == [
+        f"error: {files[0]}: malformed TOML: Invalid value (at end of document)",
+        f"error: {files[1]}: cannot read spec file: No such file or directory",
+    ]
     # a URDF with no MJCF beside it: the one-file audit (every library that reads URDF)
     assert out[0].startswith(f"{files[2]}: ok: every library reads it alike; ")
-    assert out[1:3] == [f"{files[3]}: skipped (not a spec .toml, a URDF or an MJCF)",
-                        f"{files[4]}: skipped (not a spec .toml, a URDF or an MJCF)"]
+    assert out[1:3] == [
+        f"{files[3]}: skipped (not a spec .toml, a URDF or an MJCF)",
+        f"{files[4]}: skipped (not a spec .toml, a URDF or an MJCF)",
+    ]
     assert out[3].startswith(f"{MODELS / 'scara.toml'}: ok: ")
     assert main(["check", str(MODELS / "arm3.toml"), "--suites", "kinematics,speed"]) == 2
     assert capsys.readouterr().err.startswith("kinverify: error: --suites: unknown suite 'speed'; suites: kinematics,")
@@ -154,8 +183,15 @@ def test_pre_commit_runs_the_hook_on_the_changed_models(tmp_path):
     local = {k: hook[k] for k in ("id", "name", "entry", "files", "require_serial")}
     config = {"repos": [{"repo": "local", "hooks": [{**local, "language": "system", "args": FAST, "verbose": True}]}]}
     (repo / ".pre-commit-config.yaml").write_text(yaml.safe_dump(config))
-    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "cache"), "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
-           "GIT_AUTHOR_NAME": "t", "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t", "GIT_COMMITTER_EMAIL": "t@t"}
+    env = {
+        **os.environ,
+        "PRE_COMMIT_HOME": str(tmp_path / "cache"),
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
+        "GIT_AUTHOR_NAME": "t",
+        "GIT_AUTHOR_EMAIL": "t@t",
+        "GIT_COMMITTER_NAME": "t",
+        "GIT_COMMITTER_EMAIL": "t@t",
+    }
 
     def run(*argv):
         return subprocess.run(argv, cwd=repo, env=env, capture_output=True, text=True, timeout=300)

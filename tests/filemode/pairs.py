@@ -53,6 +53,7 @@ def quat_z(angle: float) -> str:
 
 # --- the world and the joints' conventions ---------------------------------------------------
 
+
 def turned_world(urdf, mjcf, angle=math.pi / 4, xyz=None):
     """The MJCF mounts the robot turned about z (and moved by ``xyz``) in its world."""
     pose = f'quat="{quat_z(angle)}"' + (f' pos="{" ".join(repr(float(v)) for v in xyz)}"' if xyz is not None else "")
@@ -90,11 +91,13 @@ def merged_fixed_link(urdf, mjcf):
     """The URDF keeps a tool as a fixed link on link 3 of arm3; the MJCF merges its mass into link3."""
     t = TOOL
     ixx, iyy, izz = (float(x) for x in np.diag(t["inertia"]))
-    link = (f'<link name="tool"><inertial><origin xyz="{" ".join(repr(float(x)) for x in t["com"])}" rpy="0 0 0"/>'
-            f'<mass value="{t["mass"]!r}"/><inertia ixx="{ixx!r}" iyy="{iyy!r}" izz="{izz!r}" ixy="0" ixz="0" iyz="0"/>'
-            '</inertial></link>'
-            '<joint name="tool_mount" type="fixed"><parent link="link3"/><child link="tool"/>'
-            '<origin xyz="0 0 0" rpy="0 0 0"/></joint>')
+    link = (
+        f'<link name="tool"><inertial><origin xyz="{" ".join(repr(float(x)) for x in t["com"])}" rpy="0 0 0"/>'
+        f'<mass value="{t["mass"]!r}"/><inertia ixx="{ixx!r}" iyy="{iyy!r}" izz="{izz!r}" ixy="0" ixz="0" iyz="0"/>'
+        "</inertial></link>"
+        '<joint name="tool_mount" type="fixed"><parent link="link3"/><child link="tool"/>'
+        '<origin xyz="0 0 0" rpy="0 0 0"/></joint>'
+    )
     urdf = urdf.replace("</robot>", link + "</robot>")
 
     def merge(match):
@@ -103,29 +106,42 @@ def merged_fixed_link(urdf, mjcf):
         inertia = np.array([[full[0], full[3], full[4]], [full[3], full[1], full[5]], [full[4], full[5], full[2]]])
         total = mass + t["mass"]
         c = (mass * com + t["mass"] * t["com"]) / total
-        i = sum(ii + mm * ((r @ r) * np.eye(3) - np.outer(r, r)) for mm, cc, ii in ((mass, com, inertia), (t["mass"], t["com"], t["inertia"]))
-                for r in [cc - c])
+        i = sum(
+            ii + mm * ((r @ r) * np.eye(3) - np.outer(r, r))
+            for mm, cc, ii in ((mass, com, inertia), (t["mass"], t["com"], t["inertia"]))
+            for r in [cc - c]
+        )
         full = " ".join(repr(float(x)) for x in (i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]))
         return f'<inertial pos="{" ".join(repr(float(x)) for x in c)}" mass="{float(total)!r}" fullinertia="{full}"/>'
-    return urdf, sub_once(r'(?<=<body name="link3" )(.*?)<inertial pos="(?P<pos>[^"]*)" mass="(?P<mass>[^"]*)" '
-                          r'fullinertia="(?P<full>[^"]*)"/>', lambda m: m[1] + merge(m), mjcf)
+
+    return urdf, sub_once(
+        r'(?<=<body name="link3" )(.*?)<inertial pos="(?P<pos>[^"]*)" mass="(?P<mass>[^"]*)" '
+        r'fullinertia="(?P<full>[^"]*)"/>',
+        lambda m: m[1] + merge(m),
+        mjcf,
+    )
 
 
 def extra_flange(urdf, mjcf):
     """The URDF has a massless tool flange 16.5 mm beyond its flange; the MJCF has none."""
-    flange = ('<link name="tool_flange"/><joint name="tool_flange_mount" type="fixed"><parent link="flange"/>'
-              '<child link="tool_flange"/><origin xyz="0 0 0.0165" rpy="0 0 0"/></joint>')
+    flange = (
+        '<link name="tool_flange"/><joint name="tool_flange_mount" type="fixed"><parent link="flange"/>'
+        '<child link="tool_flange"/><origin xyz="0 0 0.0165" rpy="0 0 0"/></joint>'
+    )
     return urdf.replace("</robot>", flange + "</robot>"), mjcf
 
 
 def gripper_in_mjcf(urdf, mjcf):
     """The MJCF has a one-finger gripper on link 7 that the URDF lacks."""
-    gripper = ('<body name="gripper_finger" pos="0 0 0.05"><joint name="gripper_joint" type="slide" axis="0 1 0" '
-               'range="0 0.04"/><inertial pos="0 0 0.02" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>')
+    gripper = (
+        '<body name="gripper_finger" pos="0 0 0.05"><joint name="gripper_joint" type="slide" axis="0 1 0" '
+        'range="0 0.04"/><inertial pos="0 0 0.02" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>'
+    )
     return urdf, sub_once(r'(<body name="panda_link7"[^>]*>)', lambda m: m[1] + gripper, mjcf)
 
 
 # --- values -----------------------------------------------------------------------------------
+
 
 def rounded_mjcf(urdf, mjcf):
     """The MJCF written back by MuJoCo (MjSpec.to_xml: 6 significant digits, inertias as
@@ -145,22 +161,26 @@ def grams_mjcf(urdf, mjcf):
 
 def heavier_link(urdf, mjcf):
     """The URDF's panda_link4 is 20 % heavier (its inertia tensor unchanged)."""
-    return sub_once(r'(<link name="panda_link4">.*?<mass value=")([^"]*)(")', lambda m: m[1] + repr(1.2 * float(m[2])) + m[3],
-                    urdf), mjcf
+    return sub_once(
+        r'(<link name="panda_link4">.*?<mass value=")([^"]*)(")', lambda m: m[1] + repr(1.2 * float(m[2])) + m[3], urdf
+    ), mjcf
 
 
 def swapped_inertia(urdf, mjcf):
     """The MJCF's panda_link3 fullinertia with x and y exchanged (same moments, axes swapped)."""
+
     def swap(v):
         ixx, iyy, izz, ixy, ixz, iyz = v
         return [iyy, ixx, izz, ixy, iyz, ixz]
+
     return urdf, sub_once(r'(<body name="panda_link3".*?fullinertia=")([^"]*)(")', lambda m: m[1] + nums(swap)(m[2]) + m[3], mjcf)
 
 
 def upper_limit(urdf, mjcf):
     """The URDF lets panda_joint2 go 0.2 rad further up."""
-    return sub_once(r'(<joint name="panda_joint2".*?<limit [^>]*upper=")([^"]*)(")',
-                    lambda m: m[1] + repr(float(m[2]) + 0.2) + m[3], urdf), mjcf
+    return sub_once(
+        r'(<joint name="panda_joint2".*?<limit [^>]*upper=")([^"]*)(")', lambda m: m[1] + repr(float(m[2]) + 0.2) + m[3], urdf
+    ), mjcf
 
 
 def friction_added(urdf, mjcf):
@@ -187,8 +207,14 @@ def write_pair(folder: Path, urdf: str, mjcf: str) -> tuple[str, str]:
 def _quat_mul(a, b):
     w1, x1, y1, z1 = a
     w2, x2, y2, z2 = b
-    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+    return np.array(
+        [
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        ]
+    )
 
 
 def reframed_body(mjcf: str, body: str, angle: float) -> str:

@@ -24,9 +24,16 @@ from tests.paths import REAL_ROBOTS
 
 OPTIONS = VerifyOptions(samples=20, fd_samples=4, extra={"dynamics_samples": 20})
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
-REAL_FILES = [f"{robot}/{name}" for robot, names in {
-    "panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
-    "z1": ("z1_erd.urdf", "z1_menagerie.xml"), "go2": ("go2_erd.urdf", "go2_menagerie.xml")}.items() for name in names]
+REAL_FILES = [
+    f"{robot}/{name}"
+    for robot, names in {
+        "panda": ("panda_erd.urdf", "panda_menagerie.xml"),
+        "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
+        "z1": ("z1_erd.urdf", "z1_menagerie.xml"),
+        "go2": ("go2_erd.urdf", "go2_menagerie.xml"),
+    }.items()
+    for name in names
+]
 
 
 def readers(kind: str) -> list[str]:
@@ -58,7 +65,9 @@ def test_a_generated_file_is_read_alike_by_every_library(tmp_path, kind):
         assert kinds["<site> in <body>"] == ("parser_refused", "warning"), kinds  # a site is a compared frame
         assert kinds["joint@frictionloss"] == kinds["option@timestep"] == ("parser_ignores", "info"), kinds  # not compared
     assert {n: s.split(" (its parser ignores")[0] for n, s in statuses(result).items() if n in readers(kind)} == {
-        readers(kind)[0]: "reference", **{n: "agrees" for n in readers(kind)[1:]}}
+        readers(kind)[0]: "reference",
+        **{n: "agrees" for n in readers(kind)[1:]},
+    }
     assert result.model_info["files"] == {kind: str(tmp_path / f"robot.{'urdf' if kind == 'urdf' else 'xml'}")}
 
 
@@ -87,8 +96,9 @@ def test_a_tilted_top_level_body_tilts_gravity_in_pinocchios_reading_and_is_put_
     """Pinocchio's MJCF parser drops the top-level body's rotation, so its world is that body's:
     gravity there is the MJCF's gravity turned back, or gravity torques differ by newtons."""
     _, mjcf = generated_pair("panda")
-    tilted = mjcf.replace('<body name="world_mount">',
-                          f'<body name="world_mount" quat="{math.cos(0.15)!r} {math.sin(0.15)!r} 0 0">', 1)
+    tilted = mjcf.replace(
+        '<body name="world_mount">', f'<body name="world_mount" quat="{math.cos(0.15)!r} {math.sin(0.15)!r} 0 0">', 1
+    )
     result = audit(tmp_path, tilted, "mjcf")
     assert [f.kind for f in result.findings if f.values.get("backend") != "drake-mjcf"] == ["parser_quirk"]
     (gravity,) = [c for c in result.checks if c.property == "dynamics.gravity"]
@@ -103,7 +113,11 @@ def test_a_link_without_inertial_is_read_with_mass_by_mujocos_urdf_import(tmp_pa
     result = audit(tmp_path, bare, "urdf")
     (wrong,) = [f for f in result.findings if f.fails]
     assert (wrong.kind, wrong.subject, wrong.property, wrong.values["backend"]) == (
-        "parser_disagreement", "panda_link3", "inertia.mass", "mujoco-urdf")
+        "parser_disagreement",
+        "panda_link3",
+        "inertia.mass",
+        "mujoco-urdf",
+    )
     assert wrong.values["pinocchio-urdf"] == 0.0 and wrong.values["mujoco-urdf"] > 0.1
     assert not [c for c in result.failed if not c.property.startswith("dynamics.")]  # kinematics agree
 
@@ -114,8 +128,13 @@ def test_a_library_reading_the_file_differently_fails_naming_the_library_and_the
     reading moves the carriage twice as far."""
     urdf, _ = generated_pair("scara")
     joint = re.search(r'<joint name="(\w+)" type="prismatic">.*?<child link="(\w+)"', urdf, re.S)
-    doubled = re.sub(rf'(<joint name="{joint[1]}" type="prismatic">.*?<axis xyz=")([^"]*)(")',
-                     lambda m: m[1] + " ".join(repr(2 * float(x)) for x in m[2].split()) + m[3], urdf, count=1, flags=re.S)
+    doubled = re.sub(
+        rf'(<joint name="{joint[1]}" type="prismatic">.*?<axis xyz=")([^"]*)(")',
+        lambda m: m[1] + " ".join(repr(2 * float(x)) for x in m[2].split()) + m[3],
+        urdf,
+        count=1,
+        flags=re.S,
+    )
     result = audit(tmp_path, doubled, "urdf")
     assert result.verdict == "fail" and result.exit_code == 1
     (wrong,) = [f for f in result.findings if f.fails]
@@ -129,15 +148,21 @@ def test_a_library_reading_the_file_differently_fails_naming_the_library_and_the
 
 def test_a_library_refusing_the_file_is_a_warning_naming_it(tmp_path):
     urdf, mjcf = generated_pair("panda")
-    twice = urdf.replace('<joint name="panda_joint3" type="revolute">',
-                         '<joint name="panda_joint3" type="revolute">\n    <origin xyz="0.3 0 0"/>', 1)
+    twice = urdf.replace(
+        '<joint name="panda_joint3" type="revolute">',
+        '<joint name="panda_joint3" type="revolute">\n    <origin xyz="0.3 0 0"/>',
+        1,
+    )
     result = audit(tmp_path, twice, "urdf")  # a repeated <origin>: MuJoCo refuses, urdfdom and yourdfpy take the first
     (refused,) = [f for f in result.findings if f.kind == "parser_refused" and not ignored_by_drake(f)]
     assert refused.severity == "warning" and refused.values["backend"] == "mujoco-urdf" and "origin" in refused.message
     assert result.verdict == "pass" and "mujoco-urdf" not in result.backends
     assert statuses(result)["mujoco-urdf"] == "refuses the file"
-    two = mjcf.replace('<joint name="panda_joint4" ', '<joint name="extra" type="hinge" axis="1 0 0" range="-1 1"/>'
-                       '<joint name="panda_joint4" ', 1)  # Pinocchio makes one composite joint of two in a body
+    two = mjcf.replace(
+        '<joint name="panda_joint4" ',
+        '<joint name="extra" type="hinge" axis="1 0 0" range="-1 1"/><joint name="panda_joint4" ',
+        1,
+    )  # Pinocchio makes one composite joint of two in a body
     result = audit(tmp_path, two, "mjcf", "two")
     refused = [f.values["backend"] for f in result.findings if f.kind == "parser_refused" and not ignored_by_drake(f)]
     assert [b for b in refused if b != "newton-mjcf"] == ["pinocchio-mjcf"]  # Newton merges them too (quirks.py)
@@ -149,8 +174,22 @@ def test_the_command_audits_one_file_and_writes_every_output(tmp_path, capsys):
     path = tmp_path / "arm3.urdf"
     path.write_text(urdf)
     out = {k: tmp_path / f"out.{k}" for k in ("json", "html", "xml")}
-    code = main(["verify", "--urdf", str(path), "--samples", "20", "--quiet", "--json", str(out["json"]),
-                 "--report", str(out["html"]), "--junit", str(out["xml"])])
+    code = main(
+        [
+            "verify",
+            "--urdf",
+            str(path),
+            "--samples",
+            "20",
+            "--quiet",
+            "--json",
+            str(out["json"]),
+            "--report",
+            str(out["html"]),
+            "--junit",
+            str(out["xml"]),
+        ]
+    )
     assert code == 0 and "arm3: pass" in capsys.readouterr().out
     data = json.loads(out["json"].read_text())
     assert data["verdict"] == "pass" and data["sections"]["audit"]["tables"][0]["rows"][0][:2] == ["pinocchio-urdf", "reference"]
@@ -160,11 +199,14 @@ def test_the_command_audits_one_file_and_writes_every_output(tmp_path, capsys):
     assert sum(int(c.get("assertions", 0)) for c in cases) >= len(data["checks"])
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["--frames", "a=b"], "--frames pairs two files"),
-    (["--accept", "x.toml"], "--accept pairs two files"),
-    (["--backends", "mujoco"], "a one-file audit of a URDF compares pinocchio-urdf"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--frames", "a=b"], "--frames pairs two files"),
+        (["--accept", "x.toml"], "--accept pairs two files"),
+        (["--backends", "mujoco"], "a one-file audit of a URDF compares pinocchio-urdf"),
+    ],
+)
 def test_what_a_one_file_audit_cannot_take_is_one_line(tmp_path, capsys, argv, words):
     path = tmp_path / "arm3.urdf"
     path.write_text(generated_pair("arm3")[0])

@@ -45,7 +45,10 @@ def only(result, kind: str):
 def test_a_generated_pair_agrees_with_every_library(tmp_path, model):
     result = run(tmp_path, model=model, options=ALL)
     assert result.passed, ([c for c in result.failed], above_info(result))
-    assert {f.kind for f in result.findings if not P.ignored_by_drake(f)} <= {"world_parts", "inexpressible"}  # mount body, armature
+    assert {f.kind for f in result.findings if not P.ignored_by_drake(f)} <= {
+        "world_parts",
+        "inexpressible",
+    }  # mount body, armature
     assert {"pinocchio-urdf", "yourdfpy", "mujoco-urdf", "mujoco", "pinocchio-mjcf"} <= set(result.backends)
     assert {"kinematics", "limits", "inertia", "dynamics"} <= set(result.timings)
     data = result.to_dict()
@@ -54,6 +57,7 @@ def test_a_generated_pair_agrees_with_every_library(tmp_path, model):
 
 
 # --- what alignment solves: one finding each, the checks compare after it -----------------------
+
 
 @pytest.mark.parametrize("angle,xyz", [(math.pi / 4, None), (math.pi, None), (0.3, [0.1, -0.2, 0.3])])
 def test_a_turned_world_is_one_finding_and_the_rest_agrees(tmp_path, angle, xyz):
@@ -95,12 +99,14 @@ def test_renamed_joints_are_matched_and_said_once(tmp_path):
 def test_a_frame_turned_by_a_constant_is_a_convention_compared_after_removing_it(tmp_path):
     def turned_flange(urdf, mjcf):
         return urdf, re.sub(r'(<site name="flange"[^>]*?)/>', r'\1 quat="0 0 0 1"/>', mjcf, count=1)
+
     result = run(tmp_path, turned_flange)
     f = only(result, "frame_convention")
     assert f.subject == "flange" and f.magnitude == pytest.approx(math.pi, abs=1e-12) and result.passed
 
 
 # --- what one file has and the other lacks ----------------------------------------------------
+
 
 def test_a_fixed_link_merged_into_its_parent_is_information(tmp_path):
     result = run(tmp_path, P.merged_fixed_link, model="arm3")
@@ -126,6 +132,7 @@ def test_a_gripper_in_one_file_only_is_one_error_with_its_mass(tmp_path):
 
 # --- values: rounding passes, units and real differences fail, once ---------------------------
 
+
 def test_values_rounded_to_six_digits_are_information_and_pass(tmp_path):
     result = run(tmp_path, P.rounded_mjcf)
     assert result.passed, above_info(result)
@@ -145,12 +152,15 @@ def test_masses_in_grams_are_one_finding(tmp_path):
     assert [x.kind for x in above_info(result)] == ["mass_units"]
 
 
-@pytest.mark.parametrize("edit,kind,subject,magnitude", [
-    (P.heavier_link, "mass_difference", "panda_link4", 0.2 * 3.587895),
-    (P.upper_limit, "limit_difference", "panda_joint2", 0.2),
-    (P.friction_added, "friction_difference", "panda_joint5", 0.3),
-    (P.moved_axis, "joint_origin_moved", "panda_joint3", 1e-3),
-])
+@pytest.mark.parametrize(
+    "edit,kind,subject,magnitude",
+    [
+        (P.heavier_link, "mass_difference", "panda_link4", 0.2 * 3.587895),
+        (P.upper_limit, "limit_difference", "panda_joint2", 0.2),
+        (P.friction_added, "friction_difference", "panda_joint5", 0.3),
+        (P.moved_axis, "joint_origin_moved", "panda_joint3", 1e-3),
+    ],
+)
 def test_a_real_difference_fails_with_one_error_finding_by_value(tmp_path, edit, kind, subject, magnitude):
     result = run(tmp_path, edit)
     f = only(result, kind)
@@ -176,6 +186,7 @@ def test_a_joint_type_difference_explains_the_kinematics_and_dynamics_it_breaks(
 
 # --- acceptance ------------------------------------------------------------------------------
 
+
 def test_accepted_differences_pass_and_a_changed_one_fails(tmp_path):
     accepted = tmp_path / "kinverify-accepted.toml"
     first = run(tmp_path, P.friction_added, write_accepted=str(accepted))
@@ -192,38 +203,64 @@ def test_accepted_differences_pass_and_a_changed_one_fails(tmp_path):
 def test_a_broken_accepted_file_is_a_one_line_error(tmp_path, capsys):
     urdf, mjcf = write_pair(tmp_path, *P.generated_pair("arm3"))
     (tmp_path / "bad.toml").write_text("[[accepted]]\nkind = 3\n")
-    code = main(["verify", "--urdf", urdf, "--mjcf", mjcf, "--accept", str(tmp_path / "bad.toml"), "--quiet",
-                 "--json", str(tmp_path / "r.json"), "--report", str(tmp_path / "r.html")])
+    code = main(
+        [
+            "verify",
+            "--urdf",
+            urdf,
+            "--mjcf",
+            mjcf,
+            "--accept",
+            str(tmp_path / "bad.toml"),
+            "--quiet",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+        ]
+    )
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1 and "bad.toml" in err and not (tmp_path / "r.json").exists()
 
 
 # --- never crash -----------------------------------------------------------------------------
 
+
 def test_a_link_and_a_joint_named_alike_are_read_by_their_type(tmp_path):
     def clash(urdf, mjcf):
         return urdf.replace('"end_effector"', '"joint3"'), mjcf.replace('"end_effector"', '"joint3"')
+
     result = run(tmp_path, clash, model="arm3", options=ALL)
     assert result.passed and "joint3" in result.frames and "pinocchio-urdf" in result.backends
 
 
 def test_mimic_joints_are_driven_by_their_leader_in_every_library(tmp_path):
     def gripper(urdf, mjcf):
-        links = ('<link name="f1"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" '
-                 'iyz="0"/></inertial></link><link name="f2"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" '
-                 'izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>'
-                 '<joint name="g1" type="prismatic"><parent link="link3"/><child link="f1"/><axis xyz="0 1 0"/>'
-                 '<limit lower="0" upper="0.04" effort="10" velocity="1"/></joint>'
-                 '<joint name="g2" type="prismatic"><parent link="link3"/><child link="f2"/><axis xyz="0 -1 0"/>'
-                 '<limit lower="0" upper="0.04" effort="10" velocity="1"/><mimic joint="g1"/></joint>')
-        bodies = ('<body name="f1"><joint name="g1" type="slide" axis="0 1 0" range="0 0.04"/><inertial pos="0 0 0" '
-                  'mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body><body name="f2"><joint name="g2" type="slide" '
-                  'axis="0 -1 0" range="0 0.04"/><inertial pos="0 0 0" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>')
-        return (urdf.replace("</robot>", links + "</robot>"),
-                P.sub_once(r'(<body name="link3"[^>]*>)', lambda m: m[1] + bodies, mjcf)
-                .replace("</mujoco>", '<equality><joint joint1="g2" joint2="g1"/></equality></mujoco>'))
+        links = (
+            '<link name="f1"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" '
+            'iyz="0"/></inertial></link><link name="f2"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" '
+            'izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+            '<joint name="g1" type="prismatic"><parent link="link3"/><child link="f1"/><axis xyz="0 1 0"/>'
+            '<limit lower="0" upper="0.04" effort="10" velocity="1"/></joint>'
+            '<joint name="g2" type="prismatic"><parent link="link3"/><child link="f2"/><axis xyz="0 -1 0"/>'
+            '<limit lower="0" upper="0.04" effort="10" velocity="1"/><mimic joint="g1"/></joint>'
+        )
+        bodies = (
+            '<body name="f1"><joint name="g1" type="slide" axis="0 1 0" range="0 0.04"/><inertial pos="0 0 0" '
+            'mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body><body name="f2"><joint name="g2" type="slide" '
+            'axis="0 -1 0" range="0 0.04"/><inertial pos="0 0 0" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>'
+        )
+        return (
+            urdf.replace("</robot>", links + "</robot>"),
+            P.sub_once(r'(<body name="link3"[^>]*>)', lambda m: m[1] + bodies, mjcf).replace(
+                "</mujoco>", '<equality><joint joint1="g2" joint2="g1"/></equality></mujoco>'
+            ),
+        )
+
     result = run(tmp_path, gripper, model="arm3", options=ALL)
-    assert "yourdfpy" in result.backends and not [f for f in result.findings if f.kind == "parser_refused" and not P.ignored_by_drake(f)]
+    assert "yourdfpy" in result.backends and not [
+        f for f in result.findings if f.kind == "parser_refused" and not P.ignored_by_drake(f)
+    ]
     assert result.joint_names == ["joint1", "joint2", "joint3", "g1"] and result.passed, above_info(result)
 
 
@@ -231,9 +268,12 @@ def test_a_mesh_mujoco_cannot_read_is_dropped_with_a_warning(tmp_path):
     (tmp_path / "broken.stl").write_bytes(b"not a mesh at all")
 
     def broken_mesh(urdf, mjcf):
-        return urdf, mjcf.replace("<worldbody>", '<asset><mesh name="broken" file="broken.stl"/></asset><worldbody>', 1) \
-            .replace('<body name="link3" pos="0.0 0.0 0.25">', '<body name="link3" pos="0.0 0.0 0.25"><geom type="mesh" '
-                     'mesh="broken" mass="0"/>', 1)
+        return urdf, mjcf.replace("<worldbody>", '<asset><mesh name="broken" file="broken.stl"/></asset><worldbody>', 1).replace(
+            '<body name="link3" pos="0.0 0.0 0.25">',
+            '<body name="link3" pos="0.0 0.0 0.25"><geom type="mesh" mesh="broken" mass="0"/>',
+            1,
+        )
+
     result = run(tmp_path, broken_mesh, model="arm3")
     refused = only(result, "parser_refused")
     assert refused.severity == "warning" and "mesh" in refused.message and result.passed
@@ -241,10 +281,13 @@ def test_a_mesh_mujoco_cannot_read_is_dropped_with_a_warning(tmp_path):
 
 def test_a_joint_type_one_library_lacks_is_a_finding_not_a_crash(tmp_path):
     def planar(urdf, mjcf):
-        extra = ('<link name="slider"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" '
-                 'ixz="0" iyz="0"/></inertial></link><joint name="plane" type="planar"><parent link="link3"/>'
-                 '<child link="slider"/><axis xyz="0 0 1"/></joint>')
+        extra = (
+            '<link name="slider"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" '
+            'ixz="0" iyz="0"/></inertial></link><joint name="plane" type="planar"><parent link="link3"/>'
+            '<child link="slider"/><axis xyz="0 0 1"/></joint>'
+        )
         return urdf.replace("</robot>", extra + "</robot>"), mjcf
+
     result = run(tmp_path, planar, model="arm3", options=ALL)
     assert result.verdict in ("pass", "fail") and not result.internal_errors
     assert any("plane" in n for n in result.notes)
@@ -253,11 +296,27 @@ def test_a_joint_type_one_library_lacks_is_a_finding_not_a_crash(tmp_path):
 def test_kinverifys_own_failure_exits_3_and_still_writes_the_report(tmp_path, monkeypatch, capsys):
     def broken(*args, **kwargs):
         raise ZeroDivisionError("planted")
+
     monkeypatch.setattr(align_stage, "align", broken)
     urdf, mjcf = write_pair(tmp_path, *P.generated_pair("arm3"))
-    code = main(["verify", "--urdf", urdf, "--mjcf", mjcf, "--samples", "4", "--backends", "pinocchio-urdf,mujoco", "--quiet",
-                 "--json", str(tmp_path / "r.json"),
-                 "--report", str(tmp_path / "r.html")])
+    code = main(
+        [
+            "verify",
+            "--urdf",
+            urdf,
+            "--mjcf",
+            mjcf,
+            "--samples",
+            "4",
+            "--backends",
+            "pinocchio-urdf,mujoco",
+            "--quiet",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 3 and "internal error" in out and "planted" in out
     assert (tmp_path / "r.json").exists() and (tmp_path / "r.html").exists()
@@ -270,14 +329,23 @@ def test_kinverifys_own_failure_exits_3_and_still_writes_the_report(tmp_path, mo
 
 XXE = '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="r">&x;</robot>'
 FIXED_ONLY = '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>'
-SLIDER = ('<mujoco model="s"><worldbody><body name="b"><joint name="slider" type="slide" axis="1 0 0"/>'
-          '<inertial pos="0 0 0" mass="1" diaginertia="0.1 0.1 0.1"/></body></worldbody></mujoco>')
+SLIDER = (
+    '<mujoco model="s"><worldbody><body name="b"><joint name="slider" type="slide" axis="1 0 0"/>'
+    '<inertial pos="0 0 0" mass="1" diaginertia="0.1 0.1 0.1"/></body></worldbody></mujoco>'
+)
 
 
-@pytest.mark.parametrize("case,message", [
-    ("missing", "is not a file"), ("not_xml", "is not XML"), ("urdf_as_mjcf", "is a URDF, not an MJCF"),
-    ("xxe", "entities"), ("no_movable", "no movable"), ("no_common", "no common joints"),
-])
+@pytest.mark.parametrize(
+    "case,message",
+    [
+        ("missing", "is not a file"),
+        ("not_xml", "is not XML"),
+        ("urdf_as_mjcf", "is a URDF, not an MJCF"),
+        ("xxe", "entities"),
+        ("no_movable", "no movable"),
+        ("no_common", "no common joints"),
+    ],
+)
 def test_bad_input_is_a_one_line_input_error(tmp_path, case, message, capsys):
     urdf, mjcf = write_pair(tmp_path, *P.generated_pair("arm3"))
     if case == "missing":
@@ -294,8 +362,21 @@ def test_bad_input_is_a_one_line_input_error(tmp_path, case, message, capsys):
         Path(mjcf).write_text(SLIDER)
     with pytest.raises(InputError, match=message):
         verify_files(urdf, mjcf, FAST)
-    code = main(["verify", "--urdf", urdf, "--mjcf", mjcf, "--samples", "5", "--json", str(tmp_path / "r.json"),
-                 "--report", str(tmp_path / "r.html")])
+    code = main(
+        [
+            "verify",
+            "--urdf",
+            urdf,
+            "--mjcf",
+            mjcf,
+            "--samples",
+            "5",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+        ]
+    )
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1 and message in err
 

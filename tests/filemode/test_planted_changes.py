@@ -23,22 +23,36 @@ from hypothesis import strategies as st
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 from kinverify.testing.assertions import assert_files_agree
-from kinverify.testing.strategies import (PLANTED_KINDS, equivalent_rewrites, mesh_free_urdf, mujoco_mjcf,
-                                          plantable_kinds, planted_changes)
+from kinverify.testing.strategies import (
+    PLANTED_KINDS,
+    equivalent_rewrites,
+    mesh_free_urdf,
+    mujoco_mjcf,
+    plantable_kinds,
+    planted_changes,
+)
 from tests.paths import REAL_ROBOTS
 
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
-URDFS = {"panda": "panda/panda_erd.urdf", "iiwa14": "iiwa14/iiwa14_no_collision_drake.urdf",
-         "ur5e": "ur5e/ur5e_ur_description.urdf", "z1": "z1/z1_erd.urdf", "leap_hand": "leap_hand/leap_hand_dexurdf.urdf",
-         "go2": "go2/go2_erd.urdf", "a1": "a1/a1_unitree_ros.urdf", "anymal_c": "anymal_c/anymal_c_anybotics.urdf"}
+URDFS = {
+    "panda": "panda/panda_erd.urdf",
+    "iiwa14": "iiwa14/iiwa14_no_collision_drake.urdf",
+    "ur5e": "ur5e/ur5e_ur_description.urdf",
+    "z1": "z1/z1_erd.urdf",
+    "leap_hand": "leap_hand/leap_hand_dexurdf.urdf",
+    "go2": "go2/go2_erd.urdf",
+    "a1": "a1/a1_unitree_ros.urdf",
+    "anymal_c": "anymal_c/anymal_c_anybotics.urdf",
+}
 FLOATING = ("go2", "a1", "anymal_c")
 GROUPS = {"fixed": tuple(r for r in URDFS if r not in FLOATING), "floating": FLOATING}
 # Drake's MJCF parser aborts the process on the mass="0" inertials MuJoCo writes for panda and go2:
 # until Drake reads in a process of its own, the pairs are read by the other libraries. Once it does,
 # make this line `BACKENDS = None` (every library, Drake too).
 BACKENDS = ["pinocchio-urdf", "mujoco", "pinocchio-mjcf", "yourdfpy", "mujoco-urdf"]
-OPTIONS = VerifyOptions(samples=4, fd_samples=1, backends=BACKENDS, suites=["kinematics", "limits", "inertia"],
-                        extra={"dynamics_samples": 3})
+OPTIONS = VerifyOptions(
+    samples=4, fd_samples=1, backends=BACKENDS, suites=["kinematics", "limits", "inertia"], extra={"dynamics_samples": 3}
+)
 # the written precision: MuJoCo writes 6 significant digits, so a planted size differs from the
 # files' difference by up to that much of the value it was planted on (a range end of 3.14159 rad)
 ABSOLUTE = {"m": 1e-6, "rad": 1e-5, "kg": 1e-5, "kg·m²": 1e-9, "N·m·s/rad": 1e-5, "N·s/m": 1e-5}
@@ -48,8 +62,12 @@ ABSOLUTE = {"m": 1e-6, "rad": 1e-5, "kg": 1e-5, "kg·m²": 1e-9, "N·m·s/rad": 
 # examples a test, failures replayed from the example database and not shrunk (CI: derandomized,
 # tests/conftest.py)
 def examples(n: int) -> settings:
-    return settings(max_examples=n, deadline=None, phases=(Phase.explicit, Phase.reuse, Phase.generate),
-                    suppress_health_check=[HealthCheck.too_slow])
+    return settings(
+        max_examples=n,
+        deadline=None,
+        phases=(Phase.explicit, Phase.reuse, Phase.generate),
+        suppress_health_check=[HealthCheck.too_slow],
+    )
 
 
 @pytest.fixture(scope="module")
@@ -111,8 +129,14 @@ def assert_one_finding_each(result, planted) -> None:
             f = errors[hits[0]]
             problems.append(f"{p}: reported as {f.kind} {f.magnitude} {f.unit}")
     problems += [f"not planted: {f.kind} {f.subject} ({f.magnitude} {f.unit})" for i, f in enumerate(errors) if i not in matched]
-    assert not problems, "\n".join(["planted: " + "; ".join(map(str, planted)), *problems, "error findings:",
-                                    *(f"  {f.kind} {f.subject}: {f.message}" for f in errors)])
+    assert not problems, "\n".join(
+        [
+            "planted: " + "; ".join(map(str, planted)),
+            *problems,
+            "error findings:",
+            *(f"  {f.kind} {f.subject}: {f.message}" for f in errors),
+        ]
+    )
 
 
 @pytest.mark.parametrize("kind", PLANTED_KINDS)

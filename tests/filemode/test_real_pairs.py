@@ -21,10 +21,16 @@ from tests.paths import REAL_ROBOTS
 from kinverify.filemode.read.loading import given_packages
 
 REAL = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS))
-FILES = {"panda": ("panda_erd.urdf", "panda_menagerie.xml"), "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
-         "z1": ("z1_erd.urdf", "z1_menagerie.xml"), "go2": ("go2_erd.urdf", "go2_menagerie.xml"),
-         "a1": ("a1_unitree_ros.urdf", "a1_menagerie.xml"), "anymal_c": ("anymal_c_anybotics.urdf", "anymal_c_menagerie.xml"),
-         "leap_hand": ("leap_hand_dexurdf.urdf", "leap_hand_menagerie.xml"), "ur5e": ("ur5e_ur_description.urdf", "ur5e_menagerie.xml")}
+FILES = {
+    "panda": ("panda_erd.urdf", "panda_menagerie.xml"),
+    "iiwa14": ("iiwa14_no_collision_drake.urdf", "iiwa14_menagerie.xml"),
+    "z1": ("z1_erd.urdf", "z1_menagerie.xml"),
+    "go2": ("go2_erd.urdf", "go2_menagerie.xml"),
+    "a1": ("a1_unitree_ros.urdf", "a1_menagerie.xml"),
+    "anymal_c": ("anymal_c_anybotics.urdf", "anymal_c_menagerie.xml"),
+    "leap_hand": ("leap_hand_dexurdf.urdf", "leap_hand_menagerie.xml"),
+    "ur5e": ("ur5e_ur_description.urdf", "ur5e_menagerie.xml"),
+}
 SAME_WORLD = ("panda", "iiwa14", "z1", "go2", "a1")  # every library reads both files, whose worlds coincide
 OPTIONS = VerifyOptions(samples=12, fd_samples=4, extra={"dynamics_samples": 20})
 
@@ -62,13 +68,19 @@ def test_every_library_reads_each_file_and_every_failing_check_has_its_finding(r
     assert r.verdict == "fail" and r.exit_code == 1 and not r.internal_errors
     assert {"pinocchio-urdf", "yourdfpy", "mujoco-urdf", "mujoco", "pinocchio-mjcf"} <= set(r.backends)
     assert not r.failed, [(c.property, c.frame, c.backends, c.max_error) for c in r.failed]
-    assert not [f for f in findings(robot, "parser_refused") if not drake_reading(f)] and not findings(robot, "disagreement_starts")
+    assert not [f for f in findings(robot, "parser_refused") if not drake_reading(f)] and not findings(
+        robot, "disagreement_starts"
+    )
     assert np.allclose(r.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"], np.eye(4), atol=1e-12)
 
 
 def test_panda_differs_in_joint_damping_and_the_finger_force_only():
-    assert serious("panda") == [("damping_difference", "error"), ("damping_difference", "error"),
-                                ("effort_difference", "error"), ("inexpressible", "warning")]
+    assert serious("panda") == [
+        ("damping_difference", "error"),
+        ("damping_difference", "error"),
+        ("effort_difference", "error"),
+        ("inexpressible", "warning"),
+    ]
     arm, fingers = sorted(findings("panda", "damping_difference"), key=lambda f: len(f.subject), reverse=True)
     assert (arm.values["urdf"], arm.values["mjcf"]) == (0.003, 1.0) and arm.subject.count("panda_joint") == 7
     assert (fingers.values["urdf"], fingers.values["mjcf"]) == (0.3, 1.0)
@@ -107,7 +119,7 @@ def test_iiwa14_limits_rounding_end_effector_and_drake_rotors_are_information():
     twins = {f.subject: f for f in findings("iiwa14", "frame_twin")}
     assert twins["iiwa_link_ee_kuka"].other == "attachment_site" and twins["iiwa_link_ee_kuka"].magnitude < 1e-12
     assert twins["iiwa_link_ee"].values["rotation_rad"] == pytest.approx(math.pi / 2, abs=1e-9)
-    assert one("iiwa14", "format_extension").magnitude == pytest.approx(160 ** 2 * 1.321e-4, rel=1e-9)
+    assert one("iiwa14", "format_extension").magnitude == pytest.approx(160**2 * 1.321e-4, rel=1e-9)
 
 
 def test_z1_lacks_the_gripper_in_the_mjcf_and_bounds_no_torque():
@@ -124,15 +136,23 @@ def test_z1_lacks_the_gripper_in_the_mjcf_and_bounds_no_torque():
 
 
 def test_go2_differs_in_rotor_masses_calves_and_joint_dynamics():
-    assert serious("go2") == [("damping_unset", "warning"), ("extra_parts", "error"), ("friction_unset", "warning"),
-                              ("inexpressible", "warning"), ("mass_difference", "error")]
+    assert serious("go2") == [
+        ("damping_unset", "warning"),
+        ("extra_parts", "error"),
+        ("friction_unset", "warning"),
+        ("inexpressible", "warning"),
+        ("mass_difference", "error"),
+    ]
     rotors = one("go2", "extra_parts")
-    assert len(rotors.values["links"]) == 12 and all(p["name"].endswith("_rotor") and p["mass"] == 0.089
-                                                     for p in rotors.values["links"])
+    assert len(rotors.values["links"]) == 12 and all(
+        p["name"].endswith("_rotor") and p["mass"] == 0.089 for p in rotors.values["links"]
+    )
     assert rotors.magnitude == pytest.approx(1.068, abs=1e-9)
     calves = one("go2", "mass_difference")
     assert calves.subject == "FL_calf, FR_calf, RL_calf, RR_calf"
-    assert calves.magnitude == pytest.approx(0.047352, abs=1e-9) and calves.values["com_distance_m"] == pytest.approx(6.5e-3, abs=1e-4)
+    assert calves.magnitude == pytest.approx(0.047352, abs=1e-9) and calves.values["com_distance_m"] == pytest.approx(
+        6.5e-3, abs=1e-4
+    )
     damping, friction = one("go2", "damping_unset"), one("go2", "friction_unset")  # the URDF has no <dynamics>
     assert (damping.values["mjcf"], friction.values["mjcf"]) == (2.0, 0.2)
     assert damping.values["unset_in"] == friction.values["unset_in"] == "URDF"
@@ -149,8 +169,11 @@ def test_go2_free_base_is_fixed_at_the_same_pose_in_both_files():
 def test_drake_reads_both_files_and_says_what_its_mjcf_parser_ignores(robot):
     if "drake-mjcf" not in result(robot).backends and not findings(robot, "parser_disagreement"):
         pytest.skip("Drake (the drake extra) is not installed")
-    ignored = [f for f in result(robot).findings if f.kind in ("parser_refused", "parser_ignores")
-               and f.values.get("backend") == "drake-mjcf"]
+    ignored = [
+        f
+        for f in result(robot).findings
+        if f.kind in ("parser_refused", "parser_ignores") and f.values.get("backend") == "drake-mjcf"
+    ]
     assert 1 <= len(ignored) <= 2 and all(f.values["elements"] for f in ignored)
     for f in ignored:  # named element by element; a warning only for what is compared through Drake (sites)
         assert all(e in f.message for e in f.values["elements"])
@@ -169,8 +192,9 @@ def test_go2_thigh_axes_drake_stands_apart_from_mujoco_and_pinocchio():
     (f,) = apart
     # with the newton extra, Newton's reading joins the majority
     assert [a for a in f.values["agree"] if a != "newton-mjcf"] == ["mujoco", "pinocchio-mjcf"] and f.values["file"] == "MJCF"
-    assert re.search(r"read alike by mujoco(, pinocchio-mjcf and newton-mjcf| and pinocchio-mjcf), and differently by drake-mjcf",
-                     f.message), f.message
+    assert re.search(
+        r"read alike by mujoco(, pinocchio-mjcf and newton-mjcf| and pinocchio-mjcf), and differently by drake-mjcf", f.message
+    ), f.message
     assert f.values["rotation_rad"] > 3.0 and f.values["position_m"] > 0.1  # the thigh turned about another axis
     assert "drake-mjcf" not in result("go2").backends  # left out of the comparison between the files
 
@@ -188,8 +212,14 @@ def test_a1_hips_sit_2_5_mm_further_out_on_all_four_legs():
     axis), front and rear alike, and the thighs 1.25 mm further out along y (theirs), each said once
     of all four legs as a moved joint frame (nothing they carry blamed for it), with the trunk
     1.288 kg lighter in the MJCF."""
-    assert serious("a1") == [("damping_difference", "error"), ("damping_difference", "error"), ("inexpressible", "warning"),
-                             ("joint_origin_moved", "error"), ("joint_origin_moved", "error"), ("mass_difference", "error")]
+    assert serious("a1") == [
+        ("damping_difference", "error"),
+        ("damping_difference", "error"),
+        ("inexpressible", "warning"),
+        ("joint_origin_moved", "error"),
+        ("joint_origin_moved", "error"),
+        ("mass_difference", "error"),
+    ]
     assert not findings("a1", "base_frame_offset")
     hips, thighs = sorted(findings("a1", "joint_origin_moved"), key=lambda f: f.magnitude, reverse=True)
     assert hips.subject == "FL_hip_joint, FR_hip_joint, RL_hip_joint, RR_hip_joint"
@@ -205,17 +235,29 @@ def test_a1_hips_sit_2_5_mm_further_out_on_all_four_legs():
 
 
 def test_anymal_c_base_lacks_7_kg_and_states_joint_damping_and_friction():
-    assert serious("anymal_c") == [("damping_difference", "error"), ("friction_difference", "error"),
-                                   ("mass_difference", "error")] + [("nonphysical_inertia", "error")] * 5 + \
-        [("parser_refused", "warning")]
+    assert serious("anymal_c") == [
+        ("damping_difference", "error"),
+        ("friction_difference", "error"),
+        ("mass_difference", "error"),
+    ] + [("nonphysical_inertia", "error")] * 5 + [("parser_refused", "warning")]
     base = one("anymal_c", "mass_difference")
     assert base.subject == "base" and base.values["urdf"]["mass"] == pytest.approx(26.37317, abs=1e-9)
     assert base.values["mjcf"]["mass"] == pytest.approx(19.2035, abs=1e-9)
     assert {f.subject for f in findings("anymal_c", "nonphysical_inertia")} == {
-        "depth_camera_front_camera", "depth_camera_rear_camera", "depth_camera_left_camera", "depth_camera_right_camera", "hatch"}
+        "depth_camera_front_camera",
+        "depth_camera_rear_camera",
+        "depth_camera_left_camera",
+        "depth_camera_right_camera",
+        "hatch",
+    }
     assert one("anymal_c", "parser_refused").values["backend"] == "mujoco-urdf"  # MuJoCo refuses those inertias
     damping, friction = one("anymal_c", "damping_difference"), one("anymal_c", "friction_difference")
-    assert (damping.values["urdf"], damping.values["mjcf"], friction.values["urdf"], friction.values["mjcf"]) == (0.0, 1.0, 0.0, 0.1)
+    assert (damping.values["urdf"], damping.values["mjcf"], friction.values["urdf"], friction.values["mjcf"]) == (
+        0.0,
+        1.0,
+        0.0,
+        0.1,
+    )
     assert damping.values["unset_in"] is None  # the URDF writes damping="0.0": stated, so an error
 
 
@@ -223,11 +265,22 @@ def test_leap_hand_fingers_matched_by_place_differ_in_centres_of_mass_and_two_th
     r = result("leap_hand")
     pairs = {a: b for a, b, *_ in r.model_info["joint_pairs"]}
     assert (pairs["1"], pairs["0"], pairs["12"], pairs["13"], pairs["5"], pairs["9"]) == (
-        "if_mcp", "if_rot", "th_cmc", "th_axl", "mf_mcp", "rf_mcp")
-    assert serious("leap_hand") == [("base_inertial_difference", "warning"), ("base_transform", "error")] + \
-        [("com_difference", "error")] * 7 + [("damping_unset", "warning"), ("effort_unset", "warning"),
-                                            ("friction_unset", "warning"), ("limit_difference", "error"),
-                                            ("limit_difference", "error")]
+        "if_mcp",
+        "if_rot",
+        "th_cmc",
+        "th_axl",
+        "mf_mcp",
+        "rf_mcp",
+    )
+    assert serious("leap_hand") == [("base_inertial_difference", "warning"), ("base_transform", "error")] + [
+        ("com_difference", "error")
+    ] * 7 + [
+        ("damping_unset", "warning"),
+        ("effort_unset", "warning"),
+        ("friction_unset", "warning"),
+        ("limit_difference", "error"),
+        ("limit_difference", "error"),
+    ]
     limits = {f.subject: (f.values["urdf"], f.values["mjcf"]) for f in findings("leap_hand", "limit_difference")}
     assert limits == {"13": ([-0.47, 2.443], [-0.349, 2.094]), "14": ([-1.2, 1.9], [-0.47, 2.443])}
     coms = {f.subject: f.magnitude for f in findings("leap_hand", "com_difference")}
@@ -241,16 +294,33 @@ def test_ur5e_world_turned_forearm_longer_and_every_link_a_different_mass():
     against 0.138 − 0.131 + 0.127 m) and wrist 3's 0.3 mm (d5 0.0997 against 0.1 m), each measured
     in its own right, and every link's mass; the wrist bodies' centres of mass 16-21 mm apart, and
     wrist 1's inertia turned about its centre of mass."""
-    assert serious("ur5e") == [("axis_position", "error")] * 3 + [("base_inertial_difference", "warning"),
-                                                                  ("base_transform", "error"), ("inexpressible", "warning"),
-                                                                  ("limit_difference", "error")] + [("mass_difference", "error")] * 6
+    assert (
+        serious("ur5e")
+        == [("axis_position", "error")] * 3
+        + [
+            ("base_inertial_difference", "warning"),
+            ("base_transform", "error"),
+            ("inexpressible", "warning"),
+            ("limit_difference", "error"),
+        ]
+        + [("mass_difference", "error")] * 6
+    )
     turn = one("ur5e", "base_transform")
     assert turn.values["rotation_rad"] == pytest.approx(math.pi, abs=1e-9)
     axes = {f.subject: f.magnitude for f in findings("ur5e", "axis_position")}
     assert axes == pytest.approx({"wrist_1_joint": 2e-4, "wrist_2_joint": 7e-4, "wrist_3_joint": 3e-4}, abs=1e-9)
     coms = {f.subject: f.values["com_distance_m"] for f in findings("ur5e", "mass_difference")}
-    assert coms == pytest.approx({"shoulder_link": 0.02568, "upper_arm_link": 0.02464, "forearm_link": 0.05015,
-                                  "wrist_1_link": 0.01653, "wrist_2_link": 0.01647, "wrist_3_link": 0.02127}, abs=1e-5)
+    assert coms == pytest.approx(
+        {
+            "shoulder_link": 0.02568,
+            "upper_arm_link": 0.02464,
+            "forearm_link": 0.05015,
+            "wrist_1_link": 0.01653,
+            "wrist_2_link": 0.01647,
+            "wrist_3_link": 0.02127,
+        },
+        abs=1e-5,
+    )
     wrist = next(f for f in findings("ur5e", "mass_difference") if f.subject == "wrist_1_link")
     assert wrist.values["inertia_difference_kgm2"] == pytest.approx(3.657e-4, rel=1e-3) and "turned 90°" in wrist.message
 
@@ -262,5 +332,6 @@ def test_ur5e_from_its_xacro_sources_gives_the_same_findings():
         pytest.skip(f"{folder} absent")
     with given_packages({"ur_description": str(folder / "ur_description")}, {"name": "ur5e", "ur_type": "ur5e"}):
         r = verify_files(str(folder / "ur_description" / "urdf" / "ur.urdf.xacro"), str(folder / "ur5e_menagerie.xml"), OPTIONS)
-    assert sorted((f.kind, f.subject) for f in r.findings if f.severity == "error") == \
-        sorted((f.kind, f.subject) for f in result("ur5e").findings if f.severity == "error")
+    assert sorted((f.kind, f.subject) for f in r.findings if f.severity == "error") == sorted(
+        (f.kind, f.subject) for f in result("ur5e").findings if f.severity == "error"
+    )

@@ -55,8 +55,21 @@ def test_a_generated_sdf_agrees_with_the_urdf_and_the_mjcf(arm3, other, kinds):
 
 
 def test_a_turned_axis_in_the_sdf_fails_naming_the_joint(arm3, capsys):
-    code = main(["verify", "--sdf", str(arm3 / "turned.sdf"), "--urdf", str(arm3 / "arm3.urdf"), "--samples", "12",
-                 "--json", str(arm3 / "turned.json"), "--report", str(arm3 / "turned.html")])
+    code = main(
+        [
+            "verify",
+            "--sdf",
+            str(arm3 / "turned.sdf"),
+            "--urdf",
+            str(arm3 / "arm3.urdf"),
+            "--samples",
+            "12",
+            "--json",
+            str(arm3 / "turned.json"),
+            "--report",
+            str(arm3 / "turned.html"),
+        ]
+    )
     assert code == 1
     data = json.loads((arm3 / "turned.json").read_text())
     failing = [f for f in data["findings"] if f["severity"] == "error"]
@@ -98,10 +111,16 @@ def test_drakes_acrobot_sdf_and_urdf_are_one_robot_read_by_drake_alone_for_the_u
     assert {c.frame for c in result.checks if c.property == "fk.position"} >= {"upper_link", "lower_link"}
 
 
-@pytest.mark.parametrize("change, wanted", [
-    (("elbow", '<xyz expressed_in="__model__">0 1 0</xyz>', '<xyz expressed_in="__model__">1 0 0</xyz>'), ("axis_direction", "elbow")),
-    (("lower_link", "<mass>1</mass>", "<mass>1.2</mass>"), ("mass_difference", "lower_link")),
-])
+@pytest.mark.parametrize(
+    "change, wanted",
+    [
+        (
+            ("elbow", '<xyz expressed_in="__model__">0 1 0</xyz>', '<xyz expressed_in="__model__">1 0 0</xyz>'),
+            ("axis_direction", "elbow"),
+        ),
+        (("lower_link", "<mass>1</mass>", "<mass>1.2</mass>"), ("mass_difference", "lower_link")),
+    ],
+)
 def test_a_planted_difference_in_drakes_acrobot_sdf_is_named(tmp_path, change, wanted):
     element, old, new = change
     sdf = (ACROBOT / "Acrobot.sdf").read_text()

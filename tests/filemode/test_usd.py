@@ -28,8 +28,15 @@ from tests.paths import REAL_ROBOTS  # noqa: E402
 
 FAST = VerifyOptions(samples=5, fd_samples=2)
 IIWA = REAL_ROBOTS / "iiwa14"
-IIWA_EFFORT = {"iiwa_joint_1": 320, "iiwa_joint_2": 320, "iiwa_joint_3": 176, "iiwa_joint_4": 176, "iiwa_joint_5": 110,
-               "iiwa_joint_6": 40, "iiwa_joint_7": 40}
+IIWA_EFFORT = {
+    "iiwa_joint_1": 320,
+    "iiwa_joint_2": 320,
+    "iiwa_joint_3": 176,
+    "iiwa_joint_4": 176,
+    "iiwa_joint_5": 110,
+    "iiwa_joint_6": 40,
+    "iiwa_joint_7": 40,
+}
 
 
 def shared(*parts):
@@ -89,9 +96,16 @@ def test_a_y_up_stage_is_turned_z_up(tmp_path):
     assert desc.gravity == pytest.approx([0, 0, -9.81])
 
 
-CONVERTED = {"a1": "a1_unitree_ros.urdf", "anymal_c": "anymal_c_anybotics.urdf", "go2": "go2_erd.urdf",
-             "iiwa14": "iiwa14_no_collision_drake.urdf", "leap_hand": "leap_hand_dexurdf.urdf", "panda": "panda_erd.urdf",
-             "ur5e": "ur5e_ur_description.urdf", "z1": "z1_erd.urdf"}
+CONVERTED = {
+    "a1": "a1_unitree_ros.urdf",
+    "anymal_c": "anymal_c_anybotics.urdf",
+    "go2": "go2_erd.urdf",
+    "iiwa14": "iiwa14_no_collision_drake.urdf",
+    "leap_hand": "leap_hand_dexurdf.urdf",
+    "panda": "panda_erd.urdf",
+    "ur5e": "ur5e_ur_description.urdf",
+    "z1": "z1_erd.urdf",
+}
 
 
 @pytest.mark.parametrize("folder", sorted(CONVERTED))
@@ -100,10 +114,16 @@ def test_each_conversion_keeps_the_urdf_effort_only_as_a_custom_attribute(folder
     as urdf:limit:effort, and the same masses on the links both state (the rest is file mode's)."""
     usd = shared(folder, f"{folder}_urdf-usd-converter.usda")
     urdf = ET.parse(REAL_ROBOTS / folder / CONVERTED[folder]).getroot()
-    effort = {j.get("name"): float(j.find("limit").get("effort")) for j in urdf.findall("joint")
-              if j.get("type") in ("revolute", "continuous", "prismatic") and j.find("limit") is not None}
-    mass = {link.get("name"): float(link.find("inertial/mass").get("value")) for link in urdf.findall("link")
-            if link.find("inertial/mass") is not None}
+    effort = {
+        j.get("name"): float(j.find("limit").get("effort"))
+        for j in urdf.findall("joint")
+        if j.get("type") in ("revolute", "continuous", "prismatic") and j.find("limit") is not None
+    }
+    mass = {
+        link.get("name"): float(link.find("inertial/mass").get("value"))
+        for link in urdf.findall("link")
+        if link.find("inertial/mass") is not None
+    }
     desc = describe_usd(read_robot(str(usd)))
     assert all(j.effort is None and "effort" not in j.stated for j in desc.joints)
     custom = {j.name: desc.extensions[j.name]["custom_effort"] for j in desc.joints}
@@ -120,8 +140,10 @@ def test_a_converted_urdf_passes_naming_the_effort_kept_only_as_a_custom_attribu
     f = one(result, "effort_unset")
     assert f.severity == "warning" and f.values["unset_in"] == "USD" and f.values["urdf"] == list(IIWA_EFFORT.values())
     assert "custom attribute urdf:limit:effort (320, 320, 176, 176, 110, 40, 40)" in f.message
-    assert "usd" in result.backends and result.model_info["files"] == {"urdf": str(IIWA / "iiwa14_no_collision_drake.urdf"),
-                                                                      "usd": str(usd)}
+    assert "usd" in result.backends and result.model_info["files"] == {
+        "urdf": str(IIWA / "iiwa14_no_collision_drake.urdf"),
+        "usd": str(usd),
+    }
 
 
 def test_the_panda_conversion_keeps_the_mimic_finger():
@@ -129,8 +151,9 @@ def test_the_panda_conversion_keeps_the_mimic_finger():
     result = verify_files(str(REAL_ROBOTS / "panda" / "panda_erd.urdf"), str(usd), FAST, kinds=("urdf", "usd"))
     assert result.verdict == "pass" and not errors(result) and not result.internal_errors
     coupling = describe_usd(read_robot(str(usd))).couplings
-    assert [(c.follower, c.leader, c.multiplier, c.offset) for c in coupling] == [("panda_finger_joint2", "panda_finger_joint1",
-                                                                                  1.0, 0.0)]
+    assert [(c.follower, c.leader, c.multiplier, c.offset) for c in coupling] == [
+        ("panda_finger_joint2", "panda_finger_joint1", 1.0, 0.0)
+    ]
 
 
 def test_the_anymal_c_triple_names_the_isaac_lab_usd_s_unlimited_and_faster_joints():
@@ -140,8 +163,9 @@ def test_the_anymal_c_triple_names_the_isaac_lab_usd_s_unlimited_and_faster_join
     usd = shared("anymal_c", "anymal_c_isaaclab.usda")
     folder = REAL_ROBOTS / "anymal_c"
     quick = VerifyOptions(samples=5, fd_samples=2, suites=["kinematics", "limits", "inertia"])  # no dynamics, no drawing
-    result = verify_three(str(folder / "anymal_c_anybotics.urdf"), str(folder / "anymal_c_menagerie.xml"), None, quick,
-                          usd=str(usd))
+    result = verify_three(
+        str(folder / "anymal_c_anybotics.urdf"), str(folder / "anymal_c_menagerie.xml"), None, quick, usd=str(usd)
+    )
     usd_errors = {f.kind: f for f in result.findings if f.fails and "USD" in f.message}
     assert sorted(usd_errors) == ["limit_difference", "velocity_difference"], [(f.kind, f.message) for f in usd_errors.values()]
     limits, velocity = usd_errors["limit_difference"], usd_errors["velocity_difference"]
@@ -158,8 +182,11 @@ def test_apollo_usd_agrees_with_the_mjcf_it_was_converted_from():
     usd = shared("apollo", "apptronik_apollo.usda")
     result = verify_files(str(usd), str(REAL_ROBOTS / "apollo" / "apollo_menagerie.xml"), FAST, kinds=("usd", "mjcf"))
     assert result.verdict == "pass" and not errors(result) and not result.internal_errors
-    assert not [f for f in result.findings if f.kind in ("inexpressible", "armature_difference", "damping_difference")
-                and "armature" in f.message]  # the USD states armature, 0.231424 on torso_yaw as the MJCF
+    assert not [
+        f
+        for f in result.findings
+        if f.kind in ("inexpressible", "armature_difference", "damping_difference") and "armature" in f.message
+    ]  # the USD states armature, 0.231424 on torso_yaw as the MJCF
     desc = describe_usd(read_robot(str(usd)))
     torso = desc.joint("torso_yaw")
     assert (torso.armature, torso.damping, torso.friction, torso.effort) == pytest.approx((0.231424, 200.0, 0.7, 120.0))
@@ -176,14 +203,23 @@ def _plant(tmp_path, joint: str | None, old: str, new: str) -> str:
     return str(path)
 
 
-@pytest.mark.parametrize("joint, old, new, kind, subject, size", [
-    ("iiwa_joint_4", 'physics:axis = "Z"', 'physics:axis = "X"', "axis_direction", "iiwa_joint_4", math.pi / 2),
-    ("iiwa_joint_3", "0.2045, 1.2325952e-32)", "0.2145, 1.2325952e-32)", "joint_origin_moved", "iiwa_joint_3", 0.01),
-    ("iiwa_joint_2", "upperLimit = 120", "upperLimit = 110", "limit_difference", "iiwa_joint_2", math.radians(10)),
-    (None, "float physics:mass = 3.5\n", "float physics:mass = 4\n", "mass_difference", "iiwa_link_3", 0.5),
-    ("iiwa_joint_1", "custom float urdf:limit:effort = 320", "float drive:angular:physics:maxForce = 300", "effort_difference",
-     "iiwa_joint_1", 20.0),
-])
+@pytest.mark.parametrize(
+    "joint, old, new, kind, subject, size",
+    [
+        ("iiwa_joint_4", 'physics:axis = "Z"', 'physics:axis = "X"', "axis_direction", "iiwa_joint_4", math.pi / 2),
+        ("iiwa_joint_3", "0.2045, 1.2325952e-32)", "0.2145, 1.2325952e-32)", "joint_origin_moved", "iiwa_joint_3", 0.01),
+        ("iiwa_joint_2", "upperLimit = 120", "upperLimit = 110", "limit_difference", "iiwa_joint_2", math.radians(10)),
+        (None, "float physics:mass = 3.5\n", "float physics:mass = 4\n", "mass_difference", "iiwa_link_3", 0.5),
+        (
+            "iiwa_joint_1",
+            "custom float urdf:limit:effort = 320",
+            "float drive:angular:physics:maxForce = 300",
+            "effort_difference",
+            "iiwa_joint_1",
+            20.0,
+        ),
+    ],
+)
 def test_a_planted_change_in_the_usd_is_named_with_its_size(tmp_path, joint, old, new, kind, subject, size):
     shared("iiwa14", "iiwa14_urdf-usd-converter.usda")
     path = _plant(tmp_path, joint, old, new)
@@ -203,15 +239,21 @@ def test_the_one_file_audit_says_what_the_usd_states_and_leaves_unset():
     result = audit_file(str(usd), "usd", FAST)
     assert result.verdict == "pass" and not result.internal_errors
     assert one(result, "effort_unset").values["custom"]["FR_hip_joint"] == 33.5
-    assert one(result, "inertial_unset").values["bodies"] == ["FL_thigh_shoulder", "FR_thigh_shoulder", "RL_thigh_shoulder",
-                                                             "RR_thigh_shoulder", "base"]
+    assert one(result, "inertial_unset").values["bodies"] == [
+        "FL_thigh_shoulder",
+        "FR_thigh_shoulder",
+        "RL_thigh_shoulder",
+        "RR_thigh_shoulder",
+        "base",
+    ]
     rows = {r[0]: r for r in result.sections["usd"].tables[0].rows}
     assert rows["FR_hip_joint"][3] == "unset" and rows["FR_hip_joint"][5] == "0.01"
     assert any(c.property == "jacobian.fd" for c in result.checks)
 
 
-def _usda(tmp_path, name: str, header: str = "", body1: str = "/r/b1", pos0: str = "(0, 0, 0.1)", art: bool = True,
-          extra: str = "") -> str:
+def _usda(
+    tmp_path, name: str, header: str = "", body1: str = "/r/b1", pos0: str = "(0, 0, 0.1)", art: bool = True, extra: str = ""
+) -> str:
     api = '"PhysicsRigidBodyAPI", "PhysicsMassAPI"' + (', "PhysicsArticulationRootAPI"' if art else "")
     text = f'''#usda 1.0
 (
@@ -249,16 +291,19 @@ def Xform "r"
 LOOP = 'def PhysicsRevoluteJoint "j2"\n    {\n        rel physics:body0 = </r/b0>\n        rel physics:body1 = </r/b1>\n    }'
 
 
-@pytest.mark.parametrize("case, expected", [
-    (dict(art=False), "no articulation"),
-    (dict(body1="/r/nothere"), "joint /r/j1: physics:body1 names /r/nothere, which does not exist"),
-    (dict(extra=LOOP), "joint /r/j2 closes a loop"),
-    (dict(pos0="(nan, 0, 0)"), "prim /r/j1: physics:localPos0"),
-    (dict(header="\n    subLayers = [@./self.usda@]"), "composition cycle"),
-    (dict(header="\n    subLayers = [@/dev/zero@]"), "layer /dev/zero (named by bad.usda) is a device"),
-    (dict(header="\n    subLayers = [@./pipe.usda@]"), "(named by bad.usda) is a FIFO (named pipe)"),
-    (dict(header="\n    subLayers = [@./huge.usda@]"), "MB, above the 8 MB"),
-])
+@pytest.mark.parametrize(
+    "case, expected",
+    [
+        (dict(art=False), "no articulation"),
+        (dict(body1="/r/nothere"), "joint /r/j1: physics:body1 names /r/nothere, which does not exist"),
+        (dict(extra=LOOP), "joint /r/j2 closes a loop"),
+        (dict(pos0="(nan, 0, 0)"), "prim /r/j1: physics:localPos0"),
+        (dict(header="\n    subLayers = [@./self.usda@]"), "composition cycle"),
+        (dict(header="\n    subLayers = [@/dev/zero@]"), "layer /dev/zero (named by bad.usda) is a device"),
+        (dict(header="\n    subLayers = [@./pipe.usda@]"), "(named by bad.usda) is a FIFO (named pipe)"),
+        (dict(header="\n    subLayers = [@./huge.usda@]"), "MB, above the 8 MB"),
+    ],
+)
 def test_bad_usd_is_refused_naming_the_prim_or_layer(tmp_path, case, expected):
     os.mkfifo(tmp_path / "pipe.usda")
     with open(tmp_path / "huge.usda", "wb") as f:
@@ -281,7 +326,7 @@ def test_a_small_usd_alone_passes_the_audit(tmp_path):
     assert result.verdict == "pass" and [r[0] for r in result.sections["usd"].tables[0].rows] == ["j1"]
 
 
-MIMIC = '''def Xform "b2" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
+MIMIC = """def Xform "b2" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
     {
         float physics:mass = 1
     }
@@ -306,7 +351,7 @@ MIMIC = '''def Xform "b2" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"
         rel physxMimicJoint:rotX:referenceJoint = </r/j1>
         float physxMimicJoint:rotX:gearing = -0.5
         float physxMimicJoint:rotX:offset = 30
-    }'''
+    }"""
 
 
 def test_mimic_joints_are_read_with_their_offsets_in_degrees(tmp_path):
@@ -314,6 +359,8 @@ def test_mimic_joints_are_read_with_their_offsets_in_degrees(tmp_path):
     leader + offset = 0; offsets written in degrees."""
     desc = describe_usd(read_robot(_usda(tmp_path, "mimic", extra=MIMIC)))
     got = {c.follower: (c.leader, c.multiplier, c.offset, c.source) for c in desc.couplings}
-    assert got == {"newton": ("j1", -2.0, pytest.approx(math.radians(10)), "NewtonMimicAPI"),
-                   "physx": ("j1", 0.5, pytest.approx(-math.radians(30)), "PhysxMimicJointAPI")}
+    assert got == {
+        "newton": ("j1", -2.0, pytest.approx(math.radians(10)), "NewtonMimicAPI"),
+        "physx": ("j1", 0.5, pytest.approx(-math.radians(30)), "PhysxMimicJointAPI"),
+    }
     assert desc.joint("physx").axis == pytest.approx([0, 1, 0]) and desc.joint("newton").parent == "j1"

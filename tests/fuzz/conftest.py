@@ -14,8 +14,21 @@ from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
 from tests.paths import MODELS
 
-FAST = ["--samples", "2", "--skip", "ik", "--skip", "tracking", "--skip", "pictures", "--skip", "workspace",
-        "--backends", "analytic,mujoco", "--quiet"]
+FAST = [
+    "--samples",
+    "2",
+    "--skip",
+    "ik",
+    "--skip",
+    "tracking",
+    "--skip",
+    "pictures",
+    "--skip",
+    "workspace",
+    "--backends",
+    "analytic,mujoco",
+    "--quiet",
+]
 FILES = ["--samples", "0", "--skip", "pictures", "--quiet"]  # file mode and the one-file audit
 XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
 
@@ -34,8 +47,11 @@ def valid(tmp_path_factory) -> Path:
     (d / "inc.xml").write_text("<mujoco><option timestep='0.002'/></mujoco>\n")
     (d / "main.xml").write_text(mjcf.replace("<worldbody>", '<include file="inc.xml"/>\n  <worldbody>', 1))
     (d / "part.xacro").write_text(f'<robot {XACRO_NS}><link name="end_effector"/></robot>\n')
-    (d / "robot.urdf.xacro").write_text(urdf.replace('<robot name="arm3">', f'<robot name="arm3" {XACRO_NS}>')
-                                        .replace('<link name="end_effector"/>', '<xacro:include filename="part.xacro"/>'))
+    (d / "robot.urdf.xacro").write_text(
+        urdf.replace('<robot name="arm3">', f'<robot name="arm3" {XACRO_NS}>').replace(
+            '<link name="end_effector"/>', '<xacro:include filename="part.xacro"/>'
+        )
+    )
     (d / "accept.toml").write_text('[[accepted]]\nkind = "x"\nsubject = "y"\nmagnitude = 1.0\nreason = "reviewed: keep"\n')
     targets = np.tile(np.eye(4), (3, 1, 1))
     targets[:, :3, 3] = [0.2, 0.1, 0.6]
@@ -45,9 +61,25 @@ def valid(tmp_path_factory) -> Path:
     assert main(["verify", str(d / "m.toml"), *FAST, "--json", str(d / "res.json"), "--report", str(d / "res.html")]) == 0
     flipped = d / "flip.xml"
     flipped.write_text(mjcf.replace('axis="0.0 1.0 0.0"', 'axis="0.0 -1.0 0.0"', 1))
-    assert main(["verify", "--urdf", str(d / "u.urdf"), "--mjcf", str(flipped), "--samples", "0", "--quiet",  # pictures too
-                 "--json", str(d / "fail.json"),
-                 "--report", str(d / "res.html")]) == 1
+    assert (
+        main(
+            [
+                "verify",
+                "--urdf",
+                str(d / "u.urdf"),
+                "--mjcf",
+                str(flipped),
+                "--samples",
+                "0",
+                "--quiet",  # pictures too
+                "--json",
+                str(d / "fail.json"),
+                "--report",
+                str(d / "res.html"),
+            ]
+        )
+        == 1
+    )
     flipped.unlink()
     (d / "res.html").unlink()
     return d

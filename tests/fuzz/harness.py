@@ -53,8 +53,18 @@ def log_example(argv: list[str], code: int, traceback: bool, changed: list[Path]
     path = os.environ.get("KINVERIFY_FUZZ_LOG")
     if path:
         with open(path, "a", encoding="utf-8") as log:
-            log.write(json.dumps({"test": os.environ.get("PYTEST_CURRENT_TEST", "").split(" ")[0], "command": argv[0],
-                                  "code": code, "traceback": traceback, "inputs_changed": len(changed)}) + "\n")
+            log.write(
+                json.dumps(
+                    {
+                        "test": os.environ.get("PYTEST_CURRENT_TEST", "").split(" ")[0],
+                        "command": argv[0],
+                        "code": code,
+                        "traceback": traceback,
+                        "inputs_changed": len(changed),
+                    }
+                )
+                + "\n"
+            )
 
 
 class Hung(BaseException):
@@ -64,6 +74,7 @@ class Hung(BaseException):
 @contextlib.contextmanager
 def deadline(seconds: int = 60):
     """Fail a run that blocks (a FIFO opened for reading waits for a writer) instead of hanging the suite."""
+
     def expired(signum, frame):
         raise Hung(f"still running after {seconds} s")
 

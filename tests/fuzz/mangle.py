@@ -15,14 +15,27 @@ import xml.etree.ElementTree as ET
 from hypothesis import strategies as st
 
 BAD_NUMBERS = ["nan", "inf", "-inf", "1e308", "-1e308", "1e-320", "0", "-1", "", "abc", "1 2", "0x10", "1e999"]
-HOSTILE_NAMES = ["", " ", "a" * 300, "<b>&amp;\"'", "ℓink ünïcode", "../../etc/passwd", "name with spaces",
-                 "world", "universe", "null\x01byte", "-", "0"]
+HOSTILE_NAMES = [
+    "",
+    " ",
+    "a" * 300,
+    "<b>&amp;\"'",
+    "ℓink ünïcode",
+    "../../etc/passwd",
+    "name with spaces",
+    "world",
+    "universe",
+    "null\x01byte",
+    "-",
+    "0",
+]
 URDF_JOINT_TYPES = ["revolute", "continuous", "prismatic", "fixed", "floating", "planar", "spherical", "", "hinge"]
 MJCF_JOINT_TYPES = ["hinge", "slide", "ball", "free", "", "revolute"]
 NUMBER = re.compile(r"-?\d+(\.\d+)?([eE][-+]?\d+)?")
 
 
 # ---------------------------------------------------------------- XML (URDF, MJCF)
+
 
 def _parents(root: ET.Element) -> dict[ET.Element, ET.Element]:
     return {child: parent for parent in root.iter() for child in parent}
@@ -49,9 +62,11 @@ def _xml_mutation(draw, root: ET.Element, kind: str) -> str:
             matches = list(NUMBER.finditer(el.get(attr)))
             m = draw(st.sampled_from(matches))
             value = el.get(attr)
-            el.set(attr, value[: m.start()] + draw(st.sampled_from(BAD_NUMBERS)) + value[m.end():])
+            el.set(attr, value[: m.start()] + draw(st.sampled_from(BAD_NUMBERS)) + value[m.end() :])
     elif op == "name":
-        named = [(e, a) for e in elements for a in ("name", "link", "joint", "body", "class", "mesh", "childclass") if a in e.attrib]
+        named = [
+            (e, a) for e in elements for a in ("name", "link", "joint", "body", "class", "mesh", "childclass") if a in e.attrib
+        ]
         if named:
             el, attr = draw(st.sampled_from(named))
             others = [e.get("name") for e in elements if e.get("name")]
@@ -99,6 +114,7 @@ def mangled_xml(draw, text: str, kind: str) -> tuple[str, list[str]]:
 
 # ---------------------------------------------------------------- spec files (TOML)
 
+
 def _toml_value(v) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -134,8 +150,28 @@ def _slots(value, path=()):
             yield from _slots(v, path + (i,))
 
 
-REPLACEMENTS = [math.nan, math.inf, -math.inf, 1e308, -1e308, 1e-320, 0, -1, 0.0, True, False, "1", "text", [], {},
-                [1.0, 2.0], [True, False, True], ["1", "2", "3"], 2**70, -(2**70)]
+REPLACEMENTS = [
+    math.nan,
+    math.inf,
+    -math.inf,
+    1e308,
+    -1e308,
+    1e-320,
+    0,
+    -1,
+    0.0,
+    True,
+    False,
+    "1",
+    "text",
+    [],
+    {},
+    [1.0, 2.0],
+    [True, False, True],
+    ["1", "2", "3"],
+    2**70,
+    -(2**70),
+]
 
 
 @st.composite

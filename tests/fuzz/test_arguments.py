@@ -19,10 +19,38 @@ from tests.fuzz.harness import fuzz_settings, log_example, run_checked
 from tests.paths import MODELS
 
 NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1", "2", "1e308", "-1e308", str(10**30), "abc", "", "0x10", "1_000"]
-NAMES = ["fk.position=1e-12", "fk.position=-1", "fk.position=nan", "ik.failure_rate", "ik.success_rate", "nope=1", "=", "", "ik", "everything",
-         "analytic", "mujoco,analytic", "pybullet", "base=base", "joint1=joint1", "a=b=c"]
-QUICK = ["--backends", "analytic,mujoco", "--skip", "ik", "--skip", "tracking", "--skip", "pictures", "--skip", "workspace",
-         "--skip", "dynamics"]
+NAMES = [
+    "fk.position=1e-12",
+    "fk.position=-1",
+    "fk.position=nan",
+    "ik.failure_rate",
+    "ik.success_rate",
+    "nope=1",
+    "=",
+    "",
+    "ik",
+    "everything",
+    "analytic",
+    "mujoco,analytic",
+    "pybullet",
+    "base=base",
+    "joint1=joint1",
+    "a=b=c",
+]
+QUICK = [
+    "--backends",
+    "analytic,mujoco",
+    "--skip",
+    "ik",
+    "--skip",
+    "tracking",
+    "--skip",
+    "pictures",
+    "--skip",
+    "workspace",
+    "--skip",
+    "dynamics",
+]
 PATHS = ["IN_SPEC", "IN_URDF", "IN_MJCF", "DIR", "/dev/null", "OUT/new.json", "OUT/new.html", "missing/deep/x.json", ""]
 
 
@@ -44,14 +72,37 @@ def command_lines(draw) -> list[str]:
         "report": ["report", "IN_RESULTS"],
     }[command]
     options = {
-        "verify": [("--samples", "number"), ("--seed", "number"), ("--jobs", "number"), ("--chunk", "number"),
-                   ("--tolerance", "name"), ("--gate", "name"), ("--backends", "name"), ("--skip", "name"),
-                   ("--json", "path"), ("--report", "path"), ("--ik-targets", "number"), ("--slow-samples", "number")],
-        "verify-files": [("--samples", "number"), ("--frames", "name"), ("--joints", "name"), ("--backends", "name"),
-                         ("--json", "path"), ("--report", "path"), ("--seed", "number")],
+        "verify": [
+            ("--samples", "number"),
+            ("--seed", "number"),
+            ("--jobs", "number"),
+            ("--chunk", "number"),
+            ("--tolerance", "name"),
+            ("--gate", "name"),
+            ("--backends", "name"),
+            ("--skip", "name"),
+            ("--json", "path"),
+            ("--report", "path"),
+            ("--ik-targets", "number"),
+            ("--slow-samples", "number"),
+        ],
+        "verify-files": [
+            ("--samples", "number"),
+            ("--frames", "name"),
+            ("--joints", "name"),
+            ("--backends", "name"),
+            ("--json", "path"),
+            ("--report", "path"),
+            ("--seed", "number"),
+        ],
         "ik": [("--seed", "number"), ("--frame", "name"), ("--backend", "name"), ("--rpy", "number")],
-        "track": [("--duration", "number"), ("--hold", "number"), ("--controller", "name"), ("--json", "path"),
-                  ("--to", "number")],
+        "track": [
+            ("--duration", "number"),
+            ("--hold", "number"),
+            ("--controller", "name"),
+            ("--json", "path"),
+            ("--to", "number"),
+        ],
         "diff": [("--samples", "number"), ("--seed", "number"), ("--report", "path")],
         "baseline-check": [("--tolerance", "number"), ("--report", "path")],
         "generate": [("--out", "path")],
@@ -77,8 +128,23 @@ def inputs(tmp_path_factory) -> Path:
     (folder / "u2.urdf").write_text(generate_urdf(spec))
     (folder / "r.xml").write_text(generate_mjcf(spec))
     assert main(["baseline", "save", str(folder / "m.toml"), "--out", str(folder / "b.json"), "--samples", "2"]) == 0
-    assert main(["verify", str(folder / "m.toml"), "--samples", "2", *QUICK, "--quiet", "--json", str(folder / "res.json"),
-                 "--report", str(folder / "res.html")]) == 0
+    assert (
+        main(
+            [
+                "verify",
+                str(folder / "m.toml"),
+                "--samples",
+                "2",
+                *QUICK,
+                "--quiet",
+                "--json",
+                str(folder / "res.json"),
+                "--report",
+                str(folder / "res.html"),
+            ]
+        )
+        == 0
+    )
     return folder
 
 
@@ -90,20 +156,31 @@ def test_hostile_command_lines(capfd, inputs, argv):
         for name in ("m.toml", "u.urdf", "u2.urdf", "r.xml", "b.json", "res.json"):
             shutil.copy(inputs / name, work / name)
         (work / "dir").mkdir()
-        names = {"IN_SPEC": "m.toml", "IN_URDF": "u.urdf", "IN_URDF2": "u2.urdf", "IN_MJCF": "r.xml", "IN_BASELINE": "b.json",
-                 "IN_RESULTS": "res.json", "DIR": "dir", "OUT": "out"}
+        names = {
+            "IN_SPEC": "m.toml",
+            "IN_URDF": "u.urdf",
+            "IN_URDF2": "u2.urdf",
+            "IN_MJCF": "r.xml",
+            "IN_BASELINE": "b.json",
+            "IN_RESULTS": "res.json",
+            "DIR": "dir",
+            "OUT": "out",
+        }
         real = []
         for arg in argv:
             for key, name in sorted(names.items(), key=lambda kv: -len(kv[0])):
                 if arg.startswith(key):
-                    arg = str(work / name) + arg[len(key):]
+                    arg = str(work / name) + arg[len(key) :]
                     break
             real.append(arg)
         note(" ".join(real))
         # the files this command line reads (an existing file named as an output may be replaced)
         outputs = {real[i + 1] for i, a in enumerate(real[:-1]) if a in ("--json", "--report", "--out")}
-        files = [work / n for n in ("m.toml", "u.urdf", "u2.urdf", "r.xml", "b.json", "res.json")
-                 if str(work / n) in real and str(work / n) not in outputs]
+        files = [
+            work / n
+            for n in ("m.toml", "u.urdf", "u2.urdf", "r.xml", "b.json", "res.json")
+            if str(work / n) in real and str(work / n) not in outputs
+        ]
         cwd = os.getcwd()
         os.chdir(work)  # default outputs (reports/...) land here
         try:

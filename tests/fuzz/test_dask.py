@@ -16,7 +16,7 @@ import pytest
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("distributed") is None, reason="dask.distributed not installed")
 
-HOOK = '''
+HOOK = """
 import importlib.abc, os, signal, sys
 
 _AT = os.environ.get("KV_TEST_SIGNAL_AT", "")
@@ -31,7 +31,7 @@ class _Hook(importlib.abc.MetaPathFinder):
 
 
 sys.meta_path.insert(0, _Hook())
-'''
+"""
 
 
 def _dask_run(work: Path, at: str) -> tuple[subprocess.CompletedProcess, list[str]]:
@@ -39,14 +39,39 @@ def _dask_run(work: Path, at: str) -> tuple[subprocess.CompletedProcess, list[st
     hook.mkdir()
     tmp.mkdir()
     (hook / "sitecustomize.py").write_text(HOOK)
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(hook), os.environ.get("PYTHONPATH", "")]),
-           "KV_TEST_SIGNAL_AT": at, "TMPDIR": str(tmp)}
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(hook), os.environ.get("PYTHONPATH", "")]),
+        "KV_TEST_SIGNAL_AT": at,
+        "TMPDIR": str(tmp),
+    }
     env.pop("KINVERIFY_DEBUG", None)
-    argv = ["verify", "m.toml", "--samples", "40", "--skip", "ik", "--skip", "tracking", "--skip", "pictures",
-            "--backends", "analytic", "--executor", "dask", "--jobs", "1", "--quiet", "--json", "out/r.json",
-            "--report", "out/r.html"]
-    proc = subprocess.run([sys.executable, "-m", "kinverify", *argv], cwd=work, env=env, capture_output=True, text=True,
-                          timeout=300)
+    argv = [
+        "verify",
+        "m.toml",
+        "--samples",
+        "40",
+        "--skip",
+        "ik",
+        "--skip",
+        "tracking",
+        "--skip",
+        "pictures",
+        "--backends",
+        "analytic",
+        "--executor",
+        "dask",
+        "--jobs",
+        "1",
+        "--quiet",
+        "--json",
+        "out/r.json",
+        "--report",
+        "out/r.html",
+    ]
+    proc = subprocess.run(
+        [sys.executable, "-m", "kinverify", *argv], cwd=work, env=env, capture_output=True, text=True, timeout=300
+    )
     return proc, sorted(p.name for p in tmp.iterdir())
 
 

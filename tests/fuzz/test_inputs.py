@@ -26,8 +26,10 @@ SLOTS = {
     "verify --urdf": (["verify", "--urdf", "X", "--mjcf", "r.xml", *FILES], "x.urdf"),
     "verify --mjcf": (["verify", "--urdf", "u.urdf", "--mjcf", "X", *FILES], "x.xml"),
     "verify --accept": (["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES, "--accept", "X"], "x.toml"),
-    "the accepted differences beside the URDF": (["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES],
-                                                 "kinverify-accepted.toml"),
+    "the accepted differences beside the URDF": (
+        ["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES],
+        "kinverify-accepted.toml",
+    ),
     "an MJCF <include>": (["verify", "--mjcf", "main.xml", *FILES], "inc.xml"),
     "a xacro include": (["verify", "--urdf", "robot.urdf.xacro", *FILES], "part.xacro"),
     "verify --urdf alone": (["verify", "--urdf", "X", *FILES], "x.urdf"),
@@ -45,8 +47,7 @@ SLOTS = {
     "diff NEW (URDFs)": (["diff", "u.urdf", "X", "--report", "out/d.html"], "x.urdf"),
     "diff OLD (MJCFs)": (["diff", "X", "r.xml", "--report", "out/d.html"], "x.xml"),
     "check FILE": (["check", "X", "--samples", "0"], "x.toml"),
-    "check: the baseline beside the spec": (["check", "m.toml", "--samples", "0", "--suites", "kinematics"],
-                                            "baselines/m.json"),
+    "check: the baseline beside the spec": (["check", "m.toml", "--samples", "0", "--suites", "kinematics"], "baselines/m.json"),
 }
 
 
@@ -86,8 +87,19 @@ DEEP = {
 }
 
 
-@pytest.mark.parametrize("slot", ["verify MODEL", "verify --accept", "report RESULTS", "baseline check --baseline",
-                                  "verify --urdf", "verify --mjcf", "an MJCF <include>", "diff NEW (URDFs)"])
+@pytest.mark.parametrize(
+    "slot",
+    [
+        "verify MODEL",
+        "verify --accept",
+        "report RESULTS",
+        "baseline check --baseline",
+        "verify --urdf",
+        "verify --mjcf",
+        "an MJCF <include>",
+        "diff NEW (URDFs)",
+    ],
+)
 def test_deeply_nested_inputs_are_bad_input_not_a_recursion_error(capfd, work, slot):
     argv, name = SLOTS[slot]
     text = DEEP[Path(name).suffix]
@@ -141,8 +153,11 @@ def _refused_by_argparse(capfd, argv: list[str], words: str) -> None:
 def test_values_that_would_pass_anything_or_overflow_are_bad_input(capfd, work):
     refused(capfd, ["verify", "m.toml", *FAST, "--tolerance", "fk.position=inf"], work, "must be a non-negative finite number")
     refused(capfd, ["verify", "m.toml", *FAST, "--gate", "ik.success_rate=inf"], work, "must be a non-negative finite number")
-    _refused_by_argparse(capfd, ["baseline", "check", "m.toml", "--baseline", "b.json", "--tolerance", "inf"],
-                         "--tolerance: must be a finite number > 0, got inf")
+    _refused_by_argparse(
+        capfd,
+        ["baseline", "check", "m.toml", "--baseline", "b.json", "--tolerance", "inf"],
+        "--tolerance: must be a finite number > 0, got inf",
+    )
     refused(capfd, ["track", "m.toml", "--target", "1e308", "1e308", "1e308"], work, "is more than 1e+06 m from the base")
 
 
@@ -157,8 +172,12 @@ def test_nothing_compared_is_not_a_pass(capfd, work):
 
 def test_an_unreachable_dask_scheduler_is_bad_input_at_once(capfd, work):
     pytest.importorskip("dask.distributed")
-    refused(capfd, ["verify", "m.toml", *FAST, "--executor", "dask", "--scheduler", "tcp://127.0.0.1:1"], work,
-            "--scheduler tcp://127.0.0.1:1: no Dask scheduler answers there within 5 s (Connection refused)")
+    refused(
+        capfd,
+        ["verify", "m.toml", *FAST, "--executor", "dask", "--scheduler", "tcp://127.0.0.1:1"],
+        work,
+        "--scheduler tcp://127.0.0.1:1: no Dask scheduler answers there within 5 s (Connection refused)",
+    )
 
 
 def test_a_file_swapped_for_a_fifo_after_the_check_is_refused_on_its_descriptor(tmp_path, monkeypatch):

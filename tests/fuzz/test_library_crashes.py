@@ -22,9 +22,11 @@ from kinverify.pipeline import limits
 from tests.fuzz.conftest import FILES, XACRO_NS
 from tests.fuzz.harness import deadline, refused
 
-MASSLESS = ('<mujoco model="m"><worldbody><body name="b"><joint type="hinge"/><inertial pos="0 0 0" mass="0" '
-            'diaginertia="0 0 0"/><body name="c"><joint type="hinge"/><inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>'
-            "</body></body></worldbody></mujoco>")
+MASSLESS = (
+    '<mujoco model="m"><worldbody><body name="b"><joint type="hinge"/><inertial pos="0 0 0" mass="0" '
+    'diaginertia="0 0 0"/><body name="c"><joint type="hinge"/><inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>'
+    "</body></body></worldbody></mujoco>"
+)
 
 
 def test_a_drake_parser_that_ends_the_process_is_a_refusal_not_the_end_of_the_run():
@@ -50,15 +52,24 @@ def test_a_child_that_dies_or_runs_away_is_reported_with_the_reason():
 def massless_pair(work) -> Path:
     """arm3's URDF and MJCF with a massless link fixed to the end (as panda's panda_link8, which
     states mass 0): in the MJCF ``<inertial mass="0">``, as MuJoCo writes it, on which Drake aborts."""
-    urdf = (work / "u.urdf").read_text().replace("</robot>", (
-        '<link name="flange"><inertial><mass value="0"/><inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial>'
-        '</link><joint name="flange_fix" type="fixed"><parent link="link3"/><child link="flange"/><origin xyz="0 0 0.05"/>'
-        "</joint></robot>"))
+    urdf = (
+        (work / "u.urdf")
+        .read_text()
+        .replace(
+            "</robot>",
+            (
+                '<link name="flange"><inertial><mass value="0"/><inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial>'
+                '</link><joint name="flange_fix" type="fixed"><parent link="link3"/><child link="flange"/><origin xyz="0 0 0.05"/>'
+                "</joint></robot>"
+            ),
+        )
+    )
     body = '<body name="link3" pos="0.0 0.0 0.25">'
     mjcf = (work / "r.xml").read_text()
     assert body in mjcf
-    mjcf = mjcf.replace(body, body + '<body name="flange" pos="0 0 0.05"><inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>'
-                        "</body>", 1)
+    mjcf = mjcf.replace(
+        body, body + '<body name="flange" pos="0 0 0.05"><inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/></body>', 1
+    )
     (work / "massless.urdf").write_text(urdf)
     (work / "massless.xml").write_text(mjcf)
     return work
@@ -67,8 +78,7 @@ def massless_pair(work) -> Path:
 def test_a_pair_whose_mjcf_drake_cannot_parse_passes_when_the_robots_agree(capfd, massless_pair):
     capfd.readouterr()
     with deadline():
-        code = main(
-            ["verify", "--urdf", "massless.urdf", "--mjcf", "massless.xml", *FILES, "--json", "out/r.json"])
+        code = main(["verify", "--urdf", "massless.urdf", "--mjcf", "massless.xml", *FILES, "--json", "out/r.json"])
     err = capfd.readouterr().err
     assert code == 0, err
     findings = json.loads((massless_pair / "out/r.json").read_text())["findings"]
@@ -80,7 +90,8 @@ def test_a_pair_whose_mjcf_drake_cannot_parse_passes_when_the_robots_agree(capfd
 def _xacro(folder: Path, expression: str) -> str:
     (folder / "bomb.urdf.xacro").write_text(
         f'<robot name="r" {XACRO_NS}><xacro:property name="v" value="${{{expression}}}"/><link name="a"><inertial>'
-        '<mass value="${v}"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>\n')
+        '<mass value="${v}"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>\n'
+    )
     return "bomb.urdf.xacro"
 
 
@@ -103,8 +114,19 @@ def test_a_deleted_current_folder_does_not_stop_drake(capfd, work, tmp_path_fact
     capfd.readouterr()
     with deadline():
         code = main(
-            ["verify", "--urdf", str(work / "u.urdf"), "--sdf", str(work / "r.sdf"), *FILES, "--json", str(work / "out/r.json"),
-             "--report", str(work / "out/r.html")])
+            [
+                "verify",
+                "--urdf",
+                str(work / "u.urdf"),
+                "--sdf",
+                str(work / "r.sdf"),
+                *FILES,
+                "--json",
+                str(work / "out/r.json"),
+                "--report",
+                str(work / "out/r.html"),
+            ]
+        )
     err = capfd.readouterr().err
     assert code == 0, err
     assert (work / "out/r.json").is_file()

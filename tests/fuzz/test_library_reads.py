@@ -18,17 +18,21 @@ from kinverify.model.specfile import load_spec
 from tests.fuzz.conftest import FILES
 from tests.fuzz.harness import deadline, refused
 
-TIP = ('<sdf version="1.9"><model name="tip"><link name="tip"><inertial><mass>0.1</mass><inertia><ixx>1e-4</ixx>'
-       "<iyy>1e-4</iyy><izz>1e-4</izz></inertia></inertial></link></model></sdf>\n")
+TIP = (
+    '<sdf version="1.9"><model name="tip"><link name="tip"><inertial><mass>0.1</mass><inertia><ixx>1e-4</ixx>'
+    "<iyy>1e-4</iyy><izz>1e-4</izz></inertia></inertial></link></model></sdf>\n"
+)
 STL = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.01 0 0\nvertex 0 0.01 0\nendloop\nendfacet\nendsolid t\n"
 
 
 def including(sdf: str, uri: str) -> str:
     """The arm3 SDFormat model with ``uri`` included as a tool fixed to its end effector."""
-    inc = (f"<include><uri>{uri}</uri><name>tool</name></include><joint name=\"tool_fix\" type=\"fixed\">"
-           "<parent>end_effector</parent><child>tool::tip</child></joint></model>")
+    inc = (
+        f'<include><uri>{uri}</uri><name>tool</name></include><joint name="tool_fix" type="fixed">'
+        "<parent>end_effector</parent><child>tool::tip</child></joint></model>"
+    )
     i = sdf.rindex("</model>")
-    return sdf[:i] + inc + sdf[i + len("</model>"):]
+    return sdf[:i] + inc + sdf[i + len("</model>") :]
 
 
 @pytest.fixture
@@ -38,20 +42,26 @@ def files(work) -> Path:
     sdf = generate_sdf(load_spec(work / "m.toml"))
     (work / "robot" / "parts").mkdir(parents=True)
     (work / "robot" / "parts" / "tip.sdf").write_text(TIP)
-    (work / "robot" / "parts" / "inc.sdf").write_text(TIP.replace('<link name="tip">', '<include><uri>tip.sdf</uri>'
-                                                                  '<name>inner</name></include><link name="tip">'))
+    (work / "robot" / "parts" / "inc.sdf").write_text(
+        TIP.replace('<link name="tip">', '<include><uri>tip.sdf</uri><name>inner</name></include><link name="tip">')
+    )
     (work / "robot" / "main.sdf").write_text(including(sdf, "parts/inc.sdf"))
     (work / "plain.sdf").write_text(sdf)
     mjcf = (work / "r.xml").read_text()
-    (work / "sub.xml").write_text('<mujoco model="sub"><worldbody><body name="sb"><geom type="sphere" size="0.01"/>'
-                                  "</body></worldbody></mujoco>\n")
-    (work / "withmodel.xml").write_text(mjcf.replace("<worldbody>", '<asset><model name="sub" file="sub.xml"/></asset>\n'
-                                                     "<worldbody>", 1))
+    (work / "sub.xml").write_text(
+        '<mujoco model="sub"><worldbody><body name="sb"><geom type="sphere" size="0.01"/></body></worldbody></mujoco>\n'
+    )
+    (work / "withmodel.xml").write_text(
+        mjcf.replace("<worldbody>", '<asset><model name="sub" file="sub.xml"/></asset>\n<worldbody>', 1)
+    )
     (work / "m.stl").write_text(STL)
     body = '<body name="base" pos="0.0 0.0 0.42">'
     assert body in mjcf
-    (work / "withmesh.xml").write_text(mjcf.replace("<worldbody>", '<asset><mesh name="m" file="m.stl"/></asset>\n<worldbody>', 1)
-                                       .replace(body, body + '<geom type="mesh" mesh="m" mass="0"/>', 1))
+    (work / "withmesh.xml").write_text(
+        mjcf.replace("<worldbody>", '<asset><mesh name="m" file="m.stl"/></asset>\n<worldbody>', 1).replace(
+            body, body + '<geom type="mesh" mesh="m" mass="0"/>', 1
+        )
+    )
     return work
 
 
@@ -70,15 +80,18 @@ def test_sdf_includes_are_resolved_relative_to_the_including_file(capfd, files):
     assert code == 0, err
 
 
-@pytest.mark.parametrize("uri, words", [
-    ("main.sdf", "includes itself (main.sdf -> main.sdf)"),
-    ("b.sdf", "includes itself (main.sdf -> b.sdf -> main.sdf)"),
-    ("fifo.sdf", "fifo.sdf is a FIFO (named pipe), not a regular file"),
-    ("/dev/zero", "/dev/zero is a character device, not a regular file"),
-    ("big.sdf", "big.sdf: the model with the files it includes is above the 8 MB"),
-    ("loop1", "loop1 cannot be read: Too many levels of symbolic links"),
-    ("nowhere.sdf", "nowhere.sdf is not a file"),
-])
+@pytest.mark.parametrize(
+    "uri, words",
+    [
+        ("main.sdf", "includes itself (main.sdf -> main.sdf)"),
+        ("b.sdf", "includes itself (main.sdf -> b.sdf -> main.sdf)"),
+        ("fifo.sdf", "fifo.sdf is a FIFO (named pipe), not a regular file"),
+        ("/dev/zero", "/dev/zero is a character device, not a regular file"),
+        ("big.sdf", "big.sdf: the model with the files it includes is above the 8 MB"),
+        ("loop1", "loop1 cannot be read: Too many levels of symbolic links"),
+        ("nowhere.sdf", "nowhere.sdf is not a file"),
+    ],
+)
 def test_a_bad_sdf_include_is_one_line_naming_it(capfd, files, uri, words):
     sdf = (files / "plain.sdf").read_text()
     (files / "main.sdf").write_text(including(sdf, uri))
@@ -92,16 +105,19 @@ def test_a_bad_sdf_include_is_one_line_naming_it(capfd, files, uri, words):
     assert "main.sdf" in line
 
 
-@pytest.mark.parametrize("argv, output", [
-    (["verify", "--sdf", "robot/main.sdf"], "robot/parts/inc.sdf"),
-    (["verify", "--sdf", "robot/main.sdf"], "robot/parts/tip.sdf"),  # included by the included file
-    (["verify", "--urdf", "u.urdf", "--sdf", "robot/main.sdf"], "robot/parts/inc.sdf"),
-    (["verify", "--mjcf", "withmodel.xml"], "sub.xml"),
-    (["verify", "--urdf", "u.urdf", "--mjcf", "withmodel.xml"], "sub.xml"),
-    (["verify", "--mjcf", "withmesh.xml"], "m.stl"),  # a one-file audit, which does not load the mesh
-    (["verify", "--urdf", "u.urdf", "--mjcf", "withmesh.xml"], "m.stl"),
-    (["diff", "withmesh.xml", "r.xml"], "m.stl"),
-])
+@pytest.mark.parametrize(
+    "argv, output",
+    [
+        (["verify", "--sdf", "robot/main.sdf"], "robot/parts/inc.sdf"),
+        (["verify", "--sdf", "robot/main.sdf"], "robot/parts/tip.sdf"),  # included by the included file
+        (["verify", "--urdf", "u.urdf", "--sdf", "robot/main.sdf"], "robot/parts/inc.sdf"),
+        (["verify", "--mjcf", "withmodel.xml"], "sub.xml"),
+        (["verify", "--urdf", "u.urdf", "--mjcf", "withmodel.xml"], "sub.xml"),
+        (["verify", "--mjcf", "withmesh.xml"], "m.stl"),  # a one-file audit, which does not load the mesh
+        (["verify", "--urdf", "u.urdf", "--mjcf", "withmesh.xml"], "m.stl"),
+        (["diff", "withmesh.xml", "r.xml"], "m.stl"),
+    ],
+)
 @pytest.mark.parametrize("flag", ["--report", "--json"])
 def test_no_output_replaces_a_file_a_library_reads(capfd, files, argv, output, flag):
     if argv[0] == "diff" and flag == "--json":
@@ -127,13 +143,16 @@ MODEL = '<asset><model name="sub" file="{}"/></asset>\n<worldbody>'
 FLEXCOMP = '<worldbody><flexcomp name="f" type="mesh" file="{}" dim="2"/>'
 
 
-@pytest.mark.parametrize("element, name, words", [
-    (MODEL, "fifo.xml", "is a FIFO (named pipe), not a regular file"),
-    (MODEL, "/dev/zero", "/dev/zero is a character device"),
-    (MODEL, "withmodel.xml", "the model includes itself"),
-    (FLEXCOMP, "fifo.xml", "is a FIFO (named pipe), not a regular file"),
-    (FLEXCOMP, "/dev/zero", "/dev/zero is a character device"),
-])
+@pytest.mark.parametrize(
+    "element, name, words",
+    [
+        (MODEL, "fifo.xml", "is a FIFO (named pipe), not a regular file"),
+        (MODEL, "/dev/zero", "/dev/zero is a character device"),
+        (MODEL, "withmodel.xml", "the model includes itself"),
+        (FLEXCOMP, "fifo.xml", "is a FIFO (named pipe), not a regular file"),
+        (FLEXCOMP, "/dev/zero", "/dev/zero is a character device"),
+    ],
+)
 def test_a_bad_mjcf_model_or_flexcomp_file_is_one_line_naming_it(capfd, files, element, name, words):
     os.mkfifo(files / "fifo.xml")
     mjcf = (files / "r.xml").read_text()
@@ -158,7 +177,9 @@ def test_includes_that_multiply_a_model_are_bounded_by_the_link_limit(capfd, fil
     for level in range(6, -1, -1):
         (files / f"l{level}.sdf").write_text(
             f'<sdf version="1.9"><model name="l{level}"><include><uri>l{level + 1}.sdf</uri><name>a</name></include>'
-            f"<include><uri>l{level + 1}.sdf</uri><name>b</name></include></model></sdf>\n")
+            f"<include><uri>l{level + 1}.sdf</uri><name>b</name></include></model></sdf>\n"
+        )
     (files / "main.sdf").write_text(including((files / "plain.sdf").read_text(), "l0.sdf"))
-    refused(capfd, ["verify", "--sdf", "main.sdf", *FILES], files, "main.sdf has", "links with the models it includes, "
-            "above the 256")
+    refused(
+        capfd, ["verify", "--sdf", "main.sdf", *FILES], files, "main.sdf has", "links with the models it includes, above the 256"
+    )

@@ -22,13 +22,15 @@ def chain_urdf(n: int) -> str:
     """A serial chain of ``n`` revolute joints, 5 cm apart, axes alternating z and y."""
     parts = ['<robot name="chain">', '<link name="l0"/>']
     for i in range(n):
-        parts.append(f'<link name="l{i + 1}"/><joint name="j{i + 1}" type="revolute"><parent link="l{i}"/>'
-                     f'<child link="l{i + 1}"/><origin xyz="0 0 0.05"/><axis xyz="{"0 0 1" if i % 2 == 0 else "0 1 0"}"/>'
-                     '<limit lower="-2" upper="2" effort="1" velocity="1"/></joint>')
+        parts.append(
+            f'<link name="l{i + 1}"/><joint name="j{i + 1}" type="revolute"><parent link="l{i}"/>'
+            f'<child link="l{i + 1}"/><origin xyz="0 0 0.05"/><axis xyz="{"0 0 1" if i % 2 == 0 else "0 1 0"}"/>'
+            '<limit lower="-2" upper="2" effort="1" velocity="1"/></joint>'
+        )
     return "".join(parts) + "</robot>"
 
 
-PEAK = '''
+PEAK = """
 import resource, sys
 import numpy as np
 from kinverify.ik import IKOptions, SerialChain, solve_lm
@@ -42,14 +44,20 @@ targets[:, :3, 3] = np.random.default_rng(0).uniform(-2, 2, (len(targets), 3))
 before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 solve_lm(model, targets, chain.lower, chain.upper, options=IKOptions(max_evaluations=3, max_restarts=0, seed_samples=0))
 print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)
-'''
+"""
 
 
 def test_batch_ik_memory_does_not_grow_with_the_number_of_targets():
     """30,000 targets on 64 joints (a few iterations each): the solver's rows took about 470 MB at
     once; in chunks they stay near the chunk's working set whatever the count."""
-    out = subprocess.run([sys.executable, "-c", PEAK, "30000"], capture_output=True, text=True, timeout=300, check=True,
-                         cwd=Path(__file__).parents[2])
+    out = subprocess.run(
+        [sys.executable, "-c", PEAK, "30000"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+        cwd=Path(__file__).parents[2],
+    )
     grown_mb = float(out.stdout.split()[-1])
     assert grown_mb < 330, f"solving grew the process by {grown_mb:.0f} MB"
 

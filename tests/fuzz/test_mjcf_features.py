@@ -19,16 +19,20 @@ EXTRAS = {
     "flexcomp": f'<body name="holder" pos="1 1 0.1">{INERTIAL}{FLEX}/></body>',
     "pinned flexcomp": f'<body name="holder" pos="1 1 0.1">{INERTIAL}{FLEX}><pin id="0 2"/></flexcomp></body>',
     "unnamed joints": f'<body name="puck" pos="1 1 0.1"><joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/>'
-                      f'{INERTIAL}</body>',
+    f"{INERTIAL}</body>",
     "attach": '<body name="mount" pos="0.5 0 0"><attach model="grip" body="finger" prefix="g_"/></body>',
     "composite": '<body name="rope" pos="1 1 0.5"><composite type="cable" count="5 1 1" curve="s" size="0.5" '
-                 'initial="none"><geom type="capsule" size=".005" density="100"/></composite></body>',
+    'initial="none"><geom type="capsule" size=".005" density="100"/></composite></body>',
 }
-NOTES = {"flexcomp": "flex cloth: a deformable object of 9 bodies (<flexcomp>), not part of the robot: not compared",
-         "pinned flexcomp": "flex cloth: a deformable object of 7 bodies",
-         "unnamed joints": "body puck: moved by an unnamed joint; it and the bodies it carries are not compared"}
-GRIPPER = ('<mujoco model="gripper"><worldbody><body name="finger" pos="0 0 0.05"><joint name="slide" type="slide" '
-           f'axis="1 0 0" range="0 0.04"/>{INERTIAL}</body></worldbody></mujoco>\n')
+NOTES = {
+    "flexcomp": "flex cloth: a deformable object of 9 bodies (<flexcomp>), not part of the robot: not compared",
+    "pinned flexcomp": "flex cloth: a deformable object of 7 bodies",
+    "unnamed joints": "body puck: moved by an unnamed joint; it and the bodies it carries are not compared",
+}
+GRIPPER = (
+    '<mujoco model="gripper"><worldbody><body name="finger" pos="0 0 0.05"><joint name="slide" type="slide" '
+    f'axis="1 0 0" range="0 0.04"/>{INERTIAL}</body></worldbody></mujoco>\n'
+)
 
 
 @pytest.mark.parametrize("extra", list(EXTRAS))

@@ -16,8 +16,11 @@ from tests.fuzz.harness import fuzz_settings, run_checked
 from tests.fuzz.mangle import mangled_xml
 from tests.paths import MODELS
 
-PAIRS = {name: (generate_urdf(spec), generate_mjcf(spec)) for name in ("arm3", "panda")
-         for spec in [load_spec(MODELS / f"{name}.toml")]}
+PAIRS = {
+    name: (generate_urdf(spec), generate_mjcf(spec))
+    for name in ("arm3", "panda")
+    for spec in [load_spec(MODELS / f"{name}.toml")]
+}
 
 
 def _files(tmp: str, **texts: str) -> dict[str, Path]:
@@ -54,7 +57,19 @@ def test_mangled_pair_through_file_mode(capfd, model, data):
         note(f"MJCF mutations: {ops_m}")
     with tempfile.TemporaryDirectory() as tmp:
         files = _files(tmp, robot_urdf=urdf, robot_xml=mjcf)
-        argv = ["verify", "--urdf", str(files["robot_urdf"]), "--mjcf", str(files["robot_xml"]), "--samples", "0",
-                "--quiet", "--json", f"{tmp}/r.json", "--report", f"{tmp}/r.html"]
+        argv = [
+            "verify",
+            "--urdf",
+            str(files["robot_urdf"]),
+            "--mjcf",
+            str(files["robot_xml"]),
+            "--samples",
+            "0",
+            "--quiet",
+            "--json",
+            f"{tmp}/r.json",
+            "--report",
+            f"{tmp}/r.html",
+        ]
         code, _ = run_checked(capfd, argv, list(files.values()), Path(tmp))
         assert (code == 2) == (not Path(tmp, "r.json").exists())

@@ -34,18 +34,21 @@ def flipped(work) -> Path:
     return work
 
 
-@pytest.mark.parametrize("extra, words", [
-    (["--write-accepted", "u.urdf"], "--write-accepted u.urdf is --urdf u.urdf, an input of this run"),
-    (["--write-accepted", "flip.xml"], "--write-accepted flip.xml is --mjcf flip.xml"),
-    (["--write-accepted", "u_link.urdf"], "--write-accepted u_link.urdf is --urdf u.urdf"),
-    (["--accept", "accept.toml", "--write-accepted", "accept.toml"], "is --accept accept.toml"),
-    (["--accept", "accept.toml", "--write-accepted", "acc_link.toml"], "is --accept accept.toml"),
-    (["--json", "o.json", "--write-accepted", "o.json"], "name the same file"),
-    (["--write-accepted", "fifo"], "is a FIFO (named pipe), not a regular file"),
-    (["--accept", "accept.toml", "--json", "accept.toml"], "--json accept.toml is --accept accept.toml"),
-    (["--accept", "accept.toml", "--report", "acc_link.toml"], "--report acc_link.toml is --accept accept.toml"),
-    (["--accept", "accept.toml", "--junit", "accept.toml"], "--junit accept.toml is --accept accept.toml"),
-])
+@pytest.mark.parametrize(
+    "extra, words",
+    [
+        (["--write-accepted", "u.urdf"], "--write-accepted u.urdf is --urdf u.urdf, an input of this run"),
+        (["--write-accepted", "flip.xml"], "--write-accepted flip.xml is --mjcf flip.xml"),
+        (["--write-accepted", "u_link.urdf"], "--write-accepted u_link.urdf is --urdf u.urdf"),
+        (["--accept", "accept.toml", "--write-accepted", "accept.toml"], "is --accept accept.toml"),
+        (["--accept", "accept.toml", "--write-accepted", "acc_link.toml"], "is --accept accept.toml"),
+        (["--json", "o.json", "--write-accepted", "o.json"], "name the same file"),
+        (["--write-accepted", "fifo"], "is a FIFO (named pipe), not a regular file"),
+        (["--accept", "accept.toml", "--json", "accept.toml"], "--json accept.toml is --accept accept.toml"),
+        (["--accept", "accept.toml", "--report", "acc_link.toml"], "--report acc_link.toml is --accept accept.toml"),
+        (["--accept", "accept.toml", "--junit", "accept.toml"], "--junit accept.toml is --accept accept.toml"),
+    ],
+)
 def test_write_accepted_and_the_accepted_file_are_checked_like_every_output(capfd, flipped, extra, words):
     refused(capfd, [*FLIPPED, *extra], flipped, words)
 
@@ -56,13 +59,19 @@ def test_the_accepted_differences_found_beside_the_urdf_are_an_input(capfd, work
     refused(capfd, [*PAIR, "--write-accepted", "kinverify-accepted.toml"], work, "an input of this run")
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["ik", "m.toml", "--targets", "t.npy", "--json", "t.npy"], "--json t.npy is --targets t.npy"),
-    (["ik", "m.toml", "--targets", "t.npy", "--initial", "q.npy", "--json", "q.npy"], "--json q.npy is --initial q.npy"),
-    (["verify", "--mjcf", "main.xml", *FILES, "--report", "inc.xml"], "--report inc.xml is the MJCF's <include>"),
-    (["verify", "--urdf", "robot.urdf.xacro", *FILES, "--json", "part.xacro"], "--json part.xacro is robot.urdf.xacro: xacro include"),
-    (["generate", "m.toml", "--out", "."], None),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["ik", "m.toml", "--targets", "t.npy", "--json", "t.npy"], "--json t.npy is --targets t.npy"),
+        (["ik", "m.toml", "--targets", "t.npy", "--initial", "q.npy", "--json", "q.npy"], "--json q.npy is --initial q.npy"),
+        (["verify", "--mjcf", "main.xml", *FILES, "--report", "inc.xml"], "--report inc.xml is the MJCF's <include>"),
+        (
+            ["verify", "--urdf", "robot.urdf.xacro", *FILES, "--json", "part.xacro"],
+            "--json part.xacro is robot.urdf.xacro: xacro include",
+        ),
+        (["generate", "m.toml", "--out", "."], None),
+    ],
+)
 def test_files_a_run_reads_are_never_its_outputs(capfd, work, argv, words):
     if words is None:  # generate writes <name>.urdf: here the spec's own name, made the spec's
         (work / "arm3.urdf").symlink_to("m.toml")

@@ -19,7 +19,9 @@ OTHER_TYPES = [None, "x", 1.5, True, [], {}]
 
 
 def _kind(value) -> str:
-    return {bool: "boolean", int: "number", float: "number", str: "string", list: "array", dict: "object"}.get(type(value), "null")
+    return {bool: "boolean", int: "number", float: "number", str: "string", list: "array", dict: "object"}.get(
+        type(value), "null"
+    )
 
 
 def _nodes(data, path=()):
@@ -72,18 +74,24 @@ def _set(data, path, value):
     _get(data, path[:-1])[path[-1]] = value
 
 
-@pytest.mark.parametrize("edit, words", [
-    (lambda d: d.update(findings=[json.dumps(f) for f in d["findings"]]), "must be an object, got a string"),
-    (lambda d: d["checks"][0].update(error=None), "checks[0]: Additional properties are not allowed ('error' was unexpected)"),
-    (lambda d: d["checks"][0].update(max_error=None), "checks[0].max_error must be a number, got null"),
-    (lambda d: d.update(model=None), "model must be a string, got null"),
-    (lambda d: d.update(schema_version="2"), "schema_version must be a whole number, got a string"),
-    (lambda d: d.update(sections=list(d["sections"].values())), "sections must be an object, got an array"),
-    (lambda d: d["checks"][0].update(tolerance="abc"), "checks[0].tolerance must be a number, got a string"),
-    (lambda d: d.update(findings=[f for f in d["findings"] if f["severity"] != "error"]), "saved verdict is 'fail' but"),
-    (lambda d: d.update(verdict="pass"), "saved verdict is 'pass' but its checks and findings give 'fail'"),
-    (lambda d: d["findings"][0].update(severity="fine"), "findings[0].severity must be one of"),
-])
+@pytest.mark.parametrize(
+    "edit, words",
+    [
+        (lambda d: d.update(findings=[json.dumps(f) for f in d["findings"]]), "must be an object, got a string"),
+        (
+            lambda d: d["checks"][0].update(error=None),
+            "checks[0]: Additional properties are not allowed ('error' was unexpected)",
+        ),
+        (lambda d: d["checks"][0].update(max_error=None), "checks[0].max_error must be a number, got null"),
+        (lambda d: d.update(model=None), "model must be a string, got null"),
+        (lambda d: d.update(schema_version="2"), "schema_version must be a whole number, got a string"),
+        (lambda d: d.update(sections=list(d["sections"].values())), "sections must be an object, got an array"),
+        (lambda d: d["checks"][0].update(tolerance="abc"), "checks[0].tolerance must be a number, got a string"),
+        (lambda d: d.update(findings=[f for f in d["findings"] if f["severity"] != "error"]), "saved verdict is 'fail' but"),
+        (lambda d: d.update(verdict="pass"), "saved verdict is 'pass' but its checks and findings give 'fail'"),
+        (lambda d: d["findings"][0].update(severity="fine"), "findings[0].severity must be one of"),
+    ],
+)
 def test_the_edits_that_turned_a_fail_into_a_pass_are_refused(capfd, work, edit, words):
     saved = json.loads((work / "fail.json").read_text())
     edit(saved)
@@ -97,21 +105,28 @@ def _baseline(work, edit) -> None:
     (work / "edited.json").write_text(json.dumps(data))
 
 
-@pytest.mark.parametrize("edit, words", [
-    (lambda d: d.update(records=[]), "records of fk.position at base are missing (0 of"),
-    (lambda d: d.update(records=[r for r in d["records"] if r["frame"] != "link2"]), "at link2 are missing"),
-    (lambda d: d.update(frames=[], records=[]), "frames must be a non-empty list of names"),
-    (lambda d: d.update(q=[[str(x) for x in row] for row in d["q"]]), "q must be a non-empty table of finite numbers"),
-    (lambda d: d.update(q=[]), "q must be a non-empty table"),
-    (lambda d: d["q"][1].__setitem__(0, float("nan")), "holds NaN, which is not a number this file may hold"),
-    (lambda d: d["records"][3].update(value="0.5"), "records[3].value is not a finite number"),
-    (lambda d: d["records"][3].update(value=[1e400]), "holds Infinity"),
-    (lambda d: d["fixed"]["ik"]["targets"][0].update(start=["0"] * 3), "fixed.ik targets must hold finite numbers"),
-    (lambda d: d.update(format_version=True), "format_version must be an integer"),
-    (lambda d: d.update(frames=[f.replace("link2", "linkX") for f in d["frames"]],  # renamed, records and all
-                        records=[{**r, "frame": r["frame"].replace("link2", "linkX")} for r in d["records"]]),
-     "its frames differ from the model's (only in the baseline: linkX; only in the model: link2)"),
-])
+@pytest.mark.parametrize(
+    "edit, words",
+    [
+        (lambda d: d.update(records=[]), "records of fk.position at base are missing (0 of"),
+        (lambda d: d.update(records=[r for r in d["records"] if r["frame"] != "link2"]), "at link2 are missing"),
+        (lambda d: d.update(frames=[], records=[]), "frames must be a non-empty list of names"),
+        (lambda d: d.update(q=[[str(x) for x in row] for row in d["q"]]), "q must be a non-empty table of finite numbers"),
+        (lambda d: d.update(q=[]), "q must be a non-empty table"),
+        (lambda d: d["q"][1].__setitem__(0, float("nan")), "holds NaN, which is not a number this file may hold"),
+        (lambda d: d["records"][3].update(value="0.5"), "records[3].value is not a finite number"),
+        (lambda d: d["records"][3].update(value=[1e400]), "holds Infinity"),
+        (lambda d: d["fixed"]["ik"]["targets"][0].update(start=["0"] * 3), "fixed.ik targets must hold finite numbers"),
+        (lambda d: d.update(format_version=True), "format_version must be an integer"),
+        (
+            lambda d: d.update(
+                frames=[f.replace("link2", "linkX") for f in d["frames"]],  # renamed, records and all
+                records=[{**r, "frame": r["frame"].replace("link2", "linkX")} for r in d["records"]],
+            ),
+            "its frames differ from the model's (only in the baseline: linkX; only in the model: link2)",
+        ),
+    ],
+)
 def test_an_edited_baseline_is_refused_not_compared(capfd, work, edit, words):
     _baseline(work, edit)
     refused(capfd, ["baseline", "check", "m.toml", "--baseline", "edited.json"], work, "edited.json", words)

@@ -19,7 +19,7 @@ import pytest
 
 from tests.fuzz.conftest import FILES
 
-HOOK = '''
+HOOK = """
 import importlib.abc, os, signal, sys
 
 _AT = os.environ["KV_TEST_SIGNAL_AT"]
@@ -51,28 +51,36 @@ else:  # the moment module _AT starts importing
             return None
 
     sys.meta_path.insert(0, _Hook())
-'''
+"""
 
 
 def _run(work: Path, argv: list[str], at: str, signals: str) -> subprocess.CompletedProcess:
     hook = work / "hook"
     hook.mkdir(exist_ok=True)
     (hook / "sitecustomize.py").write_text(HOOK)
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(hook), os.environ.get("PYTHONPATH", "")]),
-           "KV_TEST_SIGNAL_AT": at, "KV_TEST_SIGNALS": signals}
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(hook), os.environ.get("PYTHONPATH", "")]),
+        "KV_TEST_SIGNAL_AT": at,
+        "KV_TEST_SIGNALS": signals,
+    }
     env.pop("KINVERIFY_DEBUG", None)
-    return subprocess.run([sys.executable, "-m", "kinverify", *argv], cwd=work, env=env, capture_output=True, text=True,
-                          timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "kinverify", *argv], cwd=work, env=env, capture_output=True, text=True, timeout=300
+    )
 
 
 OUTPUTS = ["--json", "out/r.json", "--report", "out/r.html"]
 
 
-@pytest.mark.parametrize("at, signals, code, line", [
-    ("trimesh.path", "SIGINT", 130, "kinverify: interrupted"),  # trimesh catches BaseException around this import
-    ("mujoco._structs", "SIGTERM", 143, "kinverify: terminated"),  # within `import mujoco`: was exit 3
-    ("pinocchio", "SIGTERM,SIGINT", 143, "kinverify: terminated"),  # a second signal at once: no traceback
-])
+@pytest.mark.parametrize(
+    "at, signals, code, line",
+    [
+        ("trimesh.path", "SIGINT", 130, "kinverify: interrupted"),  # trimesh catches BaseException around this import
+        ("mujoco._structs", "SIGTERM", 143, "kinverify: terminated"),  # within `import mujoco`: was exit 3
+        ("pinocchio", "SIGTERM,SIGINT", 143, "kinverify: terminated"),  # a second signal at once: no traceback
+    ],
+)
 def test_a_signal_during_a_library_import_is_never_lost(work, at, signals, code, line):
     proc = _run(work, ["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES, *OUTPUTS], at, signals)
     assert proc.returncode == code and proc.stderr == line + "\n", (proc.returncode, proc.stderr)
@@ -99,8 +107,13 @@ def test_sigterm_from_outside_at_any_moment_exits_143(work):
     """A real SIGTERM from another process, while the run is loading its libraries."""
     import time
 
-    proc = subprocess.Popen([sys.executable, "-m", "kinverify", "verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES,
-                             *OUTPUTS], cwd=work, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "kinverify", "verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES, *OUTPUTS],
+        cwd=work,
+        stderr=subprocess.PIPE,
+        stdout=subprocess.DEVNULL,
+        text=True,
+    )
     time.sleep(0.4)
     proc.send_signal(signal.SIGTERM)
     proc.send_signal(signal.SIGTERM)

@@ -44,7 +44,22 @@ def test_mangled_spec_through_verify(capfd, case):
     with tempfile.TemporaryDirectory() as tmp:
         spec = Path(tmp) / "spec.toml"
         spec.write_text(text)
-        argv = ["verify", str(spec), "--samples", "0", "--skip", "ik", "--skip", "tracking", "--skip", "pictures",
-                "--quiet", "--json", f"{tmp}/r.json", "--report", f"{tmp}/r.html"]
+        argv = [
+            "verify",
+            str(spec),
+            "--samples",
+            "0",
+            "--skip",
+            "ik",
+            "--skip",
+            "tracking",
+            "--skip",
+            "pictures",
+            "--quiet",
+            "--json",
+            f"{tmp}/r.json",
+            "--report",
+            f"{tmp}/r.html",
+        ]
         code, _ = run_checked(capfd, argv, [spec], Path(tmp))
         assert (code == 2) == (not Path(tmp, "r.json").exists())

@@ -48,8 +48,20 @@ def test_markup_and_control_characters_in_a_robot_name_and_an_output_path_are_pr
     text = (work / "u.urdf").read_text()
     (work / "n.urdf").write_text(text.replace('<robot name="arm3">', '<robot name="[/]:robot:[bold]">', 1))
     capfd.readouterr()
-    code = main(["verify", "--urdf", "n.urdf", "--mjcf", "r.xml", *FILES[:-1], "--json", "out[red]\x1b\t.json",
-                 "--report", "out/a[/]b.html"])
+    code = main(
+        [
+            "verify",
+            "--urdf",
+            "n.urdf",
+            "--mjcf",
+            "r.xml",
+            *FILES[:-1],
+            "--json",
+            "out[red]\x1b\t.json",
+            "--report",
+            "out/a[/]b.html",
+        ]
+    )
     out, err = capfd.readouterr()
     assert code == 0 and err == "", err
     assert "[/]:robot:[bold]-vs-arm3: 15 configurations" in out and "json: out[red]\\x1b\\t.json" in out
@@ -60,8 +72,12 @@ def test_markup_and_control_characters_in_a_robot_name_and_an_output_path_are_pr
 
 def test_math_text_in_a_frame_the_report_draws_is_drawn_as_text(capfd, work):
     _rename(work, "end_effector", "$\\undefinedsym$", "m")  # the last frame: always labelled in the skeleton
-    code, _ = run_checked(capfd, ["verify", "--urdf", "m.urdf", "--mjcf", "m.xml", "--samples", "0", "--quiet",
-                                  "--report", "out/r.html"], [work / "m.urdf", work / "m.xml"], work)
+    code, _ = run_checked(
+        capfd,
+        ["verify", "--urdf", "m.urdf", "--mjcf", "m.xml", "--samples", "0", "--quiet", "--report", "out/r.html"],
+        [work / "m.urdf", work / "m.xml"],
+        work,
+    )
     assert code == 0
     assert "pictures" in json.loads((work / "reports" / "arm3.json").read_text())["sections"]
 
@@ -77,7 +93,7 @@ def test_control_characters_in_a_path_are_shown_escaped_by_plain_prints_too(capf
 
 
 def test_a_joint_name_with_newlines_round_trips_through_the_accepted_file(capfd, work):
-    name = 'j2&#10;[[accepted]]&#10;kind = &quot;x&quot;&#10;# \\&#9;&#13;é[/]'
+    name = "j2&#10;[[accepted]]&#10;kind = &quot;x&quot;&#10;# \\&#9;&#13;é[/]"
     _rename(work, "joint2", name, "n")
     mjcf = (work / "n.xml").read_text()
     (work / "n.xml").write_text(mjcf.replace('1.5707963267948966" damping="0.1"', '1.5707963267948966" damping="0.5"', 1))
@@ -111,14 +127,17 @@ def test_an_output_path_that_is_not_utf8_is_written(capfd, work):
     assert "\\udcff" in (work / "out" / "r.html").read_text(encoding="utf-8")  # the command line, shown as it can be
 
 
-@pytest.mark.parametrize("argv", [
-    ["verify", "--urdf", "loop", "--mjcf", "r.xml", *FILES],
-    ["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES, "--json", "loop"],
-    ["verify", "m.toml", *FAST, "--report", "loop"],
-    ["report", "loop"],
-    ["ik", "m.toml", "--targets", "loop"],
-    ["baseline", "check", "m.toml", "--baseline", "loop"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["verify", "--urdf", "loop", "--mjcf", "r.xml", *FILES],
+        ["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", *FILES, "--json", "loop"],
+        ["verify", "m.toml", *FAST, "--report", "loop"],
+        ["report", "loop"],
+        ["ik", "m.toml", "--targets", "loop"],
+        ["baseline", "check", "m.toml", "--baseline", "loop"],
+    ],
+)
 def test_a_loop_of_symbolic_links_is_refused_in_one_line(capfd, work, argv):
     os.symlink("loop2", work / "loop")
     os.symlink("loop", work / "loop2")

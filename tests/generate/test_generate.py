@@ -108,6 +108,7 @@ def test_mjcf_keeps_full_float_precision():
     # body quaternions must round-trip: compare to the spec's rpy through MuJoCo's own conversion
     quat = np.empty(4)
     from kinverify.model.transforms import matrix_to_quat, rpy_to_matrix
+
     for joint in spec.joints:
         bid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, joint.link.name)
         quat[:] = matrix_to_quat(rpy_to_matrix(joint.origin.rpy))
@@ -134,10 +135,32 @@ def test_sdf_writes_subnormal_numbers_as_zero_and_every_other_number_exactly():
     from kinverify import spec_from_dict
     from kinverify.generate import generate_sdf
 
-    spec = spec_from_dict({"name": "tiny", "joints": [{"type": "revolute", "axis": [0, 0, 1], "xyz": [0.1, 0.25, 2.2250738585072014e-308],
-                                                       "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]})
+    spec = spec_from_dict(
+        {
+            "name": "tiny",
+            "joints": [
+                {
+                    "type": "revolute",
+                    "axis": [0, 0, 1],
+                    "xyz": [0.1, 0.25, 2.2250738585072014e-308],
+                    "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+                }
+            ],
+        }
+    )
     text = generate_sdf(spec)
     assert "0.1 0.25 2.2250738585072014e-308" in text  # the smallest normal number is written as it is
-    subnormal = spec_from_dict({"name": "tiny", "joints": [{"type": "revolute", "axis": [0, 0, 1], "xyz": [0.1, 0.25, 1e-310],
-                                                            "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]})
+    subnormal = spec_from_dict(
+        {
+            "name": "tiny",
+            "joints": [
+                {
+                    "type": "revolute",
+                    "axis": [0, 0, 1],
+                    "xyz": [0.1, 0.25, 1e-310],
+                    "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+                }
+            ],
+        }
+    )
     assert "0.1 0.25 0.0 " in generate_sdf(subnormal) and "e-310" not in generate_sdf(subnormal)

@@ -48,22 +48,32 @@ def test_what_the_converter_keeps_and_what_it_moves(model):
         np.testing.assert_allclose(mass.GetMassAttr().Get(), i.mass, rtol=FLOAT)
         np.testing.assert_allclose(np.array(mass.GetCenterOfMassAttr().Get()), i.com, atol=FLOAT)
         axes = rotation_of(mass.GetPrincipalAxesAttr().Get())
-        np.testing.assert_allclose(axes @ np.diag(np.array(mass.GetDiagonalInertiaAttr().Get())) @ axes.T, i.matrix,
-                                   atol=FLOAT * np.abs(i.matrix).max())
+        np.testing.assert_allclose(
+            axes @ np.diag(np.array(mass.GetDiagonalInertiaAttr().Get())) @ axes.T, i.matrix, atol=FLOAT * np.abs(i.matrix).max()
+        )
     if not spec.floating:
         assert UsdPhysics.MassAPI(prims["world_mount"]).GetMassAttr().Get() == 1.0
-    joints = {Path(p).name: d for kind in (UsdPhysics.ObjectType.RevoluteJoint, UsdPhysics.ObjectType.PrismaticJoint)
-              for p, d in parsed.get(kind, {}).items()}
+    joints = {
+        Path(p).name: d
+        for kind in (UsdPhysics.ObjectType.RevoluteJoint, UsdPhysics.ObjectType.PrismaticJoint)
+        for p, d in parsed.get(kind, {}).items()
+    }
     assert sorted(joints) == sorted(spec.joint_names)
-    actuators = {str(p.GetRelationship("mjc:target").GetTargets()[0]): p for p in stage.Traverse() if p.GetTypeName() == "MjcActuator"}
+    actuators = {
+        str(p.GetRelationship("mjc:target").GetTargets()[0]): p for p in stage.Traverse() if p.GetTypeName() == "MjcActuator"
+    }
     for joint in spec.joints:
         d, prim = joints[joint.name], prims[joint.name]
         per = math.degrees(1.0) if joint.type == "revolute" else 1.0
         np.testing.assert_allclose(rotation_of(d.localPose1Orientation) @ np.eye(3)[int(d.axis)], joint.axis, atol=FLOAT)
-        np.testing.assert_allclose([d.limit.lower, d.limit.upper], [joint.limits.lower * per, joint.limits.upper * per], rtol=FLOAT)
+        np.testing.assert_allclose(
+            [d.limit.lower, d.limit.upper], [joint.limits.lower * per, joint.limits.upper * per], rtol=FLOAT
+        )
         stated = {a: prim.GetAttribute(a).Get() or 0.0 for a in ("newton:damping", "newton:friction", "newton:armature")}
         np.testing.assert_allclose(list(stated.values()), [joint.damping / per, joint.friction, joint.armature], rtol=FLOAT)
         assert not d.drive.enabled and not prim.HasAttribute("newton:velocityLimit")  # no force limit, no speed limit
         motor = actuators[str(prim.GetPath())]
         assert (motor.GetAttribute("mjc:ctrlRange:min").Get(), motor.GetAttribute("mjc:ctrlRange:max").Get()) == (
-            -joint.limits.effort, joint.limits.effort)
+            -joint.limits.effort,
+            joint.limits.effort,
+        )

@@ -57,8 +57,11 @@ def joint_poses(parsed: dict) -> dict:
     L1⁻¹, from the world (a joint whose body0 is no rigid body) or from a body no joint moves (a
     floating base: its pose as parsed)."""
     bodies = parsed[UsdPhysics.ObjectType.RigidBody]
-    joints = [d for kind in ("FixedJoint", "RevoluteJoint", "PrismaticJoint")
-              for d in parsed.get(getattr(UsdPhysics.ObjectType, kind), {}).values()]
+    joints = [
+        d
+        for kind in ("FixedJoint", "RevoluteJoint", "PrismaticJoint")
+        for d in parsed.get(getattr(UsdPhysics.ObjectType, kind), {}).values()
+    ]
     moved = {str(j.body1) for j in joints}
     poses = {p: pose_of(b.position, b.rotation) for p, b in bodies.items() if p not in moved}
     while len(poses) < len(bodies):
@@ -68,7 +71,8 @@ def joint_poses(parsed: dict) -> dict:
             if str(j.body1) in poses or (parent and parent not in poses):
                 continue
             local = pose_of(j.localPose0Position, j.localPose0Orientation) @ np.linalg.inv(
-                pose_of(j.localPose1Position, j.localPose1Orientation))
+                pose_of(j.localPose1Position, j.localPose1Orientation)
+            )
             poses[str(j.body1)] = (poses[parent] if parent else np.eye(4)) @ local
             grown = True
         assert grown, f"bodies no joint reaches: {sorted(set(bodies) - set(poses))}"
@@ -100,22 +104,37 @@ def check_usd(spec) -> None:
         path = f"{links[parent]}/{joint.name}"
         d = joints[path]
         assert (type(d).__name__, str(d.body0), str(d.body1)) == (
-            "RevoluteJointDesc" if joint.type == "revolute" else "PrismaticJointDesc", links[parent], links[i + 1])
+            "RevoluteJointDesc" if joint.type == "revolute" else "PrismaticJointDesc",
+            links[parent],
+            links[i + 1],
+        )
         token = np.eye(3)[int(d.axis)]  # UsdPhysics.Axis X, Y, Z = 0, 1, 2
         np.testing.assert_allclose(rotation_of(d.localPose1Orientation) @ token, joint.axis, atol=FLOAT)
         per = math.degrees(1.0) if joint.type == "revolute" else 1.0
         lim = joint.limits
-        np.testing.assert_allclose([d.limit.lower, d.limit.upper], [lim.lower * per, lim.upper * per], rtol=FLOAT,
-                                   atol=1e-30)  # below float32 subnormals
+        np.testing.assert_allclose(
+            [d.limit.lower, d.limit.upper], [lim.lower * per, lim.upper * per], rtol=FLOAT, atol=1e-30
+        )  # below float32 subnormals
         assert d.limit.enabled and d.drive.enabled
         assert (d.drive.stiffness, d.drive.damping) == (0.0, 0.0)
         np.testing.assert_allclose(d.drive.forceLimit, lim.effort, rtol=FLOAT)
         prim = stage.GetPrimAtPath(path)
-        stated = {name: prim.GetAttribute(name).Get() for name in (
-            "physxJoint:armature", "physxJoint:maxJointVelocity", "newton:armature", "newton:damping", "newton:friction",
-            "newton:velocityLimit")}
-        np.testing.assert_allclose(list(stated.values()), [joint.armature, lim.velocity * per, joint.armature,
-                                                           joint.damping / per, joint.friction, lim.velocity * per], rtol=FLOAT)
+        stated = {
+            name: prim.GetAttribute(name).Get()
+            for name in (
+                "physxJoint:armature",
+                "physxJoint:maxJointVelocity",
+                "newton:armature",
+                "newton:damping",
+                "newton:friction",
+                "newton:velocityLimit",
+            )
+        }
+        np.testing.assert_allclose(
+            list(stated.values()),
+            [joint.armature, lim.velocity * per, joint.armature, joint.damping / per, joint.friction, lim.velocity * per],
+            rtol=FLOAT,
+        )
     for link, path in zip([spec.base_link] + [j.link for j in spec.joints], links, strict=True):
         mass = UsdPhysics.MassAPI(stage.GetPrimAtPath(path))
         i = link.inertial
@@ -151,10 +170,29 @@ def test_random_specs_read_back_with_usd_core(spec):
 
 
 def test_names_usd_cannot_take_become_identifiers_and_keep_theirs():
-    spec = spec_from_dict({"name": "two.arms", "base": {"link": {"name": "base-link"}}, "joints": [
-        {"name": "j.1", "type": "revolute", "axis": [0, -1, 0], "xyz": [0, 0, 0.1], "limits": {"lower": -1, "upper": 1, "unit": "rad"}},
-        {"name": "j_1", "type": "prismatic", "axis": [0.6, 0.8, 0], "xyz": [0, 0, 0.1], "limits": {"lower": 0, "upper": 0.2}}],
-        "tools": [{"name": "tip-0", "xyz": [0.1, 0, 0]}]})
+    spec = spec_from_dict(
+        {
+            "name": "two.arms",
+            "base": {"link": {"name": "base-link"}},
+            "joints": [
+                {
+                    "name": "j.1",
+                    "type": "revolute",
+                    "axis": [0, -1, 0],
+                    "xyz": [0, 0, 0.1],
+                    "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+                },
+                {
+                    "name": "j_1",
+                    "type": "prismatic",
+                    "axis": [0.6, 0.8, 0],
+                    "xyz": [0, 0, 0.1],
+                    "limits": {"lower": 0, "upper": 0.2},
+                },
+            ],
+            "tools": [{"name": "tip-0", "xyz": [0.1, 0, 0]}],
+        }
+    )
     stage = stage_of(generate_usd(spec))
     shown = {prim.GetName(): (prim.GetTypeName(), prim.GetDisplayName()) for prim in stage.Traverse()}
     assert shown["two_arms"] == ("Xform", "two.arms") and shown["base_link"] == ("Xform", "base-link")

@@ -46,8 +46,9 @@ def test_ik_section_has_success_and_time_figures(ik_result):
         assert "<script" not in svg and not re.search(r'href="(?!#)', svg)  # nothing to fetch or run
     # the data behind the plots: one record per row of the solver table, same counts
     table = section.tables[0]
-    assert [[r[0], r[1], r[2], r[3]] for r in table.rows] == \
-        [[d["solver"], d["backend"], d["targets"], d["solved"]] for d in section.data["solvers"]]
+    assert [[r[0], r[1], r[2], r[3]] for r in table.rows] == [
+        [d["solver"], d["backend"], d["targets"], d["solved"]] for d in section.data["solvers"]
+    ]
     for d, row in zip(section.data["solvers"], table.rows, strict=True):
         assert len(d["time_ms"]) == d["targets"] == 12
         assert np.median(d["time_ms"]) == pytest.approx(row[6], rel=1e-3)  # 4 significant digits kept
@@ -68,11 +69,22 @@ def test_report_rerendered_from_json_shows_the_same_ik_figures(ik_result, tmp_pa
 
 records = st.builds(
     lambda solver, backend, n, solved, own, batched, times: {
-        "solver": solver, "backend": backend, "targets": n, "solved": min(solved, n), "solved_own": min(own, n),
-        "batched": batched, "time_ms": (times * n)[:n] if not batched else [times[0]] * n},
-    st.sampled_from(["lm", "seed-pinv"]), st.sampled_from(["analytic", "mujoco", "<b>x</b>"]), st.integers(0, 20),
-    st.integers(0, 20), st.integers(0, 20), st.booleans(),
-    st.lists(st.one_of(st.just(0.0), st.floats(1e-4, 1e4)), min_size=1, max_size=20))
+        "solver": solver,
+        "backend": backend,
+        "targets": n,
+        "solved": min(solved, n),
+        "solved_own": min(own, n),
+        "batched": batched,
+        "time_ms": (times * n)[:n] if not batched else [times[0]] * n,
+    },
+    st.sampled_from(["lm", "seed-pinv"]),
+    st.sampled_from(["analytic", "mujoco", "<b>x</b>"]),
+    st.integers(0, 20),
+    st.integers(0, 20),
+    st.integers(0, 20),
+    st.booleans(),
+    st.lists(st.one_of(st.just(0.0), st.floats(1e-4, 1e4)), min_size=1, max_size=20),
+)
 
 
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -14,8 +14,16 @@ from kinverify import load_spec, spec_from_dict
 from kinverify.testing import strategies as kst
 from kinverify.backends import FunctionBackend, ModelSources, build_backend
 from kinverify.cli import main
-from kinverify.ik import (Arm3ClosedForm, FrameModel, IKOptions, reach_bound, residuals, solve_lm, solve_seed_pinv,
-                          unreachable_targets)
+from kinverify.ik import (
+    Arm3ClosedForm,
+    FrameModel,
+    IKOptions,
+    reach_bound,
+    residuals,
+    solve_lm,
+    solve_seed_pinv,
+    unreachable_targets,
+)
 from kinverify.model.kinematics import frame_poses
 from kinverify.model.transforms import make_transform
 from kinverify.run import VerifyOptions, verify_spec
@@ -56,7 +64,9 @@ def test_fk_ik_fk_returns_the_target_inside_the_limits(spec, data):
     model, sources = _model(spec)
     position_only = spec.dof < 6
     targets = model.poses(q_true)
-    sol = solve_lm(model, targets, spec.lower, spec.upper, position_only, IKOptions(seed=1, max_restarts=300, time_budget=math.inf))
+    sol = solve_lm(
+        model, targets, spec.lower, spec.upper, position_only, IKOptions(seed=1, max_restarts=300, time_budget=math.inf)
+    )
     assert sol.solved(TOL, TOL).all(), (sol.pos_error, sol.rot_error, q_true)
     assert ((sol.q >= spec.lower) & (sol.q <= spec.upper)).all()
     pin = build_backend("pinocchio-urdf", sources)
@@ -65,22 +75,35 @@ def test_fk_ik_fk_returns_the_target_inside_the_limits(spec, data):
 
 
 def _revolute(name, rpy, axis, lower, upper):
-    return {"name": name, "type": "revolute", "xyz": [0.0, 0.0, 0.0], "rpy": rpy, "axis": axis,
-            "limits": {"lower": lower, "upper": upper, "unit": "rad"}, "link": {"name": "l" + name[1:], "mass": 1.0}}
+    return {
+        "name": name,
+        "type": "revolute",
+        "xyz": [0.0, 0.0, 0.0],
+        "rpy": rpy,
+        "axis": axis,
+        "limits": {"lower": lower, "upper": upper, "unit": "rad"},
+        "link": {"name": "l" + name[1:], "mass": 1.0},
+    }
 
 
 # found by hypothesis: seven axes through one point (only the orientation moves), narrow limits,
 # the target at a corner of the limits (every joint on one); the solver clipped its steps far from
 # the target and stopped against the limits short of a stationary point, 300 restarts long
-AXES_AT_ONE_POINT = spec_from_dict({"name": "random_arm", "joints": [
-    _revolute("j1", [0.0, 0.0, 0.0], [0, 0, 1], 0.0, 2.0),
-    _revolute("j2", [0.0, 0.0, 0.0], [-1.0, -0.5, 0.0], 0.0, 1.0),
-    _revolute("j3", [-2.25, math.pi / 2, math.pi], [0.0, 1.0, -0.5], 0.0, 1.0),
-    _revolute("j4", [0.0, -math.pi / 2, 0.0], [0, 0, -1], -2.0, 1.0),
-    _revolute("j5", [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0.0, 2.0),
-    _revolute("j6", [0.0, -math.pi / 2, 0.0], [0.0, 0.25, 1.0], 0.0, 0.0625),
-    _revolute("j7", [0.0, 0.0, math.pi / 2], [0, 1, 0], 0.0, 2.0)],
-    "tools": [{"name": "tool", "parent": "l7", "xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}]})
+AXES_AT_ONE_POINT = spec_from_dict(
+    {
+        "name": "random_arm",
+        "joints": [
+            _revolute("j1", [0.0, 0.0, 0.0], [0, 0, 1], 0.0, 2.0),
+            _revolute("j2", [0.0, 0.0, 0.0], [-1.0, -0.5, 0.0], 0.0, 1.0),
+            _revolute("j3", [-2.25, math.pi / 2, math.pi], [0.0, 1.0, -0.5], 0.0, 1.0),
+            _revolute("j4", [0.0, -math.pi / 2, 0.0], [0, 0, -1], -2.0, 1.0),
+            _revolute("j5", [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0.0, 2.0),
+            _revolute("j6", [0.0, -math.pi / 2, 0.0], [0.0, 0.25, 1.0], 0.0, 0.0625),
+            _revolute("j7", [0.0, 0.0, math.pi / 2], [0, 1, 0], 0.0, 2.0),
+        ],
+        "tools": [{"name": "tool", "parent": "l7", "xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}],
+    }
+)
 
 
 @settings(max_examples=10, deadline=None)
@@ -99,8 +122,8 @@ def test_pinocchio_solver_full_pose_on_random_specs(spec_q):
 
 @settings(max_examples=60, deadline=None)
 @given(kst.configurations(ARM3))
-@example(np.array([-math.pi, -math.pi / 2, -2.0 ** -23]))  # shoulder on its limit, elbow nearly straight
-@example(np.array([math.pi, math.pi / 2, 2.0 ** -26]))
+@example(np.array([-math.pi, -math.pi / 2, -(2.0**-23)]))  # shoulder on its limit, elbow nearly straight
+@example(np.array([math.pi, math.pi / 2, 2.0**-26]))
 @example(np.array([0.0, -math.pi / 2, math.radians(135)]))  # both pitch joints on limits
 def test_arm3_closed_form_branches_reproduce_the_target(q):
     closed = Arm3ClosedForm.from_spec(ARM3)
@@ -117,14 +140,18 @@ def test_arm3_closed_form_branches_reproduce_the_target(q):
 
 
 @settings(max_examples=80, deadline=None)
-@given(st.sampled_from([-math.pi, math.pi, 0.7]), st.sampled_from([-math.pi / 2, math.pi / 2, -0.4]),
-       st.sampled_from([-1.0, 1.0]), st.floats(10, 60))
+@given(
+    st.sampled_from([-math.pi, math.pi, 0.7]),
+    st.sampled_from([-math.pi / 2, math.pi / 2, -0.4]),
+    st.sampled_from([-1.0, 1.0]),
+    st.floats(10, 60),
+)
 def test_arm3_closed_form_near_the_straight_elbow_on_the_limits(q1, q2, sign, k):
     """A nearly straight elbow on a joint limit: the target is reachable, every branch returned
     reaches it to 1e-12 m, and the generating configuration is a branch within the precision the
     target's floats determine the pitch angles to (the singularity's conditioning)."""
     closed = Arm3ClosedForm.from_spec(ARM3)
-    q = np.array([q1, q2, sign * 2.0 ** -k])
+    q = np.array([q1, q2, sign * 2.0**-k])
     target = frame_poses(ARM3, q)[0, -1, :3, 3]
     res = closed.solve(target)
     assert res.reachable
@@ -166,10 +193,14 @@ def test_arm3_closed_form_unreachable_outside_the_workspace(yaw, elevation, dist
 
 
 def test_verify_ik_suite_passes_and_detects_a_wrong_model():
-    shifted = FunctionBackend("shifted", lambda q: frame_poses(ARM3, q)[:, -1, :3, 3] + [1e-4, 0, 0],
-                              ARM3.joint_names, ["end_effector"])
-    result = verify_spec(ARM3, VerifyOptions(samples=0, suites=["ik"], extra={"ik_targets": 8},
-                                             backends=["analytic", "pinocchio-urdf", "mujoco"]), extra_backends=[shifted])
+    shifted = FunctionBackend(
+        "shifted", lambda q: frame_poses(ARM3, q)[:, -1, :3, 3] + [1e-4, 0, 0], ARM3.joint_names, ["end_effector"]
+    )
+    result = verify_spec(
+        ARM3,
+        VerifyOptions(samples=0, suites=["ik"], extra={"ik_targets": 8}, backends=["analytic", "pinocchio-urdf", "mujoco"]),
+        extra_backends=[shifted],
+    )
     props = {c.property for c in result.checks}
     assert props == {"ik.failure_rate", "ik.cross_fk", "ik.limits", "ik.closed_form", "ik.unreachable"}
     bad = [c for c in result.checks if not c.passed]
@@ -190,9 +221,16 @@ def test_ik_command_reports_unreachable(capsys):
     assert "unreachable" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("argv", [["--target", "0.2", "0.1"], ["--target", "0.2", "0.1", "nan"],
-                                  ["--target", "0.2", "0.1", "0.8", "--backend", "nope"],
-                                  ["--target", "0.2", "0.1", "0.8", "--rpy", "0", "1"], ["--target", "a", "0", "0"]])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--target", "0.2", "0.1"],
+        ["--target", "0.2", "0.1", "nan"],
+        ["--target", "0.2", "0.1", "0.8", "--backend", "nope"],
+        ["--target", "0.2", "0.1", "0.8", "--rpy", "0", "1"],
+        ["--target", "a", "0", "0"],
+    ],
+)
 def test_ik_command_bad_input_is_one_line_exit_2(argv, capsys):
     assert main(["ik", "models/arm3.toml", *argv]) == 2
     err = capsys.readouterr().err
@@ -214,11 +252,31 @@ def test_the_reach_bound_counts_a_prismatic_joints_travel_both_ways():
     """A slide along y going 0.5 m back and 0.1 m forth, 0.3 m out from a base yaw: at its lower
     limit the carriage is √(0.3² + 0.5²) ≈ 0.58 m from the yaw's origin, beyond 0.3 + 0.1 (the
     upper limit taken for the travel); the bound is 0.3 + 0.5."""
-    spec = spec_from_dict({"name": "slider", "base": {"link": {"name": "base"}}, "joints": [
-        {"name": "yaw", "type": "revolute", "xyz": [0.0, 0.0, 0.1], "axis": [0.0, 0.0, 1.0],
-         "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"}, "link": {"name": "arm", "mass": 1.0}},
-        {"name": "slide", "type": "prismatic", "parent": "arm", "xyz": [0.3, 0.0, 0.0], "axis": [0.0, 1.0, 0.0],
-         "limits": {"lower": -0.5, "upper": 0.1, "unit": "m"}, "link": {"name": "carriage", "mass": 0.5}}]})
+    spec = spec_from_dict(
+        {
+            "name": "slider",
+            "base": {"link": {"name": "base"}},
+            "joints": [
+                {
+                    "name": "yaw",
+                    "type": "revolute",
+                    "xyz": [0.0, 0.0, 0.1],
+                    "axis": [0.0, 0.0, 1.0],
+                    "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"},
+                    "link": {"name": "arm", "mass": 1.0},
+                },
+                {
+                    "name": "slide",
+                    "type": "prismatic",
+                    "parent": "arm",
+                    "xyz": [0.3, 0.0, 0.0],
+                    "axis": [0.0, 1.0, 0.0],
+                    "limits": {"lower": -0.5, "upper": 0.1, "unit": "m"},
+                    "link": {"name": "carriage", "mass": 0.5},
+                },
+            ],
+        }
+    )
     centre, radius = reach_bound(spec, "carriage")
     assert np.allclose(centre, [0.0, 0.0, 0.1]) and radius == pytest.approx(0.8, abs=1e-12)
     at_lower = frame_poses(spec, np.array([[0.0, -0.5]]))[0, spec.frame_names.index("carriage"), :3, 3]

@@ -49,7 +49,9 @@ def test_batch_on_a_urdf_writes_the_summary_and_every_target(files, per_target, 
     assert np.abs(reached[:, :3, 3] - targets[:, :3, 3]).max() <= 1e-6
     times = np.array([r["time_ms"] for r in data["results"]])
     assert data["median_ms"] == pytest.approx(np.median(times)) and data["p99_ms"] == pytest.approx(np.percentile(times, 99))
-    assert all(r["iterations"] >= 1 and r["position_error_m"] <= 1e-6 and r["rotation_error_rad"] <= 1e-6 for r in data["results"])
+    assert all(
+        r["iterations"] >= 1 and r["position_error_m"] <= 1e-6 and r["rotation_error_rad"] <= 1e-6 for r in data["results"]
+    )
     printed = capsys.readouterr().out
     assert "success_rate 100.00 %" in printed and f"median_ms {data['median_ms']:.4g}" in printed
     assert f"p99_ms {data['p99_ms']:.4g}" in printed
@@ -59,7 +61,9 @@ def test_initial_guesses_are_where_the_solver_starts(files, tmp_path):
     d, _, _, q_true = files
     np.save(tmp_path / "initial.npy", q_true)  # already the answers: one evaluation each, nothing moves
     out = tmp_path / "out.json"
-    assert main(_args(d, "--targets", str(d / "targets.npy"), "--initial", str(tmp_path / "initial.npy"), "--json", str(out))) == 0
+    assert (
+        main(_args(d, "--targets", str(d / "targets.npy"), "--initial", str(tmp_path / "initial.npy"), "--json", str(out))) == 0
+    )
     results = json.loads(out.read_text())["results"]
     assert all(r["iterations"] == 1 and r["restarts"] == 0 for r in results)
     np.testing.assert_allclose([r["q"] for r in results], q_true, atol=1e-12)
@@ -95,19 +99,22 @@ def _bad_files(d):
     (d / "text.npy").write_text("not numpy")
 
 
-@pytest.mark.parametrize("extra, message", [
-    (["--targets", "{d}/bad_shape.npy"], "has shape (40, 3, 4)"),
-    (["--targets", "{d}/bad_nan.npy"], "target 3 has a non-finite value"),
-    (["--targets", "{d}/bad_skew.npy"], "target 2's rotation block is not a rotation"),
-    (["--targets", "{d}/bad_row.npy"], "target 0's last row"),
-    (["--targets", "{d}/targets.npy", "--initial", "{d}/bad_initial.npy"], "--initial"),
-    (["--targets", "{d}/text.npy"], "is not an .npy file"),
-    (["--targets", "{d}/missing.npy"], "is not a file"),
-    (["--targets", "{d}/targets.npy", "--tip", "flange_mount"], "has no link 'flange_mount' (a joint has that name)"),
-    (["--targets", "{d}/targets.npy", "--base", "nowhere"], "--base"),
-    (["--target", "0.3", "0.1"], "--target needs 3 values"),
-    (["--targets", "{d}/targets.npy", "--tol-pos", "nan"], "--tol-pos"),
-])
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--targets", "{d}/bad_shape.npy"], "has shape (40, 3, 4)"),
+        (["--targets", "{d}/bad_nan.npy"], "target 3 has a non-finite value"),
+        (["--targets", "{d}/bad_skew.npy"], "target 2's rotation block is not a rotation"),
+        (["--targets", "{d}/bad_row.npy"], "target 0's last row"),
+        (["--targets", "{d}/targets.npy", "--initial", "{d}/bad_initial.npy"], "--initial"),
+        (["--targets", "{d}/text.npy"], "is not an .npy file"),
+        (["--targets", "{d}/missing.npy"], "is not a file"),
+        (["--targets", "{d}/targets.npy", "--tip", "flange_mount"], "has no link 'flange_mount' (a joint has that name)"),
+        (["--targets", "{d}/targets.npy", "--base", "nowhere"], "--base"),
+        (["--target", "0.3", "0.1"], "--target needs 3 values"),
+        (["--targets", "{d}/targets.npy", "--tol-pos", "nan"], "--tol-pos"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_2_and_no_json(files, extra, message, capsys):
     d = files[0]
     _bad_files(d)
@@ -120,7 +127,10 @@ def test_bad_input_is_one_line_and_exit_2_and_no_json(files, extra, message, cap
 
 def test_a_spec_and_a_urdf_together_or_neither_is_refused(files, capsys):
     d = files[0]
-    assert main(["ik", str(MODELS / "panda.toml"), "--urdf", str(d / "panda.urdf"), "--tip", "flange", "--target", "0", "0", "1"]) == 2
+    assert (
+        main(["ik", str(MODELS / "panda.toml"), "--urdf", str(d / "panda.urdf"), "--tip", "flange", "--target", "0", "0", "1"])
+        == 2
+    )
     assert main(["ik", "--target", "0", "0", "1"]) == 2
     assert main(["ik", "--urdf", str(d / "panda.urdf"), "--target", "0", "0", "1"]) == 2  # no --tip
     assert capsys.readouterr().err.count("kinverify: error:") == 3
@@ -137,11 +147,13 @@ def test_help_and_ik_on_a_urdf_load_no_heavy_library(files, tmp_path):
 
     d = files[0]
     heavy = ("mujoco", "pinocchio", "yourdfpy", "trimesh", "matplotlib")
-    code = ("import sys, contextlib, io; from kinverify.cli import main\n"
-            "with contextlib.redirect_stdout(io.StringIO()):\n"
-            "    try: rc = main(sys.argv[1:])\n"
-            "    except SystemExit as e: rc = e.code\n"
-            f"print(rc, [m for m in {heavy!r} if m in sys.modules])")
+    code = (
+        "import sys, contextlib, io; from kinverify.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        "    try: rc = main(sys.argv[1:])\n"
+        "    except SystemExit as e: rc = e.code\n"
+        f"print(rc, [m for m in {heavy!r} if m in sys.modules])"
+    )
     env = {**os.environ, "MUJOCO_GL": "egl", "PYTHONPATH": str(ROOT)}
     for argv in (["--help"], _args(d, "--targets", str(d / "targets.npy"), "--json", str(tmp_path / "o.json"))):
         out = subprocess.run([sys.executable, "-c", code, *argv], env=env, capture_output=True, text=True, timeout=120)

@@ -86,9 +86,21 @@ def test_urdf_chain_looks_up_links_not_joints_and_refuses_what_it_cannot_solve()
 
 
 def _one_joint(lower: float, upper: float) -> FrameModel:
-    spec = spec_from_dict({"name": "wheel", "joints": [{"name": "j", "type": "revolute", "axis": [0, 0, 1],
-                           "limits": {"lower": lower, "upper": upper, "unit": "rad"}, "link": {"name": "l"}}],
-                           "tools": [{"name": "tip", "parent": "l", "xyz": [0.5, 0, 0]}]})
+    spec = spec_from_dict(
+        {
+            "name": "wheel",
+            "joints": [
+                {
+                    "name": "j",
+                    "type": "revolute",
+                    "axis": [0, 0, 1],
+                    "limits": {"lower": lower, "upper": upper, "unit": "rad"},
+                    "link": {"name": "l"},
+                }
+            ],
+            "tools": [{"name": "tip", "parent": "l", "xyz": [0.5, 0, 0]}],
+        }
+    )
     sources = ModelSources.from_spec(spec)
     return FrameModel(build_backend("analytic", sources), "tip", sources.revolute), spec
 
@@ -100,8 +112,9 @@ def test_a_revolute_joint_spanning_a_whole_turn_wraps_across_its_limit(batch):
     instead would stall against the limit and need a restart."""
     model, spec = _one_joint(-math.pi, math.pi)
     target = model.poses(np.array([[-math.pi + 0.2]]))
-    sol = solve_lm(model, target, spec.lower, spec.upper, True, IKOptions(max_restarts=0), q0=np.array([[math.pi - 0.2]]),
-                   batch=batch)
+    sol = solve_lm(
+        model, target, spec.lower, spec.upper, True, IKOptions(max_restarts=0), q0=np.array([[math.pi - 0.2]]), batch=batch
+    )
     assert sol.success[0] and sol.restarts[0] == 0 and sol.iterations[0] <= 6
     assert sol.q[0, 0] == pytest.approx(-math.pi + 0.2, abs=1e-9)
 
@@ -155,12 +168,31 @@ def test_batched_and_per_target_solvers_take_the_same_steps():
     assert batch.success.mean() > 0.8
 
 
-PANDA_LIKE = {"name": "six", "joints": [
-    {"name": f"j{i}", "type": "revolute", "xyz": xyz, "rpy": rpy, "axis": [0, 0, 1], "limits": {"lower": -2.9, "upper": 2.9, "unit": "rad"},
-     "link": {"name": f"l{i}"}} for i, (xyz, rpy) in enumerate([([0, 0, 0.33], [0, 0, 0]), ([0, 0, 0], [-1.5708, 0, 0]),
-                                                                ([0, -0.32, 0], [1.5708, 0, 0]), ([0.08, 0, 0], [1.5708, 0, 0]),
-                                                                ([-0.08, 0.38, 0], [-1.5708, 0, 0]), ([0, 0, 0], [1.5708, 0, 0])])],
-    "tools": [{"name": "tool", "parent": "l5", "xyz": [0.09, 0, 0.1]}]}
+PANDA_LIKE = {
+    "name": "six",
+    "joints": [
+        {
+            "name": f"j{i}",
+            "type": "revolute",
+            "xyz": xyz,
+            "rpy": rpy,
+            "axis": [0, 0, 1],
+            "limits": {"lower": -2.9, "upper": 2.9, "unit": "rad"},
+            "link": {"name": f"l{i}"},
+        }
+        for i, (xyz, rpy) in enumerate(
+            [
+                ([0, 0, 0.33], [0, 0, 0]),
+                ([0, 0, 0], [-1.5708, 0, 0]),
+                ([0, -0.32, 0], [1.5708, 0, 0]),
+                ([0.08, 0, 0], [1.5708, 0, 0]),
+                ([-0.08, 0.38, 0], [-1.5708, 0, 0]),
+                ([0, 0, 0], [1.5708, 0, 0]),
+            ]
+        )
+    ],
+    "tools": [{"name": "tool", "parent": "l5", "xyz": [0.09, 0, 0.1]}],
+}
 
 
 @settings(max_examples=15, deadline=None)
@@ -173,7 +205,7 @@ def test_fk_ik_fk_through_a_chain_read_from_the_generated_urdf(spec, seed, data)
     frame = spec.frame_names[-1]
     chain = SerialChain.from_urdf(urdf, "world", frame)
     model = FrameModel.from_chain(chain, frame=frame)
-    q = q_true[:, :chain.dof]
+    q = q_true[:, : chain.dof]
     targets = model.poses(q)
     position_only = chain.dof < 6
     lo, hi = chain.lower, chain.upper
@@ -207,7 +239,8 @@ def test_a_seeded_start_takes_the_nearer_of_the_guess_and_the_best_stored_seed(b
 
     def energy(q):
         pos, rot = residuals(model.poses(q), targets, False)
-        return pos ** 2 + rot ** 2
+        return pos**2 + rot**2
+
     nearer = energy(best) < energy(far)
     assert nearer.mean() > 0.5
     np.testing.assert_array_equal(sol.seed_q[nearer], best[nearer])

@@ -36,8 +36,9 @@ def test_fk_ik_fk_on_any_frame_of_a_random_tree(spec, data):
     model = FrameModel(build_backend("analytic", sources), frame, sources.revolute)
     position_only = spec.dof < 6
     targets = model.poses(q_true)
-    sol = solve_lm(model, targets, spec.lower, spec.upper, position_only,
-                   IKOptions(seed=1, max_restarts=300, time_budget=math.inf))
+    sol = solve_lm(
+        model, targets, spec.lower, spec.upper, position_only, IKOptions(seed=1, max_restarts=300, time_budget=math.inf)
+    )
     assert sol.solved(TOL, TOL).all(), (frame, sol.pos_error, sol.rot_error, q_true)
     assert ((sol.q >= spec.lower) & (sol.q <= spec.upper)).all()
     off_branch = ~_path(spec, frame)
@@ -55,7 +56,7 @@ def _path(spec, frame: str) -> np.ndarray:
 
 def _on_a_branch(spec, frame: str) -> bool:
     on = np.flatnonzero(_path(spec, frame))
-    return bool(len(on)) and not _path(spec, frame)[:on[-1]].all()
+    return bool(len(on)) and not _path(spec, frame)[: on[-1]].all()
 
 
 def test_every_backend_solves_the_gripper_fingertip_and_no_warning_stands():

@@ -32,10 +32,13 @@ def message(call, *args, **kwargs) -> str:
 def test_check_depth_counts_dicts_and_lists_up_to_the_limit():
     value = nested(3)  # {"k": [{"k": 1}]}
     assert check_depth(value, "f.json", limit=3) is value
-    assert message(check_depth, value, "f.json", limit=2) == \
-        "f.json nests values more than 2 levels deep (see docs/robustness.md)"
-    assert message(check_depth, [[], [[[]]]], "f.json", "--spec", limit=3) == \
-        "--spec: f.json nests values more than 3 levels deep (see docs/robustness.md)"
+    assert (
+        message(check_depth, value, "f.json", limit=2) == "f.json nests values more than 2 levels deep (see docs/robustness.md)"
+    )
+    assert (
+        message(check_depth, [[], [[[]]]], "f.json", "--spec", limit=3)
+        == "--spec: f.json nests values more than 3 levels deep (see docs/robustness.md)"
+    )
     assert check_depth(nested(MAX_JSON_DEPTH), "f.json") == nested(MAX_JSON_DEPTH)
     assert "more than 64 levels" in message(check_depth, nested(MAX_JSON_DEPTH + 1), "f.json")
 
@@ -49,10 +52,11 @@ def test_json_loads_bounded_and_nan_where_allowed():
     assert message(json_loads, json.dumps(nested(MAX_JSON_DEPTH + 1)), "f.json") == f"f.json nests values {deep}"
     assert message(json_loads, "[" * 100_000 + "]" * 100_000, "f.json", "L") == f"L: f.json nests values {deep}"
     assert message(json_loads, json.dumps(nested(MAX_JSON_DEPTH + 1)), "f.json", "L") == f"L: f.json nests values {deep}"
-    assert message(json_loads, "[NaN]", "f.json", allow_nan=False) == \
-        "f.json holds NaN, which is not a number this file may hold"
-    assert message(json_loads, '{"a": -Infinity}', "f.json", "L", allow_nan=False) == \
-        "L: f.json holds -Infinity, which is not a number this file may hold"
+    assert message(json_loads, "[NaN]", "f.json", allow_nan=False) == "f.json holds NaN, which is not a number this file may hold"
+    assert (
+        message(json_loads, '{"a": -Infinity}', "f.json", "L", allow_nan=False)
+        == "L: f.json holds -Infinity, which is not a number this file may hold"
+    )
     assert json_loads("[1.5]", "f.json", allow_nan=False) == [1.5]
     with pytest.raises(json.JSONDecodeError):  # the caller knows what the file was meant to be
         json_loads("[1,", "f.json")
@@ -79,14 +83,19 @@ def test_npy_load_arrays_only():
     not_npy = "q.npy is not an .npy file (an array written by numpy.save)"
     assert message(npy_load, b"", "q.npy") == not_npy
     assert message(npy_load, b"1 2 3", "q.npy") == not_npy
-    assert message(npy_load, saved(np.array([{}], dtype=object), allow_pickle=True), "q.npy", "--initial") == \
-        f"--initial: {not_npy}"  # a pickle is never loaded
+    assert (
+        message(npy_load, saved(np.array([{}], dtype=object), allow_pickle=True), "q.npy", "--initial") == f"--initial: {not_npy}"
+    )  # a pickle is never loaded
     npz = io.BytesIO()
     np.savez(npz, a=np.zeros(2))
-    assert message(npy_load, npz.getvalue(), "q.npy") == \
-        "q.npy must hold a real-valued array (an .npz archive or object array is not one)"
-    assert message(npy_load, npz.getvalue(), "q.npy", "--targets") == \
-        "--targets: q.npy must hold a real-valued array (an .npz archive or object array is not one)"
+    assert (
+        message(npy_load, npz.getvalue(), "q.npy")
+        == "q.npy must hold a real-valued array (an .npz archive or object array is not one)"
+    )
+    assert (
+        message(npy_load, npz.getvalue(), "q.npy", "--targets")
+        == "--targets: q.npy must hold a real-valued array (an .npz archive or object array is not one)"
+    )
 
 
 def xml_nested(depth: int) -> bytes:
@@ -97,24 +106,35 @@ def test_xml_parse_root_and_depth():
     root = xml_parse(b'<!DOCTYPE robot><robot name="r"><link/></robot>', "r.urdf")  # a DTD without entities
     assert (root.tag, root.get("name"), [c.tag for c in root]) == ("robot", "r", ["link"])
     assert xml_parse(xml_nested(3), "r.urdf", limit=3).tag == "a"
-    assert message(xml_parse, xml_nested(4), "r.urdf", limit=3) == \
-        "r.urdf nests elements more than 3 levels deep (see docs/robustness.md)"
-    assert message(xml_parse, b"<r>" + xml_nested(3) + b"<b/></r>", "r.urdf", "--urdf", limit=3) == \
-        "--urdf: r.urdf nests elements more than 3 levels deep (see docs/robustness.md)"
+    assert (
+        message(xml_parse, xml_nested(4), "r.urdf", limit=3)
+        == "r.urdf nests elements more than 3 levels deep (see docs/robustness.md)"
+    )
+    assert (
+        message(xml_parse, b"<r>" + xml_nested(3) + b"<b/></r>", "r.urdf", "--urdf", limit=3)
+        == "--urdf: r.urdf nests elements more than 3 levels deep (see docs/robustness.md)"
+    )
     assert xml_parse(b"<r>" + xml_nested(2) * 3 + b"</r>", "r.urdf", limit=3).tag == "r"  # siblings: depth goes back down
     assert "more than 4 levels" in message(xml_parse, b"<r><a><x/><y><z><w/></z></y></a></r>", "r.urdf", limit=4)
     assert xml_parse(xml_nested(MAX_XML_DEPTH), "r.urdf").tag == "a"
     assert "more than 300 levels" in message(xml_parse, xml_nested(MAX_XML_DEPTH + 1), "r.urdf")
 
 
-@pytest.mark.parametrize("data, reason", [
-    (b'<!DOCTYPE r [<!ENTITY e "x">]><r>&e;</r>', "declares XML entities (external entities and entity expansion "
-     "are refused for safety; remove the DTD)"),
-    (b'<!DOCTYPE r [<!ENTITY e SYSTEM "file:///etc/passwd">]><r>&e;</r>', "declares XML entities (external "
-     "entities and entity expansion are refused for safety; remove the DTD)"),
-    (b"<a>", "is not XML: no element found: line 1, column 3"),
-    (b"", "is not XML: no element found: line 1, column 0"),
-])
+@pytest.mark.parametrize(
+    "data, reason",
+    [
+        (
+            b'<!DOCTYPE r [<!ENTITY e "x">]><r>&e;</r>',
+            "declares XML entities (external entities and entity expansion are refused for safety; remove the DTD)",
+        ),
+        (
+            b'<!DOCTYPE r [<!ENTITY e SYSTEM "file:///etc/passwd">]><r>&e;</r>',
+            "declares XML entities (external entities and entity expansion are refused for safety; remove the DTD)",
+        ),
+        (b"<a>", "is not XML: no element found: line 1, column 3"),
+        (b"", "is not XML: no element found: line 1, column 0"),
+    ],
+)
 def test_xml_parse_refuses_unsafe_or_broken_xml(data, reason):
     assert message(xml_parse, data, "r.urdf") == f"r.urdf {reason}"
     assert message(xml_parse, data, "r.urdf", "--urdf") == f"--urdf: r.urdf {reason}"

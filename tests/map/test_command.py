@@ -31,8 +31,14 @@ def test_a_shared_pair_prints_both_orders_and_the_maps(tmp_path, capsys):
     out = tmp_path / "go2-map.json"
     assert main(["map", *go2(), "--keyframe", "home", "--json", str(out)]) == 0
     printed = capsys.readouterr().out
-    for text in ("URDF declaration order", "MuJoCo qpos order", "go2_erd.urdf -> go2_menagerie.xml", "joints_to_actuators",
-                 "#11 qpos[18]", "FR_hip_joint"):
+    for text in (
+        "URDF declaration order",
+        "MuJoCo qpos order",
+        "go2_erd.urdf -> go2_menagerie.xml",
+        "joints_to_actuators",
+        "#11 qpos[18]",
+        "FR_hip_joint",
+    ):
         assert text in printed
     data = json.loads(out.read_text())
     assert data["sides"][0]["joints"][:3] == ["FL_hip_joint", "FL_thigh_joint", "FL_calf_joint"]
@@ -52,14 +58,17 @@ def test_three_generated_files_with_drake_agree(tmp_path, capsys):
     assert "Drake plant order" in printed and "AGREE" in printed
 
 
-@pytest.mark.parametrize("extra, table, message", [
-    (["--keyframe", "stand"], None, "no such keyframe"),
-    ([], 'units = "grad"\n[actuators.a]\njoint_names_expr = [".*"]\n', "units: expected 'radian' or 'degree'"),
-    ([], '[actuators.a]\njoint_names_expr = ["nothing_.*"]\nstiffness = 1\n', "matches no joint"),
-    ([], '[actuators.a]\njoint_names_expr = [".*"]\n[actuators.b]\njoint_names_expr = ["elbow"]\n', "in two actuator groups"),
-    ([], '[actuators.a]\njoint_names_expr = [".*"]\nstiffnes = 1\n', "unknown key a.stiffnes"),
-    ([], '[actuators.a]\njoint_names_expr = [".*"]\nstiffness = "high"\n', "expected a finite number"),
-])
+@pytest.mark.parametrize(
+    "extra, table, message",
+    [
+        (["--keyframe", "stand"], None, "no such keyframe"),
+        ([], 'units = "grad"\n[actuators.a]\njoint_names_expr = [".*"]\n', "units: expected 'radian' or 'degree'"),
+        ([], '[actuators.a]\njoint_names_expr = ["nothing_.*"]\nstiffness = 1\n', "matches no joint"),
+        ([], '[actuators.a]\njoint_names_expr = [".*"]\n[actuators.b]\njoint_names_expr = ["elbow"]\n', "in two actuator groups"),
+        ([], '[actuators.a]\njoint_names_expr = [".*"]\nstiffnes = 1\n', "unknown key a.stiffnes"),
+        ([], '[actuators.a]\njoint_names_expr = [".*"]\nstiffness = "high"\n', "expected a finite number"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, extra, table, message):
     paths = robot.write(tmp_path, arm_urdf=robot.urdf(), arm_xml=robot.mjcf())
     if table is not None:
@@ -80,9 +89,11 @@ def test_one_file_alone_and_an_unknown_format_are_bad_input(tmp_path, capsys):
 def test_a_yaml_table_in_isaac_lab_form_is_read(tmp_path):
     from kinverify.map.contract import MapOptions, map_files
 
-    table = ("units: radian\nactuators:\n  arm:\n    joint_names_expr: ['shoulder', 'elbow', 'wrist']\n"
-             "    stiffness: {'shoulder': 100.0, '.*': 50.0}\n    velocity_limit_sim: 3.0\n"
-             "init_state:\n  joint_pos: {'elbow': 0.5}\n")
+    table = (
+        "units: radian\nactuators:\n  arm:\n    joint_names_expr: ['shoulder', 'elbow', 'wrist']\n"
+        "    stiffness: {'shoulder': 100.0, '.*': 50.0}\n    velocity_limit_sim: 3.0\n"
+        "init_state:\n  joint_pos: {'elbow': 0.5}\n"
+    )
     paths = robot.write(tmp_path, arm_urdf=robot.urdf(), t_yaml=table)
     with pytest.raises(Exception, match="several patterns"):
         map_files(paths[:1], MapOptions(actuators=paths[1]))

@@ -80,7 +80,7 @@ def test_keyframe_is_the_default_pose_and_an_unknown_one_is_bad_input(tmp_path):
 
 def test_mjcf_actuator_order_and_the_joint_to_actuator_map(tmp_path):
     text = robot.mjcf().replace('<position name="act_shoulder"', '<position name="act_zz"', 1)
-    moved = text[text.index('<position name="act_zz"'):text.index('<position name="act_elbow"')]
+    moved = text[text.index('<position name="act_zz"') : text.index('<position name="act_elbow"')]
     text = text.replace(moved, "").replace('<position name="act_finger"', moved + '<position name="act_finger"')
     result = run(tmp_path, arm_xml=robot.mjcf(), moved_xml=text)
     (f,) = serious(result)

@@ -29,40 +29,56 @@ DEG = 180.0 / math.pi
 
 
 def usda(k_scale: float = 1.0, armature: bool = True, d_scale: float = 1.0, wrist_mimics: bool = False) -> str:
-    bodies = "".join(f'def Xform "l{i}" (prepend apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n'
-                     f'{{ double3 xformOp:translate = (0, 0, {0.3 * i})\nuniform token[] xformOpOrder = ["xformOp:translate"]\n'
-                     'float physics:mass = 1\nfloat3 physics:diagonalInertia = (0.01, 0.01, 0.01)\n'
-                     'point3f physics:centerOfMass = (0, 0, 0)\n}\n' for i in range(4))
+    bodies = "".join(
+        f'def Xform "l{i}" (prepend apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n'
+        f'{{ double3 xformOp:translate = (0, 0, {0.3 * i})\nuniform token[] xformOpOrder = ["xformOp:translate"]\n'
+        "float physics:mass = 1\nfloat3 physics:diagonalInertia = (0.01, 0.01, 0.01)\n"
+        "point3f physics:centerOfMass = (0, 0, 0)\n}\n"
+        for i in range(4)
+    )
     physx = ', "PhysxJointAPI"' if armature else ""
     mimic = {n: "" for n in ARM}
     if wrist_mimics:  # PhysX: wrist + gearing·elbow + offset = 0, so gearing −1 is wrist = elbow
         physx_mimic = ', "PhysxMimicJointAPI:rotY"'
-        mimic["wrist"] = 'rel physxMimicJoint:rotY:referenceJoint = </arm/elbow>\nfloat physxMimicJoint:rotY:gearing = -1\n'
+        mimic["wrist"] = "rel physxMimicJoint:rotY:referenceJoint = </arm/elbow>\nfloat physxMimicJoint:rotY:gearing = -1\n"
     else:
         physx_mimic = ""
     joints = "".join(
         f'def PhysicsRevoluteJoint "{n}" (prepend apiSchemas = ["PhysicsDriveAPI:angular"{physx}{physx_mimic if n == "wrist" else ""}])\n'
         f'{{ rel physics:body0 = </arm/l{i}>\nrel physics:body1 = </arm/l{i + 1}>\nuniform token physics:axis = "Y"\n'
-        'point3f physics:localPos0 = (0, 0, 0.3)\npoint3f physics:localPos1 = (0, 0, 0)\n'
-        'float physics:lowerLimit = -114.59156\nfloat physics:upperLimit = 114.59156\n'
-        f'float drive:angular:physics:stiffness = {K_PER_DEGREE[n] * k_scale!r}\n'
-        f'float drive:angular:physics:damping = {D_PER_RADIAN[n] / DEG * d_scale!r}\n'
-        f'float drive:angular:physics:maxForce = {EFFORT[n]}\n'
-        + (f'float physxJoint:armature = {ARMATURE}\n' if armature else "") + mimic[n] + '}\n'
-        for i, n in enumerate(ARM))
-    return ('#usda 1.0\n(\n upAxis = "Z"\n metersPerUnit = 1\n kilogramsPerUnit = 1\n)\n'
-            'def Xform "arm" (prepend apiSchemas = ["PhysicsArticulationRootAPI"]) {\n'
-            f'{bodies}def PhysicsFixedJoint "base" {{\nrel physics:body1 = </arm/l0>\n}}\n{joints}}}\n')
+        "point3f physics:localPos0 = (0, 0, 0.3)\npoint3f physics:localPos1 = (0, 0, 0)\n"
+        "float physics:lowerLimit = -114.59156\nfloat physics:upperLimit = 114.59156\n"
+        f"float drive:angular:physics:stiffness = {K_PER_DEGREE[n] * k_scale!r}\n"
+        f"float drive:angular:physics:damping = {D_PER_RADIAN[n] / DEG * d_scale!r}\n"
+        f"float drive:angular:physics:maxForce = {EFFORT[n]}\n"
+        + (f"float physxJoint:armature = {ARMATURE}\n" if armature else "")
+        + mimic[n]
+        + "}\n"
+        for i, n in enumerate(ARM)
+    )
+    return (
+        '#usda 1.0\n(\n upAxis = "Z"\n metersPerUnit = 1\n kilogramsPerUnit = 1\n)\n'
+        'def Xform "arm" (prepend apiSchemas = ["PhysicsArticulationRootAPI"]) {\n'
+        f'{bodies}def PhysicsFixedJoint "base" {{\nrel physics:body1 = </arm/l0>\n}}\n{joints}}}\n'
+    )
 
 
 def mjcf() -> str:
-    bodies = "".join(f'<body name="l{i + 1}" pos="0 0 0.3"><joint name="{n}" axis="0 1 0" range="-2 2" armature="{ARMATURE}"/>'
-                     '<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>' for i, n in enumerate(ARM))
-    actuators = "".join(f'<position name="act_{n}" joint="{n}" kp="{K_PER_DEGREE[n] * DEG!r}" kv="{D_PER_RADIAN[n]}" '
-                        f'forcerange="-{EFFORT[n]} {EFFORT[n]}"/>' for n in ARM)
-    return (f'<mujoco model="arm"><compiler angle="radian"/><worldbody><body name="l0">'
-            f'<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>{bodies}{"</body>" * 3}</body>'
-            f'</worldbody><actuator>{actuators}</actuator></mujoco>')
+    bodies = "".join(
+        f'<body name="l{i + 1}" pos="0 0 0.3"><joint name="{n}" axis="0 1 0" range="-2 2" armature="{ARMATURE}"/>'
+        '<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>'
+        for i, n in enumerate(ARM)
+    )
+    actuators = "".join(
+        f'<position name="act_{n}" joint="{n}" kp="{K_PER_DEGREE[n] * DEG!r}" kv="{D_PER_RADIAN[n]}" '
+        f'forcerange="-{EFFORT[n]} {EFFORT[n]}"/>'
+        for n in ARM
+    )
+    return (
+        f'<mujoco model="arm"><compiler angle="radian"/><worldbody><body name="l0">'
+        f'<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>{bodies}{"</body>" * 3}</body>'
+        f"</worldbody><actuator>{actuators}</actuator></mujoco>"
+    )
 
 
 def run(tmp_path, usd_text: str):

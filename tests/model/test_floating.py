@@ -51,8 +51,13 @@ def test_the_spec_says_floating_and_the_configuration_leads_with_the_base():
     tool = frame_poses(spec, spec.home())[0, spec.frame_names.index("tool"), :3, 3]
     assert np.allclose(tool, [0, 0, 1.85], atol=1e-15)
     with pytest.raises(SpecError, match=r"base.floating: expected true or false, got 'yes'"):
-        spec_from_dict({"name": "x", "base": {"floating": "yes"}, "joints": [
-            {"axis": [0, 0, 1], "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]})
+        spec_from_dict(
+            {
+                "name": "x",
+                "base": {"floating": "yes"},
+                "joints": [{"axis": [0, 0, 1], "limits": {"lower": -1, "upper": 1, "unit": "rad"}}],
+            }
+        )
 
 
 @settings(max_examples=30, deadline=None)
@@ -107,7 +112,9 @@ def test_gravity_in_base_coordinates_is_the_gradient_of_the_potential_energy():
     h = 1e-6
     gradient = np.array([(energy(q + h * e) - energy(q - h * e)) / (2 * h) for e in np.eye(len(q))])
     assert np.abs(gradient - pin.gravity(q)).max() < 1e-6
-    assert pin.gravity(q)[2] == pytest.approx(sum(link.inertial.mass for link in (spec.base_link, *(j.link for j in spec.joints))) * 9.81)
+    assert pin.gravity(q)[2] == pytest.approx(
+        sum(link.inertial.mass for link in (spec.base_link, *(j.link for j in spec.joints))) * 9.81
+    )
 
 
 @pytest.mark.parametrize("pitch", [math.pi / 2, -math.pi / 2, math.pi / 2 - 1e-12, -math.pi / 2 + 1e-10])

@@ -42,20 +42,35 @@ def test_fk_is_batched_consistently(spec, data):
     assert np.abs(rot @ np.swapaxes(rot, -1, -2) - np.eye(3)).max() < 1e-12
 
 
-_row = st.fixed_dictionaries({
-    "a": st.floats(-0.5, 0.5), "alpha": st.sampled_from([0, 90, -90, 180]) | st.floats(-180, 180),
-    "d": st.floats(-0.5, 0.5), "theta": st.floats(-180, 180),
-})
+_row = st.fixed_dictionaries(
+    {
+        "a": st.floats(-0.5, 0.5),
+        "alpha": st.sampled_from([0, 90, -90, 180]) | st.floats(-180, 180),
+        "d": st.floats(-0.5, 0.5),
+        "theta": st.floats(-180, 180),
+    }
+)
 
 
 @settings(max_examples=40, deadline=None)
 @given(st.sampled_from(["standard", "modified"]), st.lists(st.tuples(_row, st.booleans()), min_size=1, max_size=7), st.data())
 def test_dh_matrices_agree_with_the_converted_chain(convention, rows, data):
-    joints = [{"type": "prismatic" if p else "revolute", "dh": row,
-               "limits": {"lower": -0.2, "upper": 0.2, "unit": "m"} if p else {"lower": -3, "upper": 3, "unit": "rad"}}
-              for row, p in rows]
-    spec = spec_from_dict({"name": "dh", "dh": {"convention": convention, "angle_unit": "deg"}, "joints": joints,
-                           "tools": [{"name": "tcp", "xyz": [0, 0, 0.1]}]})
+    joints = [
+        {
+            "type": "prismatic" if p else "revolute",
+            "dh": row,
+            "limits": {"lower": -0.2, "upper": 0.2, "unit": "m"} if p else {"lower": -3, "upper": 3, "unit": "rad"},
+        }
+        for row, p in rows
+    ]
+    spec = spec_from_dict(
+        {
+            "name": "dh",
+            "dh": {"convention": convention, "angle_unit": "deg"},
+            "joints": joints,
+            "tools": [{"name": "tcp", "xyz": [0, 0, 0.1]}],
+        }
+    )
     q = data.draw(kst.configuration_batches(spec, max_size=5))
     dh = AnalyticDHBackend(spec).poses(q)
     assert np.abs(dh - frame_poses(spec, q)).max() < 1e-12

@@ -16,11 +16,21 @@ MODELS = ["models/arm3.toml", "models/ur5e.toml", "models/panda.toml", "models/s
 
 
 def minimal(**joint_overrides) -> dict:
-    joint = {"name": "j1", "type": "revolute", "axis": [0, 0, 1], "xyz": [0, 0, 0.1],
-             "limits": {"lower": -90, "upper": 90, "unit": "deg"}}
+    joint = {
+        "name": "j1",
+        "type": "revolute",
+        "axis": [0, 0, 1],
+        "xyz": [0, 0, 0.1],
+        "limits": {"lower": -90, "upper": 90, "unit": "deg"},
+    }
     joint.update(joint_overrides)
-    return {"name": "arm", "joints": [joint, {"name": "j2", "axis": [0, 1, 0], "xyz": [0, 0, 0.3],
-                                               "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]}
+    return {
+        "name": "arm",
+        "joints": [
+            joint,
+            {"name": "j2", "axis": [0, 1, 0], "xyz": [0, 0, 0.3], "limits": {"lower": -1, "upper": 1, "unit": "rad"}},
+        ],
+    }
 
 
 @pytest.mark.parametrize("path", MODELS)
@@ -70,12 +80,21 @@ BAD = [
     (minimal(limits={"lower": -1, "upper": 1})["joints"], "joints[0].limits.unit", "missing"),
     (minimal(type="ball")["joints"], "joints[0].type", "unknown joint type"),
     (minimal(link={"name": "l1", "mass": -1})["joints"], "joints[0].link.mass", "positive"),
-    (minimal(link={"name": "l1", "geometry": {"shape": "capsule", "radius": -0.1, "fromto": [0, 0, 0, 0, 0, 1]}})["joints"],
-     "joints[0].link.geometry.radius", "positive"),
-    (minimal(link={"name": "l1", "inertial": {"mass": 1, "inertia": [1, 1, -1, 0, 0, 0]}})["joints"],
-     "joints[0].link.inertial.inertia", "positive definite"),
-    (minimal(link={"name": "l1", "inertial": {"mass": 1, "inertia": [1, 1, 5, 0, 0, 0]}})["joints"],
-     "joints[0].link.inertial.inertia", "triangle"),
+    (
+        minimal(link={"name": "l1", "geometry": {"shape": "capsule", "radius": -0.1, "fromto": [0, 0, 0, 0, 0, 1]}})["joints"],
+        "joints[0].link.geometry.radius",
+        "positive",
+    ),
+    (
+        minimal(link={"name": "l1", "inertial": {"mass": 1, "inertia": [1, 1, -1, 0, 0, 0]}})["joints"],
+        "joints[0].link.inertial.inertia",
+        "positive definite",
+    ),
+    (
+        minimal(link={"name": "l1", "inertial": {"mass": 1, "inertia": [1, 1, 5, 0, 0, 0]}})["joints"],
+        "joints[0].link.inertial.inertia",
+        "triangle",
+    ),
     (minimal(name="j2")["joints"], "joints[1].name", "duplicate"),
     (minimal(xyz=[0, float("nan"), 0])["joints"], "joints[0].xyz", "finite"),
     (minimal(xyz=[0, 1e300, 0])["joints"], "joints[0].xyz", "finite"),
@@ -129,23 +148,40 @@ def test_dataclasses_validate_when_built_in_python():
 
 
 def test_dh_and_origin_forms_cannot_mix():
-    data = {"name": "a", "dh": {"convention": "standard", "angle_unit": "deg"},
-            "joints": [{"dh": {"a": 0.1}, "xyz": [0, 0, 1], "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]}
+    data = {
+        "name": "a",
+        "dh": {"convention": "standard", "angle_unit": "deg"},
+        "joints": [{"dh": {"a": 0.1}, "xyz": [0, 0, 1], "limits": {"lower": -1, "upper": 1, "unit": "rad"}}],
+    }
     with pytest.raises(SpecError, match=r"joints\[0\].xyz: DH joints"):
         spec_from_dict(data)
 
 
 def _tree(parents: list) -> dict:
-    joints = [{"name": f"j{i}", "axis": [0, 0, 1], "xyz": [0, 0, 0.1], "limits": {"lower": -1, "upper": 1, "unit": "rad"},
-               "link": {"name": f"l{i}", "mass": 1.0}, **({"parent": p} if p else {})} for i, p in enumerate(parents)]
+    joints = [
+        {
+            "name": f"j{i}",
+            "axis": [0, 0, 1],
+            "xyz": [0, 0, 0.1],
+            "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+            "link": {"name": f"l{i}", "mass": 1.0},
+            **({"parent": p} if p else {}),
+        }
+        for i, p in enumerate(parents)
+    ]
     return {"name": "tree", "joints": joints}
 
 
 def test_a_joint_hangs_from_the_base_or_an_earlier_link():
     spec = spec_from_dict(_tree([None, None, "l0", "base"]))
     assert spec.parent_indices == (0, 1, 1, 0) and not spec.is_serial
-    assert spec.ancestors().tolist() == [[False] * 4, [True, False, False, False], [True, True, False, False],
-                                         [True, False, True, False], [False, False, False, True]]
+    assert spec.ancestors().tolist() == [
+        [False] * 4,
+        [True, False, False, False],
+        [True, True, False, False],
+        [True, False, True, False],
+        [False, False, False, True],
+    ]
     assert spec_from_dict(_tree([None, "l0"])).is_serial  # naming the default parent keeps a chain
     with pytest.raises(SpecError, match=r"joints\[1\].parent: a later joint's link 'l2'"):
         spec_from_dict(_tree([None, "l2", None]))
@@ -157,9 +193,20 @@ def test_a_joint_hangs_from_the_base_or_an_earlier_link():
 
 def test_a_dh_table_describes_a_chain_only():
     with pytest.raises(SpecError, match="dh: a DH table describes a serial chain"):
-        spec_from_dict({"name": "dh", "dh": {"convention": "standard", "angle_unit": "rad"}, "joints": [
-            {"dh": {"a": 0.1, "alpha": 0, "d": 0, "theta": 0}, "limits": {"lower": -1, "upper": 1, "unit": "rad"}},
-            {"dh": {"a": 0.1, "alpha": 0, "d": 0, "theta": 0}, "parent": "base", "limits": {"lower": -1, "upper": 1, "unit": "rad"}}]})
+        spec_from_dict(
+            {
+                "name": "dh",
+                "dh": {"convention": "standard", "angle_unit": "rad"},
+                "joints": [
+                    {"dh": {"a": 0.1, "alpha": 0, "d": 0, "theta": 0}, "limits": {"lower": -1, "upper": 1, "unit": "rad"}},
+                    {
+                        "dh": {"a": 0.1, "alpha": 0, "d": 0, "theta": 0},
+                        "parent": "base",
+                        "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+                    },
+                ],
+            }
+        )
 
 
 def test_the_gripper_fingers_are_branches_of_the_palm():
@@ -177,12 +224,15 @@ def test_the_gripper_fingers_are_branches_of_the_palm():
     assert np.all(jac[tip][:, fingers[1]] == 0) and np.any(jac[tip][:, fingers[0]] != 0)  # the other finger does not move it
 
 
-@pytest.mark.parametrize("override, field, words", [
-    ({"xyz": [True, False, True]}, "joints[0].xyz", "expected numbers, got [true, false, true]"),
-    ({"axis": ["0", "0", "1"]}, "joints[0].axis", "expected numbers, got ['0', '0', '1']"),
-    ({"damping": True}, "joints[0].damping", "got a boolean (true): booleans are not numbers"),
-    ({"limits": {"lower": False, "upper": 90, "unit": "deg"}}, "joints[0].limits.lower", "booleans are not numbers"),
-])
+@pytest.mark.parametrize(
+    "override, field, words",
+    [
+        ({"xyz": [True, False, True]}, "joints[0].xyz", "expected numbers, got [true, false, true]"),
+        ({"axis": ["0", "0", "1"]}, "joints[0].axis", "expected numbers, got ['0', '0', '1']"),
+        ({"damping": True}, "joints[0].damping", "got a boolean (true): booleans are not numbers"),
+        ({"limits": {"lower": False, "upper": 90, "unit": "deg"}}, "joints[0].limits.lower", "booleans are not numbers"),
+    ],
+)
 def test_booleans_and_text_are_not_numbers(override, field, words):
     with pytest.raises(SpecError) as err:
         spec_from_dict(minimal(**override), file="arm.toml")

@@ -6,8 +6,16 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kinverify.model.transforms import (axis_angle_to_matrix, geodesic_distance, matrix_to_quat, matrix_to_rpy,
-                                  quat_to_matrix, rotation_angle, rotation_log, rpy_to_matrix)
+from kinverify.model.transforms import (
+    axis_angle_to_matrix,
+    geodesic_distance,
+    matrix_to_quat,
+    matrix_to_rpy,
+    quat_to_matrix,
+    rotation_angle,
+    rotation_log,
+    rpy_to_matrix,
+)
 
 angles = st.floats(-np.pi, np.pi, allow_nan=False)
 
@@ -23,7 +31,9 @@ def test_rpy_and_quaternion_round_trips(rpy):
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.floats(1e-14, np.pi - 1e-6), st.lists(st.floats(-1, 1), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 0.1))
+@given(
+    st.floats(1e-14, np.pi - 1e-6), st.lists(st.floats(-1, 1), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 0.1)
+)
 def test_geodesic_angle_is_accurate_down_to_tiny_angles(angle, axis):
     axis = np.array(axis) / np.linalg.norm(axis)
     r = axis_angle_to_matrix(axis, np.array(angle))

@@ -21,8 +21,20 @@ from kinverify.pipeline.sampling import ChunkRanges, Samples
 from kinverify.run import VerifyOptions, verify
 from tests.paths import MODELS
 
-ONLY_KINEMATICS = ["--skip", "ik", "--skip", "tracking", "--skip", "pictures", "--skip", "workspace", "--skip", "dynamics",
-                   "--skip", "diagnosis"]
+ONLY_KINEMATICS = [
+    "--skip",
+    "ik",
+    "--skip",
+    "tracking",
+    "--skip",
+    "pictures",
+    "--skip",
+    "workspace",
+    "--skip",
+    "dynamics",
+    "--skip",
+    "diagnosis",
+]
 
 
 def test_samples_above_the_maximum_are_refused_in_one_line(capsys):
@@ -51,14 +63,32 @@ def test_chunks_of_the_largest_sample_set_are_generated_on_demand():
 
 def test_memory_does_not_grow_with_the_sample_count(tmp_path):
     # One process runs 2,000 then 60,000 configurations; the peak after each run is printed.
-    code = ("import resource, sys\nfrom kinverify.cli import main\n"
-            "for n in sys.argv[2:]:\n"
-            "    argv = [a.replace('N', n) for a in sys.argv[1].split('|')]\n"
-            "    assert main(argv) == 0\n"
-            "    print('peak_kb', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n")
-    argv = ["verify", str(MODELS / "arm3.toml"), "--samples", "N", "--chunk", "1000", "--backends", "analytic,mujoco",
-            *ONLY_KINEMATICS, "--quiet", "--json", str(tmp_path / "N.json"), "--report", str(tmp_path / "N.html")]
-    proc = subprocess.run([sys.executable, "-c", code, "|".join(argv), "2000", "60000"], capture_output=True, text=True, timeout=600)
+    code = (
+        "import resource, sys\nfrom kinverify.cli import main\n"
+        "for n in sys.argv[2:]:\n"
+        "    argv = [a.replace('N', n) for a in sys.argv[1].split('|')]\n"
+        "    assert main(argv) == 0\n"
+        "    print('peak_kb', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n"
+    )
+    argv = [
+        "verify",
+        str(MODELS / "arm3.toml"),
+        "--samples",
+        "N",
+        "--chunk",
+        "1000",
+        "--backends",
+        "analytic,mujoco",
+        *ONLY_KINEMATICS,
+        "--quiet",
+        "--json",
+        str(tmp_path / "N.json"),
+        "--report",
+        str(tmp_path / "N.html"),
+    ]
+    proc = subprocess.run(
+        [sys.executable, "-c", code, "|".join(argv), "2000", "60000"], capture_output=True, text=True, timeout=600
+    )
     assert proc.returncode == 0, proc.stderr
     small, large = (int(line.split()[1]) for line in proc.stdout.splitlines() if line.startswith("peak_kb "))
     # 30 times the configurations leave the peak where it was (measured: 240 MB at 2,000, 60,000
@@ -72,7 +102,9 @@ def test_jobs_are_capped_at_the_available_cores_with_a_note():
     jobs, note = cap_jobs(1000)
     assert jobs == cores and note == f"--jobs 1000 capped at {cores}: the number of cores available to this process"
     sources = ModelSources.from_spec(load_spec(MODELS / "arm3.toml"))
-    result = verify(sources, VerifyOptions(samples=20, jobs=1000, chunk=10, suites=["kinematics"], backends=["analytic", "mujoco"]))
+    result = verify(
+        sources, VerifyOptions(samples=20, jobs=1000, chunk=10, suites=["kinematics"], backends=["analytic", "mujoco"])
+    )
     assert note in result.notes and result.verdict == "pass"
 
 
@@ -97,8 +129,24 @@ def _running(pid: int) -> bool:
 
 @pytest.mark.skipif(not Path("/proc/self/task").exists() or available_cores() < 2, reason="needs Linux /proc and 2 cores")
 def test_sigterm_stops_the_workers_and_writes_nothing(tmp_path):
-    argv = [sys.executable, "-m", "kinverify", "verify", str(MODELS / "arm3.toml"), "--samples", "5000000", "--jobs", "2",
-            "--chunk", "2000", *ONLY_KINEMATICS, "--json", str(tmp_path / "r.json"), "--report", str(tmp_path / "r.html")]
+    argv = [
+        sys.executable,
+        "-m",
+        "kinverify",
+        "verify",
+        str(MODELS / "arm3.toml"),
+        "--samples",
+        "5000000",
+        "--jobs",
+        "2",
+        "--chunk",
+        "2000",
+        *ONLY_KINEMATICS,
+        "--json",
+        str(tmp_path / "r.json"),
+        "--report",
+        str(tmp_path / "r.html"),
+    ]
     proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     workers: set[int] = set()

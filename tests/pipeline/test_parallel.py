@@ -46,8 +46,11 @@ def test_jobs_2_identical_to_jobs_1(sequential, model):
 def test_progress_reports_every_configuration_in_order(sequential):
     spec, one = sequential["arm3"]
     seen, suite = [], []  # every suite reports its own work; the kinematics suite counts configurations
-    result = verify_spec(spec, options(jobs=2, on_progress=lambda done, total: seen.append((done, total)) if suite[-1] == "kinematics" else None),
-                         progress=suite.append)
+    result = verify_spec(
+        spec,
+        options(jobs=2, on_progress=lambda done, total: seen.append((done, total)) if suite[-1] == "kinematics" else None),
+        progress=suite.append,
+    )
     total = one.samples
     assert seen[-1] == (total, total)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
@@ -66,10 +69,8 @@ def test_dask_existing_scheduler_identical(sequential):
     from dask.distributed import LocalCluster
 
     spec, one = sequential["scara"]
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=40) as cluster:
-        remote = verify_spec(spec, options(executor="dask",
-                                                 scheduler=cluster.scheduler_address))
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40) as cluster:
+        remote = verify_spec(spec, options(executor="dask", scheduler=cluster.scheduler_address))
     assert _numbers(remote) == _numbers(one)
 
 
@@ -84,13 +85,27 @@ def test_slow_backend_capped_with_a_note(sequential):
             assert c.samples == n and "slow" not in c.note
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["--jobs", "0"], "--jobs must be >= 1"),
-    (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler needs --executor dask"),
-    (["--chunk", "0"], "--chunk must be >= 1"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--jobs", "0"], "--jobs must be >= 1"),
+        (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler needs --executor dask"),
+        (["--chunk", "0"], "--chunk must be >= 1"),
+    ],
+)
 def test_bad_executor_options_exit_2(tmp_path, capsys, argv, message):
-    code = main(["verify", "models/arm3.toml", "--samples", "10", "--json", str(tmp_path / "r.json"),
-                 "--report", str(tmp_path / "r.html"), *argv])
+    code = main(
+        [
+            "verify",
+            "models/arm3.toml",
+            "--samples",
+            "10",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+            *argv,
+        ]
+    )
     err = capsys.readouterr().err
     assert code == 2 and message in err and "Traceback" not in err

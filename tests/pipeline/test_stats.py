@@ -13,9 +13,12 @@ from kinverify.pipeline.stats import BINS_PER_OCTAVE, HIST_EDGES, PERCENTILE_RTO
 PERCENTS = (0.0, 1.0, 25.0, 50.0, 90.0, 99.0, 99.9, 100.0)
 
 errors_lists = st.lists(
-    st.one_of(st.just(0.0), st.floats(1e-300, 1e10, allow_nan=False, allow_infinity=False),
-              st.floats(0.0, 1e-6, allow_subnormal=True)),
-    min_size=1, max_size=400)
+    st.one_of(
+        st.just(0.0), st.floats(1e-300, 1e10, allow_nan=False, allow_infinity=False), st.floats(0.0, 1e-6, allow_subnormal=True)
+    ),
+    min_size=1,
+    max_size=400,
+)
 
 
 def _stats(values: np.ndarray, splits) -> ErrorStats:
@@ -45,8 +48,11 @@ def test_streamed_percentiles_within_stated_bound_of_numpy(values, cuts):
 @pytest.mark.parametrize("dist", ["lognormal", "uniform", "ties"])
 def test_large_random_data_matches_numpy(dist):
     rng = np.random.default_rng(3)
-    x = {"lognormal": np.exp(rng.normal(-30, 5, 200_000)), "uniform": rng.uniform(0, 1e-9, 200_000),
-         "ties": np.repeat([0.0, 1e-15, 3e-12, 7e-10], 50_000)}[dist]
+    x = {
+        "lognormal": np.exp(rng.normal(-30, 5, 200_000)),
+        "uniform": rng.uniform(0, 1e-9, 200_000),
+        "ties": np.repeat([0.0, 1e-15, 3e-12, 7e-10], 50_000),
+    }[dist]
     s = _stats(x, list(range(7919, x.size, 7919)))
     for p in PERCENTS:
         _assert_close(s.percentile(p), float(np.percentile(x, p)))

@@ -124,7 +124,9 @@ def test_a_new_quantity_plugs_in(monkeypatch, tmp_path):
         from kinverify.model.kinematics import frame_poses
 
         d = np.linalg.norm(frame_poses(spec, q)[:, -1, :3, 3], axis=-1)
-        return [{"property": "test.reach", "frame": spec.frame_names[-1], "sample": s, "value": float(v)} for s, v in enumerate(d)]
+        return [
+            {"property": "test.reach", "frame": spec.frame_names[-1], "sample": s, "value": float(v)} for s, v in enumerate(d)
+        ]
 
     monkeypatch.setattr(bl, "QUANTITIES", bl.QUANTITIES + [bl.Quantity("reach", reach)])
     spec = load_spec(ARM3)
@@ -137,24 +139,34 @@ def test_a_new_quantity_plugs_in(monkeypatch, tmp_path):
 
 def test_a_joint_count_change_fails_and_says_why(arm3_baseline):
     d = tomllib.loads(ARM3.read_text())
-    d["joints"].append({"name": "wrist", "xyz": [0, 0, 0.05], "axis": [0, 0, 1],
-                        "limits": {"lower": -1, "upper": 1, "unit": "rad"}, "link": {"name": "link4"}})
+    d["joints"].append(
+        {
+            "name": "wrist",
+            "xyz": [0, 0, 0.05],
+            "axis": [0, 0, 1],
+            "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+            "link": {"name": "link4"},
+        }
+    )
     result = bl_check.check(spec_from_dict(d), arm3_baseline)
     assert not result.passed and not result.comparable
     assert result.frames_added == ["link4"]
     assert any("joint count changed" in e for e in result.explanations)
 
 
-@pytest.mark.parametrize("content, message", [
-    (lambda text: text[: len(text) // 2], "corrupt or truncated"),
-    (lambda text: "{not json", "corrupt or truncated"),
-    (lambda text: json.dumps({"hello": 1}), "not a kinverify baseline"),
-    (lambda text: text.replace('"format_version": 2', '"format_version": 7'), "format version 7 is newer"),
-    (lambda text: text.replace('"model": "arm3"', '"model": "ur5e"'), "for model 'ur5e', not 'arm3'"),
-    (lambda text: text.replace('"sample": 3,', '"sample": 999,'), "records"),
-    (lambda text: text.replace('"targets": [{"pose"', '"targets": [{"pos"'), "fixed.ik"),
-    (lambda text: text.replace('"value": [0.0, 0.0, 0.42]', '"value": "oops"', 1), r"records\[0\].value"),
-])
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        (lambda text: text[: len(text) // 2], "corrupt or truncated"),
+        (lambda text: "{not json", "corrupt or truncated"),
+        (lambda text: json.dumps({"hello": 1}), "not a kinverify baseline"),
+        (lambda text: text.replace('"format_version": 2', '"format_version": 7'), "format version 7 is newer"),
+        (lambda text: text.replace('"model": "arm3"', '"model": "ur5e"'), "for model 'ur5e', not 'arm3'"),
+        (lambda text: text.replace('"sample": 3,', '"sample": 999,'), "records"),
+        (lambda text: text.replace('"targets": [{"pose"', '"targets": [{"pos"'), "fixed.ik"),
+        (lambda text: text.replace('"value": [0.0, 0.0, 0.42]', '"value": "oops"', 1), r"records\[0\].value"),
+    ],
+)
 def test_bad_baselines_are_one_line_errors_and_nothing_is_overwritten(arm3_baseline, tmp_path, capsys, content, message):
     bad = tmp_path / "bad.json"
     bad.write_text(content(arm3_baseline.read_text()))
@@ -219,8 +231,14 @@ def test_diff_of_the_same_change_in_python():
 def test_html_is_escaped(tmp_path):
     from kinverify.report.regression import render_document_html
 
-    doc = {"title": "<script>x</script>", "passed": False, "verdict": "FAIL", "summary": ["a<b"], "notes": [],
-           "tables": [{"title": "t", "columns": ["c"], "rows": [["<img>"]]}]}
+    doc = {
+        "title": "<script>x</script>",
+        "passed": False,
+        "verdict": "FAIL",
+        "summary": ["a<b"],
+        "notes": [],
+        "tables": [{"title": "t", "columns": ["c"], "rows": [["<img>"]]}],
+    }
     html = render_document_html(doc)
     assert "<script>x" not in html and "&lt;script&gt;" in html and "&lt;img&gt;" in html
 
@@ -308,12 +326,15 @@ def test_a_baseline_missing_a_section_is_refused(arm3_baseline, tmp_path, capsys
     assert err == f"kinverify: error: {bad}: malformed baseline: missing {section}\n"
 
 
-@pytest.mark.parametrize("edit, message", [
-    (lambda d: d.update(fixed={}), "fixed.ik is missing (the ik inputs the baseline was saved with)"),
-    (lambda d: d.update(seed=True), "seed must be a whole number, got bool"),
-    (lambda d: d.update(records={}), "records must be a list, got dict"),
-    (lambda d: d.update(quantities=[1]), "quantities must be a list of names"),
-])
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (lambda d: d.update(fixed={}), "fixed.ik is missing (the ik inputs the baseline was saved with)"),
+        (lambda d: d.update(seed=True), "seed must be a whole number, got bool"),
+        (lambda d: d.update(records={}), "records must be a list, got dict"),
+        (lambda d: d.update(quantities=[1]), "quantities must be a list of names"),
+    ],
+)
 def test_a_retyped_or_emptied_section_is_refused(arm3_baseline, tmp_path, edit, message):
     data = json.loads(arm3_baseline.read_text())
     edit(data)
@@ -325,11 +346,12 @@ def test_a_retyped_or_emptied_section_is_refused(arm3_baseline, tmp_path, edit, 
 
 def test_a_quantity_that_became_nan_has_moved():
     """NaN compares false with everything: ``delta > tol`` would call it unmoved."""
-    old = [{"property": "fk.position", "frame": "link3", "sample": 0, "value": [0.0, 0.0, 1.0]},
-           {"property": "fk.position", "frame": "link3", "sample": 1, "value": [0.0, 0.0, 1.0]}]
+    old = [
+        {"property": "fk.position", "frame": "link3", "sample": 0, "value": [0.0, 0.0, 1.0]},
+        {"property": "fk.position", "frame": "link3", "sample": 1, "value": [0.0, 0.0, 1.0]},
+    ]
     new = [dict(old[0], value=[float("nan"), 0.0, 1.0]), dict(old[1])]
-    moved, compared = bl_check.compare_records(old, new, np.zeros((2, 3)), ["link3"],
-                                               {"fk.position": bl.Tolerance(1e-9, "m")})
+    moved, compared = bl_check.compare_records(old, new, np.zeros((2, 3)), ["link3"], {"fk.position": bl.Tolerance(1e-9, "m")})
     (m,) = moved
     assert compared == 2 and (m.property, m.frame, m.sample, m.count, m.of) == ("fk.position", "link3", 0, 1, 2)
     assert np.isnan(m.delta)

@@ -16,8 +16,15 @@ import pytest
 from kinverify import load_spec
 from kinverify.errors import InputError
 from kinverify.model.canonical import spec_to_canonical
-from kinverify.regression.baseline import (FORMAT, FORMAT_VERSION, Tolerance, compute_records, dumps_baseline, fingerprints,
-                                          prepare_fixed)
+from kinverify.regression.baseline import (
+    FORMAT,
+    FORMAT_VERSION,
+    Tolerance,
+    compute_records,
+    dumps_baseline,
+    fingerprints,
+    prepare_fixed,
+)
 from kinverify.regression.check import BaselineCheck, Moved, check_baseline, compare_records
 from kinverify.regression.check import check as check_path
 from kinverify.regression.specdiff import ParamChange, diff_specs
@@ -33,8 +40,11 @@ def rec(prop: str, frame: str, sample: int, value) -> dict:
 
 def test_moved_beyond_the_tolerance_the_worst_sample_and_the_count():
     old = [rec("fk.position", "l1", s, [0.0, 0.0, 0.0]) for s in range(3)]
-    new = [rec("fk.position", "l1", 0, [1e-6, 0.0, 0.0]),  # exactly the tolerance: not moved
-           rec("fk.position", "l1", 1, [0.0, 3e-6, 0.0]), rec("fk.position", "l1", 2, [0.0, 0.0, 2e-6])]
+    new = [
+        rec("fk.position", "l1", 0, [1e-6, 0.0, 0.0]),  # exactly the tolerance: not moved
+        rec("fk.position", "l1", 1, [0.0, 3e-6, 0.0]),
+        rec("fk.position", "l1", 2, [0.0, 0.0, 2e-6]),
+    ]
     moved, compared = compare_records(old, new, Q, ["l1"], TOL)
     assert compared == 3
     assert moved == [Moved("fk.position", "l1", 1, (1.0, 1.1), [0.0, 0.0, 0.0], [0.0, 3e-6, 0.0], 3e-6, 1e-6, "m", 2, 3)]
@@ -53,19 +63,32 @@ def test_a_value_that_became_nan_moved_and_a_record_missing_now_is_not_compared(
 
 def test_a_property_without_a_tolerance_has_the_fallback_and_the_report_order():
     old = [rec(p, f, 0, [0.0]) for p in ("other", "jacobian.linear", "fk.position") for f in ("l2", "j1", "l1")]
-    new = [rec(p, f, 0, [2e-9]) if p == "other" else rec(p, f, 0, [1.0]) for p in ("other", "jacobian.linear", "fk.position")
-           for f in ("l2", "j1", "l1")]
+    new = [
+        rec(p, f, 0, [2e-9]) if p == "other" else rec(p, f, 0, [1.0])
+        for p in ("other", "jacobian.linear", "fk.position")
+        for f in ("l2", "j1", "l1")
+    ]
     moved, compared = compare_records(old, new, Q, ["l1", "l2"], TOL)
     assert compared == 9
     assert [(m.property, m.frame) for m in moved] == [  # tolerances' order, then the frames' (others last)
-        ("fk.position", "l1"), ("fk.position", "l2"), ("fk.position", "j1"),
-        ("jacobian.linear", "l1"), ("jacobian.linear", "l2"), ("jacobian.linear", "j1"),
-        ("other", "l1"), ("other", "l2"), ("other", "j1")]
+        ("fk.position", "l1"),
+        ("fk.position", "l2"),
+        ("fk.position", "j1"),
+        ("jacobian.linear", "l1"),
+        ("jacobian.linear", "l2"),
+        ("jacobian.linear", "j1"),
+        ("other", "l1"),
+        ("other", "l2"),
+        ("other", "j1"),
+    ]
     assert (moved[-1].tolerance, moved[-1].unit, moved[-1].delta) == (1e-9, "", 2e-9)
-    assert [(m.property, m.frame) for m in compare_records(old[:2], new[:2], Q, ["l2", "j1"], TOL)[0]] == \
-        [("other", "l2"), ("other", "j1")]
-    ties = compare_records([rec("z", "l1", 0, [0.0]), rec("a", "l1", 0, [0.0])],
-                           [rec("z", "l1", 0, [1.0]), rec("a", "l1", 0, [1.0])], Q, ["l1"], TOL)[0]
+    assert [(m.property, m.frame) for m in compare_records(old[:2], new[:2], Q, ["l2", "j1"], TOL)[0]] == [
+        ("other", "l2"),
+        ("other", "j1"),
+    ]
+    ties = compare_records(
+        [rec("z", "l1", 0, [0.0]), rec("a", "l1", 0, [0.0])], [rec("z", "l1", 0, [1.0]), rec("a", "l1", 0, [1.0])], Q, ["l1"], TOL
+    )[0]
     assert [m.property for m in ties] == ["a", "z"]  # neither has a tolerance: by name
 
 
@@ -109,32 +132,71 @@ def test_explanations():
     assert check().explanations == []
     assert check(moved=[MOVED]).explanations == ["neither the spec nor the library versions changed"]
     assert check(spec_changed=True, spec_changes=[CHANGE], version_changes=versions).explanations == [
-        f"the spec changed: {CHANGE.describe()}", "library versions also changed: mujoco 3.1 -> 3.2, pin 2 -> 3"]
+        f"the spec changed: {CHANGE.describe()}",
+        "library versions also changed: mujoco 3.1 -> 3.2, pin 2 -> 3",
+    ]
     assert check(spec_changed=True).explanations == ["the spec changed: no parameter differs by more than 1e-12"]
     assert check(files_changed=["urdf", "mjcf"], moved=[MOVED]).explanations == [
         "the spec is unchanged but the generated URDF AND MJCF changed (a different kinverify generator)",
-        "neither the spec nor the library versions changed"]
-    assert check(version_changes={"pin": ("2", "3")}).explanations == ["only library versions changed (pin 2 -> 3); nothing moved"]
+        "neither the spec nor the library versions changed",
+    ]
+    assert check(version_changes={"pin": ("2", "3")}).explanations == [
+        "only library versions changed (pin 2 -> 3); nothing moved"
+    ]
     assert check(version_changes={"pin": ("2", "3")}, frames_removed=["t"]).explanations == [
-        "the spec is unchanged; library versions changed (pin 2 -> 3): they explain the movement"]
+        "the spec is unchanged; library versions changed (pin 2 -> 3): they explain the movement"
+    ]
     assert check(missing_quantities=["ik", "dynamics"], comparable=False).explanations == [
         "neither the spec nor the library versions changed",
         "the baseline has no ik, dynamics records (an older format or kinverify); they were not compared: save a new "
         "baseline to include them",
-        "the joint count changed, so the baseline's configurations cannot be re-evaluated; save a new baseline"]
+        "the joint count changed, so the baseline's configurations cannot be re-evaluated; save a new baseline",
+    ]
 
 
 def test_to_dict():
-    assert MOVED.to_dict() == {"property": "fk.position", "frame": "l1", "sample": 1, "q": [1.0, 1.1], "old": [0.0],
-                               "new": [1.0], "delta": 1.0, "tolerance": 1e-6, "unit": "m", "count": 1, "of": 3}
-    b = check(moved=[MOVED], frames_added=["a"], frames_removed=["r"], spec_changed=True, spec_changes=[CHANGE],
-              files_changed=["urdf"], version_changes={"pin": ("2", "3")}, comparable=True, compared=7,
-              missing_quantities=["ik"])
+    assert MOVED.to_dict() == {
+        "property": "fk.position",
+        "frame": "l1",
+        "sample": 1,
+        "q": [1.0, 1.1],
+        "old": [0.0],
+        "new": [1.0],
+        "delta": 1.0,
+        "tolerance": 1e-6,
+        "unit": "m",
+        "count": 1,
+        "of": 3,
+    }
+    b = check(
+        moved=[MOVED],
+        frames_added=["a"],
+        frames_removed=["r"],
+        spec_changed=True,
+        spec_changes=[CHANGE],
+        files_changed=["urdf"],
+        version_changes={"pin": ("2", "3")},
+        comparable=True,
+        compared=7,
+        missing_quantities=["ik"],
+    )
     assert b.to_dict() == {
-        "model": "arm3", "source": "b.json", "passed": False, "samples": 3, "compared": 7, "moved": [MOVED.to_dict()],
-        "frames_added": ["a"], "frames_removed": ["r"], "spec_changed": True, "spec_changes": [CHANGE.to_dict()],
-        "files_changed": ["urdf"], "comparable": True, "missing_quantities": ["ik"],
-        "version_changes": {"pin": ["2", "3"]}, "explanations": b.explanations}
+        "model": "arm3",
+        "source": "b.json",
+        "passed": False,
+        "samples": 3,
+        "compared": 7,
+        "moved": [MOVED.to_dict()],
+        "frames_added": ["a"],
+        "frames_removed": ["r"],
+        "spec_changed": True,
+        "spec_changes": [CHANGE.to_dict()],
+        "files_changed": ["urdf"],
+        "comparable": True,
+        "missing_quantities": ["ik"],
+        "version_changes": {"pin": ["2", "3"]},
+        "explanations": b.explanations,
+    }
     assert check().to_dict()["passed"] is True and check().to_dict()["comparable"] is True
 
 
@@ -147,10 +209,22 @@ def arm3():
     spec = load_spec(ARM3)
     q = np.array([[0.1, -0.2, 0.3]])
     fixed = prepare_fixed(spec, q)
-    data = {"format": FORMAT, "format_version": FORMAT_VERSION, "model": spec.name, "seed": 0, "samples": 1,
-            "joint_names": list(spec.coordinate_names), "q": q.tolist(), "frames": list(spec.frame_names),
-            "spec": spec_to_canonical(spec), "fingerprints": fingerprints(spec), "versions": library_versions(),
-            "quantities": ["kinematics", "ik", "dynamics"], "records": compute_records(spec, q, fixed), "fixed": fixed}
+    data = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "model": spec.name,
+        "seed": 0,
+        "samples": 1,
+        "joint_names": list(spec.coordinate_names),
+        "q": q.tolist(),
+        "frames": list(spec.frame_names),
+        "spec": spec_to_canonical(spec),
+        "fingerprints": fingerprints(spec),
+        "versions": library_versions(),
+        "quantities": ["kinematics", "ik", "dynamics"],
+        "records": compute_records(spec, q, fixed),
+        "fixed": fixed,
+    }
     return spec, data
 
 
@@ -158,8 +232,13 @@ def test_check_baseline_of_the_unchanged_model_passes(arm3):
     spec, data = arm3
     result = check_baseline(spec, data, source="b.json")
     assert (result.passed, result.moved, result.compared, result.samples) == (True, [], len(data["records"]), 1)
-    assert (result.model, result.source, result.spec_changed, result.files_changed, result.version_changes) == \
-        (spec.name, "b.json", False, [], {})
+    assert (result.model, result.source, result.spec_changed, result.files_changed, result.version_changes) == (
+        spec.name,
+        "b.json",
+        False,
+        [],
+        {},
+    )
     assert (result.frames_added, result.frames_removed, result.missing_quantities) == ([], [], [])
     assert {r["property"] for r in data["records"]} >= {"ik.q", "ik.error", "dynamics.gravity"}  # all compared
     assert check_baseline(spec, data).source == ""
@@ -212,8 +291,15 @@ def test_check_baseline_moved_frames_and_versions(arm3):
     # the stored spec differs too (joint1's damping): other frames with the very same spec are bad input
     stored = copy.deepcopy(data["spec"])
     stored["joints"][0]["damping"] += 0.1
-    changed = {**data, "records": records, "frames": [*data["frames"][:-1], "removed_frame"], "versions": versions,
-               "quantities": None, "spec": stored, "fingerprints": {**data["fingerprints"], "urdf": "x", "spec": "x"}}
+    changed = {
+        **data,
+        "records": records,
+        "frames": [*data["frames"][:-1], "removed_frame"],
+        "versions": versions,
+        "quantities": None,
+        "spec": stored,
+        "fingerprints": {**data["fingerprints"], "urdf": "x", "spec": "x"},
+    }
     result = check_baseline(spec, changed, {"fk.position": Tolerance(1e-6, "m")})
     (m,) = [m for m in result.moved if m.property == "fk.position"]
     assert (m.frame, m.sample, m.count, m.of, m.tolerance) == (spec.frame_names[-1], 0, 1, 1, 1e-6)
@@ -243,8 +329,9 @@ def test_check_baseline_joint_count_changed_or_nothing_compared(arm3):
     assert (result.comparable, result.passed, result.compared, result.moved) == (False, False, 0, [])
     with pytest.raises(InputError) as err:
         check_baseline(spec, {**data, "records": [rec("fk.position", "nowhere", 0, [0.0])]}, source="b.json")
-    assert str(err.value) == ("b.json: no record of the baseline matches what the model computes: nothing was compared "
-                              "(save the baseline again)")
+    assert str(err.value) == (
+        "b.json: no record of the baseline matches what the model computes: nothing was compared (save the baseline again)"
+    )
     with pytest.raises(InputError, match="only in the baseline: gone; only in the model: none"):  # the same spec, other frames
         check_baseline(spec, {**data, "records": [], "frames": [*data["frames"], "gone"]})
 

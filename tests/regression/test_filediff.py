@@ -22,7 +22,6 @@ from kinverify.model.spec import Origin
 from tests.paths import MODELS
 
 
-
 def moved_joint(spec, index: int, offset):
     """``spec`` with joint ``index``'s origin moved by ``offset`` [m] (in its parent link's frame)."""
     joints = list(spec.joints)

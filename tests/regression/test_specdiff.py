@@ -16,7 +16,6 @@ from kinverify.regression.specdiff import diff_specs
 from tests.paths import MODELS
 
 
-
 def arm3_dict() -> dict:
     return tomllib.loads((MODELS / "arm3.toml").read_text())
 
@@ -80,8 +79,15 @@ def test_names_added_and_removed():
         d["tools"][0]["name"] = "tcp"
 
     def add_joint(d):
-        d["joints"].append({"name": "wrist", "xyz": [0, 0, 0.05], "axis": [0, 0, 1],
-                            "limits": {"lower": -1, "upper": 1, "unit": "rad"}, "link": {"name": "link4"}})
+        d["joints"].append(
+            {
+                "name": "wrist",
+                "xyz": [0, 0, 0.05],
+                "axis": [0, 0, 1],
+                "limits": {"lower": -1, "upper": 1, "unit": "rad"},
+                "link": {"name": "link4"},
+            }
+        )
         d["tools"][0]["parent"] = "link4"
 
     kinds = {(c.where, c.kind) for c in changed(rename_tool)}

@@ -15,10 +15,20 @@ import pytest
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 needs_chromium = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed (.ci/run installs Debian's chromium)")
 WIDTH, HEIGHT = 1280, 900
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync", "--hide-scrollbars",
-         # network off: every request goes to a closed local port and no host name resolves
-         "--proxy-server=http://127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND"]
+FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--hide-scrollbars",
+    # network off: every request goes to a closed local port and no host name resolves
+    "--proxy-server=http://127.0.0.1:9",
+    "--host-resolver-rules=MAP * ~NOTFOUND",
+]
 
 # Appended to a copy of the page: once loaded, writes what the test reads into <pre id="probe">.
 PROBE = """<script>
@@ -40,13 +50,23 @@ def run(page: Path, tmp: Path, *extra: str) -> tuple[str, list[tuple[str, str]]]
     url) of every network request a page started (from Chromium's net log; the browser's own
     background requests have no origin and are left out)."""
     netlog = tmp / f"net-{page.stem}.json"
-    cmd = [CHROMIUM, *FLAGS, f"--user-data-dir={tmp / 'profile'}", f"--log-net-log={netlog}",
-           f"--window-size={WIDTH},{HEIGHT}", *extra, page.as_uri()]
+    cmd = [
+        CHROMIUM,
+        *FLAGS,
+        f"--user-data-dir={tmp / 'profile'}",
+        f"--log-net-log={netlog}",
+        f"--window-size={WIDTH},{HEIGHT}",
+        *extra,
+        page.as_uri(),
+    ]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     log = json.loads(netlog.read_text())
     start = log["constants"]["logEventTypes"]["URL_REQUEST_START_JOB"]
-    requests = [(e["params"].get("initiator", ""), e["params"]["url"]) for e in log["events"]
-                if e["type"] == start and "url" in (e.get("params") or {})]
+    requests = [
+        (e["params"].get("initiator", ""), e["params"]["url"])
+        for e in log["events"]
+        if e["type"] == start and "url" in (e.get("params") or {})
+    ]
     return proc.stdout, [r for r in requests if r[0] != "not an origin"]
 
 

@@ -43,8 +43,9 @@ def run_in_terminal(argv: list[str], cwd, columns: int = 80, rows: int = 50) -> 
     ``columns``; returns the lines left on the screen (the progress display erased) and the exit code."""
     master, slave = os.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", rows, columns, 0, 0))
-    proc = subprocess.Popen([sys.executable, "-m", "kinverify", *argv], stdin=slave, stdout=slave, stderr=slave,
-                            cwd=cwd, env=_env(), close_fds=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "kinverify", *argv], stdin=slave, stdout=slave, stderr=slave, cwd=cwd, env=_env(), close_fds=True
+    )
     os.close(slave)
     chunks = []
     while True:
@@ -68,8 +69,14 @@ def run_to_file(argv: list[str], cwd) -> tuple[list[str], int]:
     """``python -m kinverify argv`` with stdout and stderr to a file and no terminal on any stream."""
     log = os.path.join(cwd, "stdout.log")
     with open(log, "w", encoding="utf-8") as out:
-        code = subprocess.run([sys.executable, "-m", "kinverify", *argv], stdin=subprocess.DEVNULL, stdout=out,
-                              stderr=subprocess.STDOUT, cwd=cwd, env=_env()).returncode
+        code = subprocess.run(
+            [sys.executable, "-m", "kinverify", *argv],
+            stdin=subprocess.DEVNULL,
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            cwd=cwd,
+            env=_env(),
+        ).returncode
     with open(log, encoding="utf-8") as f:
         text = f.read()
     assert not ANSI.search(text), "escape codes in a log"
@@ -98,7 +105,7 @@ def table_rows(lines: list[str], first_header: str) -> tuple[str, list[str]]:
     assert len(starts) == 1, f"{len(starts)} header lines start with {first_header!r}"
     start = starts[0]
     rows = []
-    for line in lines[start + 1:]:
+    for line in lines[start + 1 :]:
         if not re.match(r"[a-z_]+\.[^\s]+ ", line) and not line.startswith(" "):
             break
         rows.append(line)
@@ -112,8 +119,10 @@ def assert_fits(lines: list[str], result: VerifyResult, width: int = 80, wrapped
     a passing run without findings or notes in at most :data:`PASSING_LINES` lines."""
     widest = max(lines, key=lambda line: cell_len(line.rstrip()))
     assert cell_len(widest.rstrip()) <= width, f"{cell_len(widest.rstrip())} columns: {widest!r}"
-    tables = [("property", "max error", "tolerance", [c for c in result.checks if c.kind != PERFORMANCE]),
-              ("performance", "measured", "goal", [c for c in result.checks if c.kind == PERFORMANCE])]
+    tables = [
+        ("property", "max error", "tolerance", [c for c in result.checks if c.kind != PERFORMANCE]),
+        ("performance", "measured", "goal", [c for c in result.checks if c.kind == PERFORMANCE]),
+    ]
     for first, value_header, limit_header, checks in tables:
         if not checks:
             continue

@@ -35,20 +35,51 @@ def small_result():
 
 def test_findings_are_grouped_by_subject_with_values_side_by_side(small_result):
     data = small_result.to_dict()
-    findings = [{"kind": "damping_difference", "severity": "error", "subject": f"j{i}", "subject_type": "joint",
-                 "message": f"joint j{i}: damping 0.003 in the URDF, 1 in the MJCF", "values": {"urdf": 0.003, "mjcf": 1.0}}
-                for i in range(3)]
-    findings += [{"kind": "rounding", "severity": "info", "subject": "j0", "subject_type": "joint", "message": "quat rounded"},
-                 {"kind": "mass_difference", "severity": "error", "subject": "l2", "subject_type": "link", "accepted": True,
-                  "message": "link l2: mass 1 kg in the URDF, 1.5 kg in the MJCF", "values": {"urdf": 1.0, "mjcf": 1.5}},
-                 {"kind": "velocity_difference", "severity": "warning", "subject": "j3", "subject_type": "joint",
-                  "message": "velocity only in the URDF"}]
+    findings = [
+        {
+            "kind": "damping_difference",
+            "severity": "error",
+            "subject": f"j{i}",
+            "subject_type": "joint",
+            "message": f"joint j{i}: damping 0.003 in the URDF, 1 in the MJCF",
+            "values": {"urdf": 0.003, "mjcf": 1.0},
+        }
+        for i in range(3)
+    ]
+    findings += [
+        {"kind": "rounding", "severity": "info", "subject": "j0", "subject_type": "joint", "message": "quat rounded"},
+        {
+            "kind": "mass_difference",
+            "severity": "error",
+            "subject": "l2",
+            "subject_type": "link",
+            "accepted": True,
+            "message": "link l2: mass 1 kg in the URDF, 1.5 kg in the MJCF",
+            "values": {"urdf": 1.0, "mjcf": 1.5},
+        },
+        {
+            "kind": "velocity_difference",
+            "severity": "warning",
+            "subject": "j3",
+            "subject_type": "joint",
+            "message": "velocity only in the URDF",
+        },
+    ]
     data["findings"] = findings
     data["notes"] = [f"{f['kind']}: {f['message']}" for f in findings] + ["URDF: meshes skipped", "a run note"]
-    data["sections"]["filemode"] = {"title": "File mode: URDF vs MJCF", "summary": "", "figures": [],
-                                    "notes": ["URDF: meshes skipped"],
-                                    "tables": [{"title": "Findings", "columns": ["kind", "subject", "finding"],
-                                                "rows": [[f["kind"], f["subject"], f["message"]] for f in findings]}]}
+    data["sections"]["filemode"] = {
+        "title": "File mode: URDF vs MJCF",
+        "summary": "",
+        "figures": [],
+        "notes": ["URDF: meshes skipped"],
+        "tables": [
+            {
+                "title": "Findings",
+                "columns": ["kind", "subject", "finding"],
+                "rows": [[f["kind"], f["subject"], f["message"]] for f in findings],
+            }
+        ],
+    }
     result = VerifyResult.from_dict(data)
     assert result.verdict == "fail" and len(result.failing_findings) == 3
     page = render_html(result)
@@ -58,14 +89,14 @@ def test_findings_are_grouped_by_subject_with_values_side_by_side(small_result):
         assert text.count(f["message"]) == 1  # once, in its group; never repeated as a note
     assert text.count("URDF: meshes skipped") == 1 and "a run note" in text
     # the errors on the first screen, one group per joint; the others (here j0's info) in the file-mode section
-    top = page[page.index('<section id="failures"'):page.index('<section id="matrix"')]
+    top = page[page.index('<section id="failures"') : page.index('<section id="matrix"')]
     groups = re.findall(r'<tbody class="group (\w+)">\s*<tr class="subject"><th colspan="5">([^<]*)</th>', top)
     assert groups == [("error", "joint j0"), ("error", "joint j1"), ("error", "joint j2")]
     assert "quat rounded" not in top and '<span class="sev info">' not in top
     row = next(r for r in top.split("<tr ") if "joint j1: damping" in r)
     assert re.findall(r'<td class="val"><div><code>([^<]*)</code></div></td>', row) == ["0.003", "1"]  # URDF, MJCF
     # the accepted finding is greyed, in the file-mode section, after the warning and j0's info
-    rest = page[page.index('<section id="section-filemode">'):]
+    rest = page[page.index('<section id="section-filemode">') :]
     others = re.findall(r'<tbody class="group (\w+)">\s*<tr class="subject"><th colspan="5">([^<]*)</th>', rest)
     assert others == [("warning", "joint j3"), ("info", "joint j0"), ("accepted", "link l2")]
     assert re.search(r'<tr class="accepted"><td><span class="sev accepted">accepted</span></td><td>mass_difference', rest)
@@ -88,8 +119,22 @@ def turned(tmp_path_factory):
     folder = tmp_path_factory.mktemp("turned")
     urdf, mjcf = _turned_pair(folder)
     html, js = folder / "r.html", folder / "r.json"
-    code = main(["verify", "--urdf", str(urdf), "--mjcf", str(mjcf), "--samples", "10", "--quiet",
-                 "--report", str(html), "--json", str(js)])
+    code = main(
+        [
+            "verify",
+            "--urdf",
+            str(urdf),
+            "--mjcf",
+            str(mjcf),
+            "--samples",
+            "10",
+            "--quiet",
+            "--report",
+            str(html),
+            "--json",
+            str(js),
+        ]
+    )
     assert code == 1
     return html.read_text(encoding="utf-8"), VerifyResult.from_dict(json.loads(js.read_text()))
 
@@ -107,10 +152,12 @@ def test_turned_base_is_drawn_overlaid_and_named(turned):
     alignment = np.array(result.sections["filemode"].data["alignment"]["T_mjcf_from_urdf"])
     np.testing.assert_allclose(alignment, turn, atol=1e-9)
     written = dict(panels(pictures, alignment.tolist()))["home pose, as written"]
+
     def origins(poses):
         return np.array([p for p in poses if p is not None])[:, :3, 3]
+
     np.testing.assert_allclose(origins(written["mujoco"]), origins(written[result.backends[0]]) * [-1, -1, 1], atol=1e-9)
-    first_screen = _text(page[:page.index('<section id="matrix">')])
+    first_screen = _text(page[: page.index('<section id="matrix">')])
     assert "The MJCF's base is the URDF's turned by 180° about [0, 0, 1] (panels" in first_screen
     assert "pinocchio-urdf solid, mujoco ghosted over it" in first_screen
     assert '<figure class="plot answer-picture"><svg' in page
@@ -123,10 +170,18 @@ def test_alignment_draws_the_mjcf_side_back_onto_the_urdf_side(turned):
     data = result.sections["pictures"].data
     t = np.diag([-1.0, -1.0, 1.0, 1.0])
     drawn = panels(data, t.tolist())
-    assert [title for title, _ in drawn] == ["home pose, as written", "home pose, bases aligned", "worst configuration, bases aligned"]
+    assert [title for title, _ in drawn] == [
+        "home pose, as written",
+        "home pose, bases aligned",
+        "worst configuration, bases aligned",
+    ]
     ref = data["reference"]
     for title, poses in drawn:
-        same = all(np.allclose(a, b, atol=1e-9) for a, b in zip(poses[ref], poses["mujoco"], strict=True) if a is not None and b is not None)
+        same = all(
+            np.allclose(a, b, atol=1e-9)
+            for a, b in zip(poses[ref], poses["mujoco"], strict=True)
+            if a is not None and b is not None
+        )
         assert same == ("aligned" in title)
     result.sections["filemode"].data["alignment"] = {"T_mjcf_from_urdf": t.tolist()}
     assert "panels &#34;as written&#34;" in render_html(result) or 'panels "as written"' in render_html(result)
@@ -163,15 +218,32 @@ def test_checks_a_finding_explains_are_not_called_missed_goals(tmp_path):
     (tmp_path / "p.urdf").write_text(urdf)
     (tmp_path / "p.xml").write_text(mjcf)
     out = {k: tmp_path / f"r.{k}" for k in ("html", "json", "xml")}
-    code = main(["verify", "--urdf", str(tmp_path / "p.urdf"), "--mjcf", str(tmp_path / "p.xml"), "--samples", "10", "--quiet",
-                 "--report", str(out["html"]), "--json", str(out["json"]), "--junit", str(out["xml"])])
+    code = main(
+        [
+            "verify",
+            "--urdf",
+            str(tmp_path / "p.urdf"),
+            "--mjcf",
+            str(tmp_path / "p.xml"),
+            "--samples",
+            "10",
+            "--quiet",
+            "--report",
+            str(out["html"]),
+            "--json",
+            str(out["json"]),
+            "--junit",
+            str(out["xml"]),
+        ]
+    )
     assert code == 1
     result = VerifyResult.from_dict(json.loads(out["json"].read_text()))
     assert result.explained and not result.missed_goals and not result.failed
     assert {c.property for c in result.explained} >= {"inertia.tensor"}
-    banner = _text(out["html"].read_text()[:out["html"].read_text().index('<section id="matrix">')])
+    banner = _text(out["html"].read_text()[: out["html"].read_text().index('<section id="matrix">')])
     n = len(result.explained)
     assert f"{n} check{'s' if n != 1 else ''} differ" in banner and "performance goal" not in banner
-    skipped = [case for suite in JUnitXml.fromfile(str(out["xml"])) for case in suite
-               if case.result and case.result[0]._tag == "skipped"]
+    skipped = [
+        case for suite in JUnitXml.fromfile(str(out["xml"])) for case in suite if case.result and case.result[0]._tag == "skipped"
+    ]
     assert skipped and all("explained by a finding" in case.result[0].message for case in skipped)

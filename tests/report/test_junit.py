@@ -29,16 +29,40 @@ def cases(path):
 
 def test_the_junit_file_counts_the_same_checks_as_the_json(tmp_path):
     out = {k: tmp_path / f"r.{k}" for k in ("json", "html", "xml")}
-    code = main(["verify", str(MODELS / "arm3.toml"), "--samples", "20", "--ik-targets", "5", "--skip", "tracking",
-                 "--skip", "pictures", "--quiet", "--json", str(out["json"]), "--report", str(out["html"]),
-                 "--junit", str(out["xml"])])
+    code = main(
+        [
+            "verify",
+            str(MODELS / "arm3.toml"),
+            "--samples",
+            "20",
+            "--ik-targets",
+            "5",
+            "--skip",
+            "tracking",
+            "--skip",
+            "pictures",
+            "--quiet",
+            "--json",
+            str(out["json"]),
+            "--report",
+            str(out["html"]),
+            "--junit",
+            str(out["xml"]),
+        ]
+    )
     assert code == 0
     data = json.loads(out["json"].read_text())
     groups = Counter((c["property"], tuple(c["backends"])) for c in data["checks"])
     found = cases(out["xml"])
     assert len(found) == len(groups)
     assert sum(int(case._elem.get("assertions")) for _, case in found) == len(data["checks"])
-    assert [name for name, _ in dict.fromkeys((n, None) for n, _ in found)] == ["kinematics", "limits", "inertia", "ik", "dynamics"]
+    assert [name for name, _ in dict.fromkeys((n, None) for n, _ in found)] == [
+        "kinematics",
+        "limits",
+        "inertia",
+        "ik",
+        "dynamics",
+    ]
     assert all(case.is_passed for _, case in found)
     names = {case.name for _, case in found}
     assert "fk.position [analytic vs mujoco]" in names
@@ -47,7 +71,9 @@ def test_the_junit_file_counts_the_same_checks_as_the_json(tmp_path):
 def test_a_disagreement_is_a_failure_with_the_frame_and_a_configuration_that_reproduces_it(tmp_path):
     spec = load_spec(MODELS / "arm3.toml")
     sources = ModelSources.from_spec(spec)
-    flipped = sources.mjcf.replace('<joint name="joint2" type="hinge" axis="0.0 1.0 0.0"', '<joint name="joint2" type="hinge" axis="0.0 -1.0 0.0"')
+    flipped = sources.mjcf.replace(
+        '<joint name="joint2" type="hinge" axis="0.0 1.0 0.0"', '<joint name="joint2" type="hinge" axis="0.0 -1.0 0.0"'
+    )
     assert flipped != sources.mjcf
     result = verify(dataclasses.replace(sources, mjcf=flipped), VerifyOptions(samples=20, suites=["kinematics"]))
     path = tmp_path / "r.xml"
@@ -62,20 +88,28 @@ def test_a_disagreement_is_a_failure_with_the_frame_and_a_configuration_that_rep
     from kinverify.backends import build_backend
 
     ref, bad = build_backend("analytic", sources), build_backend("mujoco", dataclasses.replace(sources, mjcf=flipped))
-    gap = abs(ref.poses([q])[0, spec.frame_names.index("link3"), :3, 3] - bad.poses([q])[0, spec.frame_names.index("link3"), :3, 3]).max()
+    gap = abs(
+        ref.poses([q])[0, spec.frame_names.index("link3"), :3, 3] - bad.poses([q])[0, spec.frame_names.index("link3"), :3, 3]
+    ).max()
     assert gap > 1e-3  # the pasted configuration reproduces the disagreement
 
 
 def test_findings_performance_goals_and_internal_errors_map_to_junit_states(tmp_path):
-    result = verify(ModelSources.from_spec(load_spec(MODELS / "lift.toml")),
-                    VerifyOptions(samples=10, suites=["tracking"], tolerances={"tracking.computed-torque": 0.0}))
+    result = verify(
+        ModelSources.from_spec(load_spec(MODELS / "lift.toml")),
+        VerifyOptions(samples=10, suites=["tracking"], tolerances={"tracking.computed-torque": 0.0}),
+    )
     below = [c for c in result.checks if not c.passed]
     assert below and not any(c.counts for c in below)
-    result = dataclasses.replace(result, findings=[
-        Finding("mass_difference", "error", "link l: 1 kg vs 2 kg", "l", "link"),
-        Finding("rounding", "info", "limits rounded", "j", "joint"),
-        Finding("damping_difference", "error", "accepted one", "j", "joint", accepted=True)],
-        internal_errors=["suite ik: ValueError: boom (lm.py:1)"])
+    result = dataclasses.replace(
+        result,
+        findings=[
+            Finding("mass_difference", "error", "link l: 1 kg vs 2 kg", "l", "link"),
+            Finding("rounding", "info", "limits rounded", "j", "joint"),
+            Finding("damping_difference", "error", "accepted one", "j", "joint", accepted=True),
+        ],
+        internal_errors=["suite ik: ValueError: boom (lm.py:1)"],
+    )
     path = tmp_path / "r.xml"
     path.write_text(junit_xml(result))
     xml = junitparser.JUnitXml.fromfile(str(path))

@@ -35,15 +35,18 @@ def test_every_check_is_in_one_cell_grouped_by_suite_in_registry_order(result):
     assert groups[2].single  # dynamics: one pair per row, collapsed to one column
 
 
-@pytest.mark.parametrize("pair, column, against", [
-    (("analytic", "mujoco"), "mujoco", "analytic"),          # the reference is never the one tested
-    (("mujoco", "analytic"), "mujoco", "analytic"),
-    (("mujoco", "finite-difference"), "mujoco", "finite-difference"),
-    (("plan", "mujoco"), "mujoco", "plan"),
-    (("mujoco", "mujoco"), "mujoco", "goal"),
-    (("pinocchio-urdf", "mujoco"), "pinocchio-urdf", "mujoco"),
-    (("urdf", "mjcf"), "urdf", "mjcf"),
-])
+@pytest.mark.parametrize(
+    "pair, column, against",
+    [
+        (("analytic", "mujoco"), "mujoco", "analytic"),  # the reference is never the one tested
+        (("mujoco", "analytic"), "mujoco", "analytic"),
+        (("mujoco", "finite-difference"), "mujoco", "finite-difference"),
+        (("plan", "mujoco"), "mujoco", "plan"),
+        (("mujoco", "mujoco"), "mujoco", "goal"),
+        (("pinocchio-urdf", "mujoco"), "pinocchio-urdf", "mujoco"),
+        (("urdf", "mjcf"), "urdf", "mjcf"),
+    ],
+)
 def test_column_of_a_pair(pair, column, against):
     assert matrix.column_of(pair, ["analytic", "pinocchio-urdf", "mujoco"], "analytic") == (column, against)
 
@@ -55,7 +58,7 @@ def _check(err: float, tol: float = 1e-9, kind: str = "agreement") -> Check:
 
 
 def _luminance(hex_colour: str) -> float:
-    r, g, b = (int(hex_colour[i:i + 2], 16) for i in (1, 3, 5))
+    r, g, b = (int(hex_colour[i : i + 2], 16) for i in (1, 3, 5))
     return 0.2126 * r + 0.7152 * g + 0.0722 * b
 
 
@@ -63,8 +66,10 @@ def _luminance(hex_colour: str) -> float:
 @given(st.floats(1e-15, 1.0), st.floats(1e-15, 1.0))
 def test_passing_cells_lighten_towards_the_tolerance(a, b):
     lo, hi = sorted((a, b))
+
     def colour(r):
         return matrix.colour(r, True, False)[0]
+
     assert _luminance(colour(lo)) <= _luminance(colour(hi)) + 1.0  # rounding of the interpolated channels
     assert colour(hi) != matrix.colour(2.0, False, False)[0]
 

@@ -24,8 +24,21 @@ from kinverify.io.plan import OutputPlan, check_target, default_output, output_p
 from kinverify.io.write import write_atomic
 from tests.paths import MODELS
 
-FAST = ["--samples", "3", "--skip", "ik", "--skip", "tracking", "--skip", "pictures", "--skip", "workspace",
-        "--backends", "analytic,mujoco", "--quiet"]
+FAST = [
+    "--samples",
+    "3",
+    "--skip",
+    "ik",
+    "--skip",
+    "tracking",
+    "--skip",
+    "pictures",
+    "--skip",
+    "workspace",
+    "--backends",
+    "analytic,mujoco",
+    "--quiet",
+]
 
 
 @pytest.fixture
@@ -51,16 +64,19 @@ def refused(capsys, argv, words: str) -> str:
     return err
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["verify", "m.toml", "--json", "m.toml"], "--json m.toml is the spec MODEL m.toml, an input of this run"),
-    (["verify", "m.toml", "--report", "m.toml"], "--report m.toml is the spec MODEL m.toml"),
-    (["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", "--json", "u.urdf"], "--json u.urdf is --urdf u.urdf"),
-    (["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", "--report", "./r.xml"], "--report r.xml is --mjcf r.xml"),
-    (["verify", "m.toml", "--json", "x.out", "--report", "x.out"], "name the same file"),
-    (["baseline", "save", "m.toml", "--out", "m.toml"], "--out m.toml is the spec MODEL"),
-    (["diff", "u.urdf", "u2.urdf", "--report", "u.urdf"], "--report u.urdf is OLD u.urdf"),
-    (["track", "m.toml", "--json", "m.toml"], "--json m.toml is the spec MODEL"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["verify", "m.toml", "--json", "m.toml"], "--json m.toml is the spec MODEL m.toml, an input of this run"),
+        (["verify", "m.toml", "--report", "m.toml"], "--report m.toml is the spec MODEL m.toml"),
+        (["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", "--json", "u.urdf"], "--json u.urdf is --urdf u.urdf"),
+        (["verify", "--urdf", "u.urdf", "--mjcf", "r.xml", "--report", "./r.xml"], "--report r.xml is --mjcf r.xml"),
+        (["verify", "m.toml", "--json", "x.out", "--report", "x.out"], "name the same file"),
+        (["baseline", "save", "m.toml", "--out", "m.toml"], "--out m.toml is the spec MODEL"),
+        (["diff", "u.urdf", "u2.urdf", "--report", "u.urdf"], "--report u.urdf is OLD u.urdf"),
+        (["track", "m.toml", "--json", "m.toml"], "--json m.toml is the spec MODEL"),
+    ],
+)
 def test_an_output_that_is_an_input_or_another_output_is_refused_before_the_run(work, capsys, argv, words):
     Path("u2.urdf").write_text(Path("u.urdf").read_text())
     before = snapshot(work)
@@ -103,12 +119,18 @@ def test_a_default_output_path_colliding_with_another_output_is_refused_before_w
 def test_a_mesh_the_model_references_is_an_input(work, capsys):
     Path("meshes").mkdir()
     Path("meshes/base.stl").write_bytes(b"solid base\nendsolid base\n")
-    urdf = Path("u.urdf").read_text().replace(
-        "<visual>", '<visual><geometry><mesh filename="meshes/base.stl"/></geometry></visual><visual>', 1)
+    urdf = (
+        Path("u.urdf")
+        .read_text()
+        .replace("<visual>", '<visual><geometry><mesh filename="meshes/base.stl"/></geometry></visual><visual>', 1)
+    )
     Path("mesh.urdf").write_text(urdf)
     before = snapshot(work)
-    refused(capsys, ["verify", "--urdf", "mesh.urdf", "--mjcf", "r.xml", "--samples", "0", "--json", "meshes/base.stl"],
-            "a mesh the model references")
+    refused(
+        capsys,
+        ["verify", "--urdf", "mesh.urdf", "--mjcf", "r.xml", "--samples", "0", "--json", "meshes/base.stl"],
+        "a mesh the model references",
+    )
     assert snapshot(work) == before
 
 
@@ -171,8 +193,13 @@ def _limit_file_size():
 
 def test_a_write_that_fails_part_way_replaces_nothing(work):
     Path("r.json").write_text("previous results\n")
-    proc = subprocess.run([sys.executable, "-m", "kinverify", "verify", "m.toml", *FAST, "--json", "r.json", "--report", "r.html"],
-                          capture_output=True, text=True, preexec_fn=_limit_file_size, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-m", "kinverify", "verify", "m.toml", *FAST, "--json", "r.json", "--report", "r.html"],
+        capture_output=True,
+        text=True,
+        preexec_fn=_limit_file_size,
+        timeout=600,
+    )
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
     assert "r.json: cannot write: File too large; nothing was replaced" in proc.stderr
@@ -186,8 +213,10 @@ def full_disk(tmp_path):
     does not fit."""
     mount = tmp_path / "small"
     mount.mkdir()
-    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", str(mount)],
-                                           capture_output=True).returncode != 0:
+    if (
+        os.geteuid() != 0
+        or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", str(mount)], capture_output=True).returncode != 0
+    ):
         pytest.skip("cannot mount a small tmpfs here")
     yield mount
     subprocess.run(["umount", str(mount)], check=True)
@@ -196,8 +225,11 @@ def full_disk(tmp_path):
 def test_a_full_disk_is_an_error_and_replaces_nothing(work, full_disk, capsys):
     target = full_disk / "r.json"
     target.write_text("previous results\n")
-    refused(capsys, ["verify", "m.toml", *FAST, "--json", str(target), "--report", str(full_disk / "r.html")],
-            "cannot write: No space left on device; nothing was replaced")
+    refused(
+        capsys,
+        ["verify", "m.toml", *FAST, "--json", str(target), "--report", str(full_disk / "r.html")],
+        "cannot write: No space left on device; nothing was replaced",
+    )
     assert target.read_text() == "previous results\n"
     assert sorted(p.name for p in full_disk.iterdir()) == ["r.json"]
 
@@ -206,7 +238,7 @@ def test_a_model_name_cannot_steer_a_default_output_out_of_reports(work, capsys)
     assert default_output("../../x", ".json") == "reports/_.._x.json"
     assert default_output("arm3", ".html") == "reports/arm3.html" and default_output("", ".json") == "reports/model.json"
     Path("inner").mkdir()
-    hostile = '../../escaped'
+    hostile = "../../escaped"
     Path("inner/u.urdf").write_text(Path("u.urdf").read_text().replace('<robot name="arm3">', f'<robot name="{hostile}">'))
     Path("inner/r.xml").write_text(Path("r.xml").read_text().replace('<mujoco model="arm3">', f'<mujoco model="{hostile}">'))
     os.chdir("inner")

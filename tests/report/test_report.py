@@ -29,6 +29,7 @@ from tests.report import browser
 from tests.report.flipped import FLIPPED, flipped_backend
 from tests.report.terminal_checks import PASSING_LINES, assert_fits, render
 
+
 @pytest.fixture(scope="module")
 def arm3():
     return load_spec(ROOT / "models" / "arm3.toml")
@@ -43,8 +44,9 @@ def passing(arm3):
 @pytest.fixture(scope="module")
 def failing(arm3):
     sources = ModelSources.from_spec(arm3)
-    return verify(sources, VerifyOptions(samples=30), extra_backends=[flipped_backend(sources, "joint2")],
-                  command="pytest failing fixture")
+    return verify(
+        sources, VerifyOptions(samples=30), extra_backends=[flipped_backend(sources, "joint2")], command="pytest failing fixture"
+    )
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +69,7 @@ def _text(fragment: str) -> str:
 
 def _between(page: str, start: str, end: str) -> str:
     i = page.index(start)
-    return page[i:page.index(end, i)]
+    return page[i : page.index(end, i)]
 
 
 def _worst_rows(page: str) -> list[tuple[list[float], list[float], str]]:
@@ -99,8 +101,14 @@ def test_passing_report_states_the_verdict_and_what_was_compared(passing):
 def test_a_warning_of_a_suite_is_shown_on_a_passing_page(passing):
     """A suite's warning (here the IK one: a solver that solves almost nothing) has its own
     section on the page, not only a count in the banner; the verdict stays PASS."""
-    warning = Finding("ik_solver_fails", "warning", "LM IK on reachable targets for end_effector: analytic solves 0 of 50",
-                      subject="end_effector", subject_type="frame", property="ik.failure_rate")
+    warning = Finding(
+        "ik_solver_fails",
+        "warning",
+        "LM IK on reachable targets for end_effector: analytic solves 0 of 50",
+        subject="end_effector",
+        subject_type="frame",
+        property="ik.failure_rate",
+    )
     page = render_html(dataclasses.replace(passing, findings=[warning]))
     section = _text(_between(page, '<section id="findings">', "</section>"))
     assert "frame end_effector" in section and "warning" in section and warning.message in section
@@ -148,8 +156,12 @@ def test_failing_report_names_the_failure_where_it_starts_and_what_to_check(fail
         frame = where.split(" at ")[-1]
         assert err[list(failing.frames).index(frame)] > 1e-3
     # both values at the worst configuration: what each model computes there
-    values = re.search(r'<p class="values">At <code class="vec">(\[[^<]*\])</code>.*?frame <b>([^<]+)</b> is at <code>(\[[^<]*\])</code> m in '
-                       r'analytic and at <code>(\[[^<]*\])</code> m in ' + FLIPPED, page, re.S)
+    values = re.search(
+        r'<p class="values">At <code class="vec">(\[[^<]*\])</code>.*?frame <b>([^<]+)</b> is at <code>(\[[^<]*\])</code> m in '
+        r"analytic and at <code>(\[[^<]*\])</code> m in " + FLIPPED,
+        page,
+        re.S,
+    )
     assert values
     q, frame = np.array([json.loads(values.group(1))]), values.group(2)
     k = list(failing.frames).index(frame)
@@ -204,7 +216,9 @@ def test_names_from_a_model_file_are_escaped(arm3):
     sources = ModelSources("evil" + EVIL, joints, frames, base.lower, base.upper, base.revolute, urdf=urdf)
     result = verify(sources, VerifyOptions(samples=5, backends=["pinocchio-urdf", "yourdfpy"], reference="pinocchio-urdf"))
     assert EVIL in result.joint_names and EVIL + "_link" in result.frames and EVIL in result.model_info["urdf"]
-    assert {EVIL, EVIL + "_link"} <= {n for j in result.sections["pictures"].data["tree"]["joints"] for n in (j["name"], j["child"])}
+    assert {EVIL, EVIL + "_link"} <= {
+        n for j in result.sections["pictures"].data["tree"]["joints"] for n in (j["name"], j["child"])
+    }
     page = render_html(result)
     assert EVIL not in page and "<script>alert" not in page
     assert htmllib.escape(EVIL) in _between(page, '<svg class="tree"', "</svg>")
@@ -214,8 +228,19 @@ def test_names_from_a_model_file_are_escaped(arm3):
 
 def test_verify_cli_writes_a_report_that_report_cli_reproduces_from_the_json(tmp_path):
     html, js = tmp_path / "arm3.html", tmp_path / "arm3.json"
-    args = ["verify", str(ROOT / "models" / "arm3.toml"), "--samples", "5", "--skip", "pictures", "--quiet",
-            "--report", str(html), "--json", str(js)]
+    args = [
+        "verify",
+        str(ROOT / "models" / "arm3.toml"),
+        "--samples",
+        "5",
+        "--skip",
+        "pictures",
+        "--quiet",
+        "--report",
+        str(html),
+        "--json",
+        str(js),
+    ]
     assert main(args) == 0
     page = html.read_text(encoding="utf-8")
     assert 'class="banner pass"' in page and "kinverify verify " in page and "--samples 5" in page
@@ -237,7 +262,7 @@ def test_default_arm3_report_stays_under_5_mb_and_shows_every_section(default_ar
             assert f"base64,{fig['data']}" in page
     for fig in data["sections"]["pictures"]["figures"]:
         assert f"base64,{fig['data']}" in _between(page, '<section id="section-pictures">', "</section>")
-    assert '<svg class="tree"' in page and page.count("<figure class=\"plot skeleton\">") == 1
+    assert '<svg class="tree"' in page and page.count('<figure class="plot skeleton">') == 1
     assert len(data["sections"]["ik"]["figures"]) == 2
     tracking = data["sections"]["tracking"]
     gifs = [f for f in tracking["figures"] if f["mime"] == "image/gif"]
@@ -263,8 +288,10 @@ def test_the_default_arm3_run_prints_in_40_lines_at_80_columns(default_arm3):
     if not backend_info("drake-sdf").available:
         pytest.skip("docs/report.md shows the run with the test extra, Drake's backends included")
     shown = _between((ROOT / "docs" / "report.md").read_text(encoding="utf-8"), "```text\n", "\n```").splitlines()[1:]
+
     def numbers(line):  # the layout, not the timings
         return " ".join(re.sub(r"\d[\d.e+-]*", "#", line).split())
+
     assert [numbers(line) for line in shown[:-1]] == [numbers(line) for line in lines]  # docs/report.md shows this run
     assert shown[-1] == "report: reports/arm3.html  json: reports/arm3.json"
 
@@ -281,7 +308,11 @@ def test_error_distributions_only_for_sampled_properties(default_arm3):
 
 
 @settings(max_examples=50, deadline=None)
-@given(st.one_of(st.floats(-1e300, 1e300), st.floats(allow_nan=False), st.integers(-10**9, 10**9), st.booleans(), st.text(max_size=20)))
+@given(
+    st.one_of(
+        st.floats(-1e300, 1e300), st.floats(allow_nan=False), st.integers(-(10**9), 10**9), st.booleans(), st.text(max_size=20)
+    )
+)
 def test_section_cells_are_short_and_faithful(value):
     text = cell(value)
     if isinstance(value, bool):

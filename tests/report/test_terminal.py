@@ -36,10 +36,22 @@ def failing():
     sources = ModelSources.from_spec(load_spec(MODELS / "arm3.toml"))
     opts = VerifyOptions(samples=10, suites=["kinematics", "ik", "dynamics"], extra={"ik_targets": 5})
     result = verify(sources, opts, extra_backends=[flipped_backend(sources, "joint2")])
-    result.checks.append(value_check(get_property("tracking.computed-torque"), None, "end_effector", ("plan", "mujoco"), 3.5e-5,
-                                     samples=4001, unit="rad"))
-    result.checks.append(value_check(get_property("tracking.pd+gravity"), None, "end_effector", ("plan", "mujoco"), 0.42,
-                                     samples=4001, unit="fraction of the move"))
+    result.checks.append(
+        value_check(
+            get_property("tracking.computed-torque"), None, "end_effector", ("plan", "mujoco"), 3.5e-5, samples=4001, unit="rad"
+        )
+    )
+    result.checks.append(
+        value_check(
+            get_property("tracking.pd+gravity"),
+            None,
+            "end_effector",
+            ("plan", "mujoco"),
+            0.42,
+            samples=4001,
+            unit="fraction of the move",
+        )
+    )
     return result
 
 
@@ -53,7 +65,7 @@ def rows_of(text: str, name: str) -> list[str]:
     lines, out = text.splitlines(), []
     for i, line in enumerate(lines):
         if line.startswith(f"{name} "):
-            block = [line] + list(itertools.takewhile(lambda more: more.startswith(" ") and more.strip(), lines[i + 1:]))
+            block = [line] + list(itertools.takewhile(lambda more: more.startswith(" ") and more.strip(), lines[i + 1 :]))
             out.append(" ".join(" ".join(block).split()))
     return out
 
@@ -79,7 +91,7 @@ def test_labels_say_what_each_number_is(failing, width):
     lines = text.splitlines()
     agreement = next(i for i, ln in enumerate(lines) if ln.startswith("property ") and "max error" in ln)
     assert "tolerance" in lines[agreement] and ("p99 error" in lines[agreement]) == (width == 200)
-    assert any(ln.startswith("performance ") and "measured" in ln and "goal" in ln for ln in lines[agreement + 1:])
+    assert any(ln.startswith("performance ") and "measured" in ln and "goal" in ln for ln in lines[agreement + 1 :])
     rms = rows_of(text, "tracking.computed-torque")[0]
     assert " 3.5e-5 0.0001 rad " in rms  # 'measured' is the check's value (an RMS here), then the goal and its unit
     pd = rows_of(text, "tracking.pd+gravity")[0]
@@ -95,7 +107,15 @@ def test_labels_say_what_each_number_is(failing, width):
 
 def test_compact_numbers_keep_three_digits_and_drop_exponent_padding():
     assert [compact(x) for x in (7.69e-16, 1e-9, 0.0422, 0.0, 1.0, 2.46e6, float("inf"), 1e-4)] == [
-        "7.69e-16", "1e-9", "0.0422", "0", "1", "2.46e6", "inf", "0.0001"]
+        "7.69e-16",
+        "1e-9",
+        "0.0422",
+        "0",
+        "1",
+        "2.46e6",
+        "inf",
+        "0.0001",
+    ]
 
 
 def test_suites_get_one_line_each(failing):
@@ -121,8 +141,14 @@ def test_track_table_fits_and_labels_its_columns(width):
     from kinverify.tracking.track import default_trajectory, track
 
     spec = load_spec(MODELS / "arm3.toml")
-    result = track(spec, ModelSources.from_spec(spec).urdf, default_trajectory(spec), ["computed-torque", "position"],
-                   render=False, plots=False)
+    result = track(
+        spec,
+        ModelSources.from_spec(spec).urdf,
+        default_trajectory(spec),
+        ["computed-torque", "position"],
+        render=False,
+        plots=False,
+    )
     console = Console(width=width, record=True, file=open("/dev/null", "w"))
     console.print(track_table(spec, result, console))
     text = console.export_text()
@@ -144,8 +170,11 @@ def test_every_long_suite_reports_a_real_total():
     reach, so the bar shows a count and a time left."""
     calls: dict[str, list[tuple[int, int]]] = {}
     current = []
-    opts = VerifyOptions(samples=30, extra={"ik_targets": 4, "tracking_controllers": ["computed-torque"]},
-                         suites=["kinematics", "ik", "dynamics", "tracking"])
+    opts = VerifyOptions(
+        samples=30,
+        extra={"ik_targets": 4, "tracking_controllers": ["computed-torque"]},
+        suites=["kinematics", "ik", "dynamics", "tracking"],
+    )
     opts.on_progress = lambda done, total: calls.setdefault(current[-1], []).append((done, total))
     verify(ModelSources.from_spec(load_spec(MODELS / "arm3.toml")), opts, progress=current.append)
     assert set(calls) == {"kinematics", "ik", "dynamics", "tracking"} <= set(UNITS)
@@ -170,15 +199,36 @@ def test_progress_bar_shows_counts_and_time_left_never_a_question_mark():
 
 def test_quiet_is_one_line(tmp_path, capsys):
     skip = [a for s in ("pictures", "tracking", "ik", "dynamics", "workspace", "diagnosis") for a in ("--skip", s)]
-    code = main(["verify", str(MODELS / "arm3.toml"), "--samples", "5", *skip,
-                 "--quiet", "--report", str(tmp_path / "r.html"), "--json", str(tmp_path / "r.json")])
+    code = main(
+        [
+            "verify",
+            str(MODELS / "arm3.toml"),
+            "--samples",
+            "5",
+            *skip,
+            "--quiet",
+            "--report",
+            str(tmp_path / "r.html"),
+            "--json",
+            str(tmp_path / "r.json"),
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 0 and len(out.strip().splitlines()) == 1, out
     assert out.startswith("arm3: pass (0 of ") and "r.html" in out
 
 
-CHEAP = ["--samples", "20", "--ik-targets", "5", *(a for s in ("tracking", "pictures", "workspace", "diagnosis") for a in ("--skip", s)),
-         "--json", "r.json", "--report", "r.html"]  # every table row but tracking's (the full run: test_report.py)
+CHEAP = [
+    "--samples",
+    "20",
+    "--ik-targets",
+    "5",
+    *(a for s in ("tracking", "pictures", "workspace", "diagnosis") for a in ("--skip", s)),
+    "--json",
+    "r.json",
+    "--report",
+    "r.html",
+]  # every table row but tracking's (the full run: test_report.py)
 
 
 @pytest.mark.parametrize("model, where", [("gripper", "terminal"), ("space_arm", "log")])
@@ -198,15 +248,21 @@ def test_verify_at_80_columns_in_a_terminal_and_in_a_log(model, where, tmp_path)
 
 def test_findings_and_notes_wrap_under_their_text_and_keep_every_word(failing):
     """File mode prints long findings: a tag, then the message with a hanging indent, no word cut."""
-    long = ("the MJCF's world is the URDF's moved by xyz = [0, 0, 0] m, rpy = [0, 0, 3.14159] rad (180° turn) in "
-            "/a/rather/long/path/to/robot_description/urdf/robot_with_a_long_name.urdf, fitted over 7 frames")
+    long = (
+        "the MJCF's world is the URDF's moved by xyz = [0, 0, 0] m, rpy = [0, 0, 3.14159] rad (180° turn) in "
+        "/a/rather/long/path/to/robot_description/urdf/robot_with_a_long_name.urdf, fitted over 7 frames"
+    )
     finding = Finding("base_transform", "error", long, subject_type="model")
     lines = render(dataclasses.replace(failing, findings=[finding], notes=["note " + long]), 80)
     assert max(len(line) for line in lines) <= 80
     start = next(i for i, line in enumerate(lines) if line.startswith("error "))
     indent = lines[start].index("base_transform")  # continuation lines start under the text
-    block = [lines[start]] + list(itertools.takewhile(lambda line: line[:indent].isspace(), lines[start + 1:]))
-    assert len(block) > 1 and all(line[indent] != " " for line in block) and " ".join(" ".join(block).split()) == f"error base_transform (model): {' '.join(long.split())}"
+    block = [lines[start]] + list(itertools.takewhile(lambda line: line[:indent].isspace(), lines[start + 1 :]))
+    assert (
+        len(block) > 1
+        and all(line[indent] != " " for line in block)
+        and " ".join(" ".join(block).split()) == f"error base_transform (model): {' '.join(long.split())}"
+    )
 
 
 def test_a_findings_message_and_subject_are_printed_literally_not_as_markup():

@@ -52,8 +52,11 @@ def context(backends, tolerances, samples: int = 12, **extra) -> VerifyContext:
 
 
 def find(checks: list[Check], prop: str, subject: str | None = None, side: str | None = None) -> Check:
-    hits = [c for c in checks if c.property == prop and (subject is None or c.frame == subject)
-            and (side is None or side in c.backends)]
+    hits = [
+        c
+        for c in checks
+        if c.property == prop and (subject is None or c.frame == subject) and (side is None or side in c.backends)
+    ]
     assert len(hits) >= 1, (prop, subject, side, sorted({(c.property, c.frame, c.backends) for c in checks}))
     return max(hits, key=lambda c: c.max_error)
 
@@ -100,6 +103,7 @@ def kinematics(prop: str, **offset) -> Callable[[float, dict], Check]:
         ctx = context([analytic(), Perturbed(**{k: delta for k in offset})], tolerances)
         side = "finite-difference" if prop == "jacobian.fd" else "analytic"
         return find(KinematicsSuite().run(ctx).checks, prop, FRAME, side)
+
     return probe
 
 
@@ -149,6 +153,7 @@ def dynamics(prop: str, what: str) -> Callable[[float, dict], Check]:
     def probe(delta, tolerances):
         ctx = context([analytic()], tolerances, samples=6, dynamics_samples=6, delta=delta)
         return find(Suite().run(ctx).checks, prop)
+
     return probe
 
 
@@ -168,7 +173,7 @@ def ik(prop: str) -> Callable[[float, dict], Check]:
                 k = math.ceil(d * n - 1e-9)
                 sol.pos_error[:k] = 1.0  # k answers that miss their target by 1 m
             elif prop == "ik.unreachable" and unreachable:
-                sol.success[:math.ceil(d * n - 1e-9)] = True  # reported solved though beyond reach
+                sol.success[: math.ceil(d * n - 1e-9)] = True  # reported solved though beyond reach
             elif prop == "ik.limits" and not unreachable and d > 0:
                 sol.q[0, 0] = upper[0] + d
             return sol
@@ -183,6 +188,7 @@ def ik(prop: str) -> Callable[[float, dict], Check]:
 
                 def solve(self, target):
                     return closed.solve(target)
+
             return Shifted() if prop == "ik.closed_form" else closed
 
     def probe(delta, tolerances):
@@ -190,16 +196,22 @@ def ik(prop: str) -> Callable[[float, dict], Check]:
         suite = Suite()
         suite.delta = delta
         ctx = context(backends, tolerances, ik_targets=IK_TARGETS)
-        side = {"ik.cross_fk": "perturbed", "ik.closed_form": "closed-form", "ik.limits": "limits",
-                "ik.unreachable": "geometry"}.get(prop, "analytic")
+        side = {
+            "ik.cross_fk": "perturbed",
+            "ik.closed_form": "closed-form",
+            "ik.limits": "limits",
+            "ik.unreachable": "geometry",
+        }.get(prop, "analytic")
         checks = [c for c in suite.run(ctx).checks if not (prop == "ik.unreachable" and c.backends[0] == "closed-form")]
         return find(checks, prop, side=side)
+
     return probe
 
 
 def tracking(controller: str) -> Callable[[float, dict], Check]:
     """The executed trajectory is the plan with joint 1 off by a constant: RMS error = that offset
     (for goals relative to the move, δ is a fraction of the move)."""
+
     def probe(delta, tolerances):
         spec = arm3()[0]
         tr = default_trajectory(spec)
@@ -209,6 +221,7 @@ def tracking(controller: str) -> Callable[[float, dict], Check]:
         q = plan.q + np.eye(spec.dof)[0] * offset
         run = Run(controller, plan, 0.5, q, plan.qd.copy(), np.zeros_like(plan.q))
         return run_check(spec, run, compute_metrics(spec, run), VerifyOptions(tolerances=dict(tolerances)))
+
     return probe
 
 
@@ -217,17 +230,21 @@ def tracking_plan(delta, tolerances):
     spec = arm3()[0]
     q1 = np.array(spec.upper) * 0.4  # well inside the speed limits too
     plan = quintic(np.zeros(spec.dof), q1, 1.0, 0.01)
-    plan = dataclasses.replace(plan, q=plan.q + np.outer(np.linspace(0, 1, len(plan.t)), np.eye(spec.dof)[0])
-                               * (spec.upper[0] - q1[0] + delta) * (delta > 0))
+    plan = dataclasses.replace(
+        plan,
+        q=plan.q + np.outer(np.linspace(0, 1, len(plan.t)), np.eye(spec.dof)[0]) * (spec.upper[0] - q1[0] + delta) * (delta > 0),
+    )
     return plan_check(spec, plan, VerifyOptions(tolerances=dict(tolerances)))
 
 
 def _edit_urdf(pattern: str, delta: float) -> Callable[[str], str]:
     """Add ``delta`` to the first number the (one-group) ``pattern`` captures in arm3's URDF."""
+
     def edit(urdf: str) -> str:
         new, n = re.subn(pattern, lambda m: m[0].replace(m[1], repr(float(m[1]) + delta), 1), urdf, count=1, flags=re.S)
         assert n == 1, pattern
         return new
+
     return edit
 
 
@@ -244,10 +261,12 @@ URDF_EDITS = {
 
 def urdf_parameter(prop: str, suite) -> Callable[[float, dict], Check]:
     """The suite on arm3 with the URDF's statement of ``prop`` moved by delta (in its unit)."""
+
     def probe(delta, tolerances):
         ctx = context([analytic()], tolerances)
         sources = dataclasses.replace(ctx.sources, urdf=_edit_urdf(URDF_EDITS[prop], delta)(ctx.sources.urdf))
         return find(suite().run(dataclasses.replace(ctx, sources=sources)).checks, prop)
+
     return probe
 
 
@@ -285,20 +304,30 @@ QUANTIZED = {"ik.failure_rate": 1 / IK_TARGETS, "ik.unreachable": 1 / 5}
 MUST_CATCH = {
     "fk.position": 1e-7,  # m: a 0.1 µm offset of one frame
     "fk.rotation": 1e-7,  # rad
-    "jacobian.linear": 1e-7, "jacobian.angular": 1e-7,
+    "jacobian.linear": 1e-7,
+    "jacobian.angular": 1e-7,
     "jacobian.fd": 1e-4,  # a Jacobian entry wrong by 1e-4 against the backend's own FK
-    "dynamics.mass_matrix": 1e-6, "dynamics.gravity": 1e-6, "dynamics.bias": 1e-6,  # kg·m², N·m on arm3
-    "dynamics.inverse": 1e-6, "dynamics.forward": 1e-6,
-    "dynamics.damping": 1e-6, "dynamics.friction": 1e-6, "dynamics.armature": 1e-6,
+    "dynamics.mass_matrix": 1e-6,
+    "dynamics.gravity": 1e-6,
+    "dynamics.bias": 1e-6,  # kg·m², N·m on arm3
+    "dynamics.inverse": 1e-6,
+    "dynamics.forward": 1e-6,
+    "dynamics.damping": 1e-6,
+    "dynamics.friction": 1e-6,
+    "dynamics.armature": 1e-6,
     "ik.failure_rate": 1 / IK_TARGETS,  # one target of ten missed
     "ik.cross_fk": 1e-5,  # m: an IK answer 10 µm off in another backend's FK
-    "ik.limits": 1e-9, "ik.unreachable": 1 / 5,
+    "ik.limits": 1e-9,
+    "ik.unreachable": 1 / 5,
     "ik.closed_form": 10.0,  # ten times the allowance (1e-5 rad from the nearest branch)
     "tracking.computed-torque": 1e-3,  # rad RMS
-    "tracking.pd+gravity": 0.5, "tracking.position": 0.5, "tracking.seed-pid": 0.5,  # half the move
+    "tracking.pd+gravity": 0.5,
+    "tracking.position": 0.5,
+    "tracking.seed-pid": 0.5,  # half the move
     "tracking.plan": 1e-9,
     "limits.position": 1e-6,  # rad: a bound 1 µrad apart
-    "limits.effort": 1e-6, "limits.velocity": 1e-6,  # N·m, rad/s
+    "limits.effort": 1e-6,
+    "limits.velocity": 1e-6,  # N·m, rad/s
     "inertia.mass": 1e-6,  # kg: a milligram
     "inertia.com": 1e-6,  # m: a micrometre
     "inertia.tensor": 1e-8,  # kg·m²

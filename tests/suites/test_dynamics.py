@@ -85,7 +85,13 @@ def test_dynamics_agree_to_1e9_on_every_shipped_model(path):
     result = verify(ModelSources.from_spec(load_spec(path)), VerifyOptions(samples=30, suites=["dynamics"]))
     props = {c.property for c in result.checks}
     velocity_terms = set() if load_spec(path).floating else {"dynamics.bias", "dynamics.inverse", "dynamics.forward"}
-    assert {"dynamics.mass_matrix", "dynamics.gravity", "dynamics.damping", "dynamics.friction", "dynamics.armature"} | velocity_terms <= props
+    assert {
+        "dynamics.mass_matrix",
+        "dynamics.gravity",
+        "dynamics.damping",
+        "dynamics.friction",
+        "dynamics.armature",
+    } | velocity_terms <= props
     for c in result.checks:
         assert c.passed, c
         if c.property in ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias", "dynamics.inverse", "dynamics.forward"):
@@ -132,16 +138,45 @@ def test_tolerances_are_1e9_relative_for_state_comparisons():
 def test_mujoco_snapping_a_nearly_aligned_inertia_frame_is_named():
     """A capsule tilted by 6e-8 m over 0.25 m has principal axes 2.4e-7 rad off its link frame;
     MuJoCo drops that rotation (body_sameframe) and M differs by ~1e-9: the suite says why."""
-    tilted = {"name": "l2", "inertial": {"mass": 1.0, "com": [2.9802322387695312e-08, 0.0, 0.125],
-              "inertia": [0.0072766666666666206, 0.007276666666667009, 0.0004375862068969407, 0.0, -1.6305638455796405e-09, 0.0]}}
+    tilted = {
+        "name": "l2",
+        "inertial": {
+            "mass": 1.0,
+            "com": [2.9802322387695312e-08, 0.0, 0.125],
+            "inertia": [0.0072766666666666206, 0.007276666666667009, 0.0004375862068969407, 0.0, -1.6305638455796405e-09, 0.0],
+        },
+    }
     sphere = {"shape": "sphere", "radius": 0.03}
-    spec = spec_from_dict({"name": "tilted", "joints": [
-        {"name": "j1", "axis": [1, 0, 0], "limits": {"lower": 0, "upper": 1, "unit": "rad"}, "link": {"name": "l1", "mass": 1.0, "geometry": sphere}},
-        {"name": "j2", "axis": [1, 0, 0], "rpy": [0, 1.5707963267948966, 0], "limits": {"lower": 0, "upper": 1, "unit": "rad"}, "link": tilted},
-        {"name": "j3", "axis": [1, 0, 0], "xyz": [5.960464477539063e-08, 0, 0.25], "limits": {"lower": 0, "upper": 1, "unit": "rad"},
-         "link": {"name": "l3", "mass": 1.0, "geometry": sphere}}], "tools": [{"name": "tool", "parent": "l3"}]})
+    spec = spec_from_dict(
+        {
+            "name": "tilted",
+            "joints": [
+                {
+                    "name": "j1",
+                    "axis": [1, 0, 0],
+                    "limits": {"lower": 0, "upper": 1, "unit": "rad"},
+                    "link": {"name": "l1", "mass": 1.0, "geometry": sphere},
+                },
+                {
+                    "name": "j2",
+                    "axis": [1, 0, 0],
+                    "rpy": [0, 1.5707963267948966, 0],
+                    "limits": {"lower": 0, "upper": 1, "unit": "rad"},
+                    "link": tilted,
+                },
+                {
+                    "name": "j3",
+                    "axis": [1, 0, 0],
+                    "xyz": [5.960464477539063e-08, 0, 0.25],
+                    "limits": {"lower": 0, "upper": 1, "unit": "rad"},
+                    "link": {"name": "l3", "mass": 1.0, "geometry": sphere},
+                },
+            ],
+            "tools": [{"name": "tool", "parent": "l3"}],
+        }
+    )
     pin, mj = _pair(spec)
-    (body, angle), = mj.snapped_inertia_frames()
+    ((body, angle),) = mj.snapped_inertia_frames()
     assert body == "l2" and 2e-7 < angle < 3e-7
     q = np.array([0.0, 1.0, 0.0])
     assert 1e-10 < np.abs(pin.mass(q) - mj.mass(q)).max() < angle * 0.0072766  # bounded by angle·(I_max − I_min)

@@ -15,9 +15,13 @@ FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoc
 def servos(mjcf: str, joint: str, position: float, velocity: float) -> str:
     """A position and a velocity servo beside the joint's motor, as MJCFs offering three ways of
     driving a joint do (each with its own force range)."""
-    return P.sub_once(r"<actuator>", f'<actuator><position name="{joint}_position" joint="{joint}" kp="100" '
-                      f'forcerange="-{position} {position}"/><velocity name="{joint}_velocity" joint="{joint}" kv="10" '
-                      f'forcerange="-{velocity} {velocity}"/>', mjcf)
+    return P.sub_once(
+        r"<actuator>",
+        f'<actuator><position name="{joint}_position" joint="{joint}" kp="100" '
+        f'forcerange="-{position} {position}"/><velocity name="{joint}_velocity" joint="{joint}" kv="10" '
+        f'forcerange="-{velocity} {velocity}"/>',
+        mjcf,
+    )
 
 
 def above_info(result) -> list:
@@ -49,8 +53,11 @@ def test_actuators_none_of_which_has_the_urdfs_bound_differ_by_the_largest(tmp_p
     """The motor bounded to 70 N·m, the servos to 50 and 60, the URDF 87: an effort difference of
     87 − 70 (the largest one actuator can exert)."""
     urdf, mjcf = P.generated_pair("panda")
-    mjcf = P.sub_once(r'(<motor name="panda_joint1_motor" joint="panda_joint1" ctrlrange=")[^"]*', r"\g<1>-70 70",
-                      servos(mjcf, "panda_joint1", 50, 60))
+    mjcf = P.sub_once(
+        r'(<motor name="panda_joint1_motor" joint="panda_joint1" ctrlrange=")[^"]*',
+        r"\g<1>-70 70",
+        servos(mjcf, "panda_joint1", 50, 60),
+    )
     result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
     (f,) = above_info(result)
     assert (f.kind, f.severity, f.subject) == ("effort_difference", "error", "panda_joint1")
@@ -91,8 +98,12 @@ def test_a_joint_the_mjcf_couples_to_a_joint_the_urdf_lacks_is_driven_through_it
     urdf, mjcf = P.generated_pair("panda")
     mjcf = P.suspended(mjcf, "panda_link7", 0.05)
     mjcf = P.re.sub(r'<motor name="panda_joint7_motor"[^>]*/>', "", mjcf)
-    mjcf = P.sub_once(r"</mujoco>", '<equality><joint joint1="panda_joint7" joint2="suspension_joint" polycoef="0 10 0 0 0"/>'
-                      "</equality></mujoco>", mjcf)
+    mjcf = P.sub_once(
+        r"</mujoco>",
+        '<equality><joint joint1="panda_joint7" joint2="suspension_joint" polycoef="0 10 0 0 0"/></equality></mujoco>',
+        mjcf,
+    )
     result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
-    assert not [f for f in result.findings if f.kind in ("effort_unset", "effort_difference")], \
-        [f.message for f in result.findings if f.kind.startswith("effort")]
+    assert not [f for f in result.findings if f.kind in ("effort_unset", "effort_difference")], [
+        f.message for f in result.findings if f.kind.startswith("effort")
+    ]

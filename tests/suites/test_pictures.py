@@ -58,7 +58,9 @@ def test_unavailable_gl_becomes_a_note_in_the_report(monkeypatch):
 
 def test_skeleton_data_is_the_backends_fk_on_the_kinematic_tree():
     spec = load_spec(ARM3)
-    result = verify(ModelSources.from_spec(spec), VerifyOptions(samples=20, suites=["pictures"], backends=["analytic", "pinocchio-urdf"]))
+    result = verify(
+        ModelSources.from_spec(spec), VerifyOptions(samples=20, suites=["pictures"], backends=["analytic", "pinocchio-urdf"])
+    )
     data = result.sections["pictures"].data
     assert data["frames"] == list(spec.frame_names) and data["parents"] == [-1, 0, 1, 2, 3]  # a chain, base first
     assert data["other"] == "" and data["disagreements"] == []  # nothing disagrees: only the reference is drawn
@@ -86,8 +88,11 @@ def test_kinematic_tree_layout_puts_children_after_their_parent():
 
 
 @settings(max_examples=60, deadline=None)
-@given(arrays(np.float64, st.tuples(st.integers(1, 30), st.just(3)), elements=st.floats(-5, 5)),
-       st.floats(-180, 180), st.floats(-80, 80))
+@given(
+    arrays(np.float64, st.tuples(st.integers(1, 30), st.just(3)), elements=st.floats(-5, 5)),
+    st.floats(-180, 180),
+    st.floats(-80, 80),
+)
 def test_fitted_camera_sees_every_point(points, azimuth, elevation):
     fovy, aspect = 45.0, WIDTH / HEIGHT
     d = fit_distance(points, azimuth, elevation, fovy, aspect)

@@ -12,8 +12,14 @@ from hypothesis import given, settings
 
 from kinverify import load_spec
 from kinverify.testing import strategies as kst
-from kinverify.testing.assertions import (assert_files_agree, assert_fk_agree, assert_ik_valid, assert_jacobians_agree, assert_matches_baseline,
-                                  resolve_backends)
+from kinverify.testing.assertions import (
+    assert_files_agree,
+    assert_fk_agree,
+    assert_ik_valid,
+    assert_jacobians_agree,
+    assert_matches_baseline,
+    resolve_backends,
+)
 from kinverify.backends import ModelSources, build_backend
 from kinverify.generate import generate_urdf
 from kinverify.model.kinematics import frame_poses
@@ -127,9 +133,13 @@ def test_matches_baseline_missing_update_and_moved(tmp_path):
 
 
 def test_yourdfpy_is_evaluated_fresh_at_each_configuration():
-    q = np.array([[0.5, -1.5707963267948966, -2.356194490192345],
-                  [0.0, -1.5707963267948966, -2.356194490192345],
-                  [1e-9, -1.5707963267948966, -2.356194490192345]])  # rows 2, 3 found by hypothesis
+    q = np.array(
+        [
+            [0.5, -1.5707963267948966, -2.356194490192345],
+            [0.0, -1.5707963267948966, -2.356194490192345],
+            [1e-9, -1.5707963267948966, -2.356194490192345],
+        ]
+    )  # rows 2, 3 found by hypothesis
     reference, yourdfpy = resolve_backends(ARM3, ["analytic", "yourdfpy"])
     # trimesh alone would keep q[1]'s pose at q[2] (backends/quirks.py); the adapter must not
     assert geodesic_distance(reference.poses(q)[2, 2, :3, :3], yourdfpy.poses(q)[2, 2, :3, :3]) < 1e-15
@@ -173,10 +183,13 @@ def test_files_agree_fails_listing_each_error_finding_and_passes_once_it_is_acce
         assert_files_agree(tmp_path / "arm.urdf", tmp_path / "arm.xml", **fast)
     lines = str(failed.value).splitlines()
     assert lines[0].endswith("arm.urdf and " + str(tmp_path / "arm.xml") + " disagree (fail)")
-    assert lines[1:3] == ["  1 error finding:",
-                          "    mass_difference link2 (0.036593 kg): link2: mass 0.763407 kg (URDF) vs 0.8 kg (MJCF)"]
+    assert lines[1:3] == [
+        "  1 error finding:",
+        "    mass_difference link2 (0.036593 kg): link2: mass 0.763407 kg (URDF) vs 0.8 kg (MJCF)",
+    ]
     (tmp_path / "kinverify-accepted.toml").write_text(
         '[[accepted]]\nkind = "mass_difference"\nsubject = "link2"\nmagnitude = 0.036593\nunit = "kg"\n'
-        'reason = "the MJCF\'s link2 carries a cable"\n')
+        'reason = "the MJCF\'s link2 carries a cable"\n'
+    )
     result = assert_files_agree(tmp_path / "arm.urdf", tmp_path / "arm.xml", **fast)
     assert [(f.kind, f.accepted) for f in result.findings if f.severity == "error"] == [("mass_difference", True)]

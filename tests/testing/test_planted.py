@@ -46,8 +46,19 @@ def test_the_mujoco_written_mjcf_is_the_urdfs_robot_with_every_link_a_body():
     model, _ = compiled(MJCF)
     links = [el.get("name") for el in ET.fromstring(URDF).iter("link")]
     assert {model.body(i).name for i in range(model.nbody)} == {"world", *links}
-    assert kst.PLANTED_KINDS == ("axis_flip", "axis_tilt", "frame_offset_along", "frame_offset_across", "frame_turn",
-                                 "frame_turn_twist", "mass", "com", "inertia", "range", "damping")
+    assert kst.PLANTED_KINDS == (
+        "axis_flip",
+        "axis_tilt",
+        "frame_offset_along",
+        "frame_offset_across",
+        "frame_turn",
+        "frame_turn_twist",
+        "mass",
+        "com",
+        "inertia",
+        "range",
+        "damping",
+    )
 
 
 @settings(max_examples=40, deadline=None)
@@ -61,7 +72,9 @@ def test_a_planted_change_is_what_mujoco_computes_differently_by_its_size(change
         if kind == "mass":
             assert abs(m1.body_mass[b] - m0.body_mass[b]) == pytest.approx(size, rel=1e-9)
         elif kind == "com":
-            share = m0.body_mass[b] / _group_mass(next(e for e in ET.fromstring(MJCF).iter("body") if e.get("name") == planted.body))
+            share = m0.body_mass[b] / _group_mass(
+                next(e for e in ET.fromstring(MJCF).iter("body") if e.get("name") == planted.body)
+            )
             assert np.linalg.norm(d1.xipos[b] - d0.xipos[b]) * share == pytest.approx(size, rel=1e-9)
         else:
             assert np.abs(np.sort(m1.body_inertia[b]) - np.sort(m0.body_inertia[b])).max() == pytest.approx(size, rel=1e-6)
@@ -96,7 +109,7 @@ def test_a_planted_change_is_what_mujoco_computes_differently_by_its_size(change
 def test_an_equivalent_rewrite_is_the_same_robot_in_every_configuration(rewrite, q):
     text, what = rewrite
     m0, _ = compiled(MJCF)
-    qpos = np.clip(np.asarray(q[:m0.nq]), m0.jnt_range[:, 0], m0.jnt_range[:, 1])
+    qpos = np.clip(np.asarray(q[: m0.nq]), m0.jnt_range[:, 0], m0.jnt_range[:, 1])
     (m0, d0), (m1, d1) = compiled(MJCF, qpos), compiled(text, qpos)
     assert text != MJCF
     np.testing.assert_allclose(m1.body_mass, m0.body_mass, rtol=1e-12)

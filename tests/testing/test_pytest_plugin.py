@@ -50,7 +50,7 @@ def readme_example(index: int = 0) -> str:
     """A complete test file shown in the README's pytest section: its first (a spec's) or its
     second (a URDF/MJCF pair's)."""
     text = (REPO / "README.md").read_text()
-    section = text[text.index("## In your own pytest suite"):]
+    section = text[text.index("## In your own pytest suite") :]
     return re.findall(r"```python\n(.*?)```", section, re.S)[index]
 
 
@@ -73,7 +73,8 @@ def urdf_to_mjcf(urdf: str, scale_mass: float = 1.0) -> str:
 
 
 def test_the_plugin_loads_from_its_entry_point(project, fresh_install):
-    project.makepyfile(test_plugin=f'''
+    project.makepyfile(
+        test_plugin=f"""
         import pytest
         import kinverify
 
@@ -96,7 +97,8 @@ def test_the_plugin_loads_from_its_entry_point(project, fresh_install):
 
         def test_not_a_kinverify_test():
             pass
-    ''')
+    """
+    )
     shutil.copy(REPO / "models" / "arm3.toml", project.path / "arm.toml")
     result = project.runpytest_subprocess("-p", "no:cacheprovider", "--strict-markers", "-m", "kinverify", "-v")
     result.assert_outcomes(passed=3, deselected=1)
@@ -116,14 +118,16 @@ def test_the_readme_example_passes_then_reports_a_1mm_change(project):
     (project.path / "my_arm.toml").write_text(spec.replace(old, "xyz = [0.0, 0.0, 0.251]"))
     after = project.runpytest_subprocess("-p", "no:cacheprovider")
     after.assert_outcomes(passed=1, failed=1)  # the backends still agree with each other; the baseline does not
-    after.stdout.fnmatch_lines([
-        "*kinverify: arm3 does not match baseline *my_arm.json: 10 quantities moved beyond tolerance",
-        "*fk.position at frame 'link3': old * new *, delta 1.000e-03 m > tolerance 1e-09 m (*",
-        "*dynamics.gravity at frame 'joint2': old * new *, delta 3.287e-04 N·m > tolerance 1e-09 N·m (*",
-        "*q = [[]*[]]",
-        "*why: the spec changed: joint joint3: origin.xyz [[]0, 0, 0.25[]] -> [[]0, 0, 0.251[]] (Δ 0.001)",
-        "*rewrite the baseline: pytest --kinverify-update-baselines",
-    ])
+    after.stdout.fnmatch_lines(
+        [
+            "*kinverify: arm3 does not match baseline *my_arm.json: 10 quantities moved beyond tolerance",
+            "*fk.position at frame 'link3': old * new *, delta 1.000e-03 m > tolerance 1e-09 m (*",
+            "*dynamics.gravity at frame 'joint2': old * new *, delta 3.287e-04 N·m > tolerance 1e-09 N·m (*",
+            "*q = [[]*[]]",
+            "*why: the spec changed: joint joint3: origin.xyz [[]0, 0, 0.25[]] -> [[]0, 0, 0.251[]] (Δ 0.001)",
+            "*rewrite the baseline: pytest --kinverify-update-baselines",
+        ]
+    )
 
 
 def test_the_readme_files_example_checks_a_converter_and_finds_every_edit(project):
@@ -139,5 +143,10 @@ def test_the_readme_files_example_checks_a_converter_and_finds_every_edit(projec
     (project.path / "my_converter.py").write_text(CONVERTER.replace("scale_mass: float = 1.0", "scale_mass: float = 1.1"))
     wrong = project.runpytest_subprocess("-p", "no:cacheprovider", "-k", "same_robot")
     wrong.assert_outcomes(failed=1, deselected=1)
-    wrong.stdout.fnmatch_lines(["*kinverify: *my_arm.urdf and *my_arm.xml disagree (fail)", "*1 error finding:",
-                                "*mass_difference link2 (0.0763* kg): link2: mass 0.763407 kg (URDF) vs 0.839748 kg (MJCF)"])
+    wrong.stdout.fnmatch_lines(
+        [
+            "*kinverify: *my_arm.urdf and *my_arm.xml disagree (fail)",
+            "*1 error finding:",
+            "*mass_difference link2 (0.0763* kg): link2: mass 0.763407 kg (URDF) vs 0.839748 kg (MJCF)",
+        ]
+    )

@@ -17,8 +17,18 @@ from kinverify.generate import generate_urdf
 from kinverify.ik import Arm3ClosedForm, unreachable_targets
 from kinverify.model.kinematics import frame_poses
 from kinverify.model.specfile import load_spec
-from kinverify.tracking.cartesian import (IK_TOL, UnreachableError, end_effector_errors, end_of_motion_index, ik_model,
-                                          nearest_equivalent, parse_target, plan_cartesian, solve_target, track_waypoints)
+from kinverify.tracking.cartesian import (
+    IK_TOL,
+    UnreachableError,
+    end_effector_errors,
+    end_of_motion_index,
+    ik_model,
+    nearest_equivalent,
+    parse_target,
+    plan_cartesian,
+    solve_target,
+    track_waypoints,
+)
 from kinverify.tracking.quintic import plan_violations
 from kinverify.tracking.track import Trajectory, default_trajectory, track
 from tests.tracking.test_tracking import _within_effort
@@ -29,8 +39,14 @@ SEED_IK_TARGET = (0.2, 0.1, 0.8)
 
 def _track_single(spec, cplan, hold=0.3, controller="computed-torque"):
     c = cplan.choices[0]
-    return track(spec, generate_urdf(spec), Trajectory(cplan.q_start, c.q, cplan.durations[0], hold), [controller],
-                 render=False, plots=False)
+    return track(
+        spec,
+        generate_urdf(spec),
+        Trajectory(cplan.q_start, c.q, cplan.durations[0], hold),
+        [controller],
+        render=False,
+        plots=False,
+    )
 
 
 def test_arm3_seed_ik_target_under_computed_torque():
@@ -107,7 +123,8 @@ def test_waypoints_are_passed_and_the_last_reached():
     points = [(0.2, 0.1, 0.8), (0.1, -0.2, 0.9)]
     cplan = plan_cartesian(ARM3, [parse_target(p)[0] for p in points], np.zeros(3), backend="analytic")
     assert len(cplan.durations) == 2 and np.linalg.norm(cplan.choices[1].q - cplan.choices[0].q) == pytest.approx(
-        cplan.choices[1].distance)
+        cplan.choices[1].distance
+    )
     result = track_waypoints(ARM3, generate_urdf(ARM3), cplan, 0.3, ["computed-torque"])
     run, m = result.runs[0], result.metrics[0]
     assert m.passed, m.reason
@@ -140,18 +157,21 @@ def test_track_target_cli_reports_the_final_error(tmp_path, capsys):
     assert max(cart["ik_position_error"]) <= IK_TOL
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["--target", "0.2", "0.1"], "--target needs 3 values"),
-    (["--target", "0.2", "nan", "0.8"], "must be finite"),
-    (["--target", "0.2", "x", "0.8"], "not a number"),
-    (["--target", "0.2", "0.1", "0.8", "--to", "0", "0", "0"], "mutually exclusive"),
-    (["--target", "0.2", "0.1", "0.8", "--rpy", "0", "0", "0"], "needs at least 6"),
-    (["--target", "0.2", "0.1", "0.8", "--ik-backend", "mujoco"], "IK backend must be"),
-    (["--target", "0.2", "0.1", "0.8", "--duration", "0"], "must be positive"),
-    (["--target", "2", "0", "0.8", "--ik-backend", "analytic"], "closest approach"),
-    (["--target", "0.2", "0.1", "0.8", "--target", "0.1", "0.1", "0.9", "--rpy", "0", "0", "0"], "one --rpy per --target"),
-    (["--target", "0.2", "0.1", "0.8", "--deg"], "--deg applies to --to only"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--target", "0.2", "0.1"], "--target needs 3 values"),
+        (["--target", "0.2", "nan", "0.8"], "must be finite"),
+        (["--target", "0.2", "x", "0.8"], "not a number"),
+        (["--target", "0.2", "0.1", "0.8", "--to", "0", "0", "0"], "mutually exclusive"),
+        (["--target", "0.2", "0.1", "0.8", "--rpy", "0", "0", "0"], "needs at least 6"),
+        (["--target", "0.2", "0.1", "0.8", "--ik-backend", "mujoco"], "IK backend must be"),
+        (["--target", "0.2", "0.1", "0.8", "--duration", "0"], "must be positive"),
+        (["--target", "2", "0", "0.8", "--ik-backend", "analytic"], "closest approach"),
+        (["--target", "0.2", "0.1", "0.8", "--target", "0.1", "0.1", "0.9", "--rpy", "0", "0", "0"], "one --rpy per --target"),
+        (["--target", "0.2", "0.1", "0.8", "--deg"], "--deg applies to --to only"),
+    ],
+)
 def test_track_target_bad_input_is_one_line_and_exit_2(argv, words, capsys):
     assert main(["track", "models/arm3.toml", *argv]) == 2
     err = capsys.readouterr().err

@@ -45,10 +45,12 @@ def test_frame_indices_span_the_run_at_the_frame_rate(n, dt, fps):
 def test_mujoco_imports_whatever_mujoco_gl_says(value):
     """The dynamics MuJoCo does needs no GL: an unknown or unloadable MUJOCO_GL leaves it working
     and records why (``IMPORT_ERROR``) for the rendering child's note."""
-    code = ("import kinverify, mujoco, numpy as np; from kinverify import mujoco_gl; "
-            "m = mujoco.MjModel.from_xml_string('<mujoco><worldbody><body><joint/><geom size=\\'.1\\' mass=\\'2\\'/>"
-            "</body></worldbody></mujoco>'); d = mujoco.MjData(m); mujoco.mj_forward(m, d); M = np.zeros((1, 1)); "
-            "mujoco.mj_fullM(m, d, M); print(M[0, 0] > 0, repr(mujoco_gl.IMPORT_ERROR))")
+    code = (
+        "import kinverify, mujoco, numpy as np; from kinverify import mujoco_gl; "
+        "m = mujoco.MjModel.from_xml_string('<mujoco><worldbody><body><joint/><geom size=\\'.1\\' mass=\\'2\\'/>"
+        "</body></worldbody></mujoco>'); d = mujoco.MjData(m); mujoco.mj_forward(m, d); M = np.zeros((1, 1)); "
+        "mujoco.mj_fullM(m, d, M); print(M[0, 0] > 0, repr(mujoco_gl.IMPORT_ERROR))"
+    )
     env = {**os.environ, "MUJOCO_GL": value, "PYTHONPATH": str(ROOT)}
     probe = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=60)
     assert probe.returncode == 0, probe.stderr[-1000:]
@@ -84,8 +86,24 @@ def test_unknown_mujoco_gl_is_a_note_in_verify_not_a_crash(tmp_path):
     """MUJOCO_GL=invalid makes ``import mujoco`` raise: verify still runs every MuJoCo check and
     the renderings turn into notes in the JSON and the HTML."""
     html, js = tmp_path / "r.html", tmp_path / "r.json"
-    cmd = [sys.executable, "-m", "kinverify", "verify", str(ROOT / "models" / "arm3.toml"), "--samples", "5",
-           "--skip", "ik", "--skip", "workspace", "--quiet", "--report", str(html), "--json", str(js)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "kinverify",
+        "verify",
+        str(ROOT / "models" / "arm3.toml"),
+        "--samples",
+        "5",
+        "--skip",
+        "ik",
+        "--skip",
+        "workspace",
+        "--quiet",
+        "--report",
+        str(html),
+        "--json",
+        str(js),
+    ]
     env = {**os.environ, "MUJOCO_GL": "invalid", "PYTHONPATH": str(ROOT)}
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]

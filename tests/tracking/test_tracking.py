@@ -32,16 +32,28 @@ finite = st.floats(-4.0, 4.0, allow_nan=False, allow_infinity=False)
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.integers(1, 7).flatmap(lambda n: st.tuples(st.lists(finite, min_size=n, max_size=n),
-                                                     st.lists(finite, min_size=n, max_size=n))),
-       st.floats(0.01, 5.0), st.sampled_from([0.001, 0.002, 0.0005]))
+@given(
+    st.integers(1, 7).flatmap(
+        lambda n: st.tuples(st.lists(finite, min_size=n, max_size=n), st.lists(finite, min_size=n, max_size=n))
+    ),
+    st.floats(0.01, 5.0),
+    st.sampled_from([0.001, 0.002, 0.0005]),
+)
 def test_quintic_boundary_conditions(ends, duration, dt):
     q0, q1 = map(np.array, ends)
     plan = quintic(q0, q1, duration, dt)
     assert plan.t[0] == 0 and abs(plan.t[-1] - duration) <= dt / 2 + 1e-12  # whole steps
-    assert np.allclose(plan.q[0], q0, atol=1e-12) and np.allclose(plan.qd[0], 0, atol=1e-12) and np.allclose(plan.qdd[0], 0, atol=1e-12)
+    assert (
+        np.allclose(plan.q[0], q0, atol=1e-12)
+        and np.allclose(plan.qd[0], 0, atol=1e-12)
+        and np.allclose(plan.qdd[0], 0, atol=1e-12)
+    )
     # the last sample is the end of the motion: q1 at rest
-    assert np.allclose(plan.q[-1], q1, atol=1e-12) and np.allclose(plan.qd[-1], 0, atol=1e-9) and np.allclose(plan.qdd[-1], 0, atol=1e-6)
+    assert (
+        np.allclose(plan.q[-1], q1, atol=1e-12)
+        and np.allclose(plan.qd[-1], 0, atol=1e-9)
+        and np.allclose(plan.qdd[-1], 0, atol=1e-6)
+    )
     # never beyond the segment (rest-to-rest quintic is monotonic) and peak speed 15/8 |Δ|/T
     lo, hi = np.minimum(q0, q1), np.maximum(q0, q1)
     assert np.all(plan.q >= lo - 1e-12) and np.all(plan.q <= hi + 1e-12)
@@ -129,13 +141,31 @@ def test_computed_torque_tracks_random_specs(spec):
 
 def test_saturation_is_named_as_the_reason():
     # a 10 kg stack lifted by a prismatic joint with the default 100 N effort limit
-    spec = spec_from_dict({
-        "name": "lift", "base": {"rpy": [0.0, math.pi / 2, 0.0]},
-        "joints": [{"name": "j1", "type": "prismatic", "axis": [1, 0, 0], "limits": {"lower": 0.0, "upper": 0.25, "unit": "m"},
-                    "link": {"name": "l1", "mass": 2.0}}]
-        + [{"name": f"j{i}", "axis": [0, 0, 1], "limits": {"lower": 0.0, "upper": 1.0, "unit": "rad"},
-            "link": {"name": f"l{i}", "mass": 2.0 if i < 4 else 4.0}} for i in (2, 3, 4)],
-        "tools": [{"name": "tool", "parent": "l4"}]})
+    spec = spec_from_dict(
+        {
+            "name": "lift",
+            "base": {"rpy": [0.0, math.pi / 2, 0.0]},
+            "joints": [
+                {
+                    "name": "j1",
+                    "type": "prismatic",
+                    "axis": [1, 0, 0],
+                    "limits": {"lower": 0.0, "upper": 0.25, "unit": "m"},
+                    "link": {"name": "l1", "mass": 2.0},
+                }
+            ]
+            + [
+                {
+                    "name": f"j{i}",
+                    "axis": [0, 0, 1],
+                    "limits": {"lower": 0.0, "upper": 1.0, "unit": "rad"},
+                    "link": {"name": f"l{i}", "mass": 2.0 if i < 4 else 4.0},
+                }
+                for i in (2, 3, 4)
+            ],
+            "tools": [{"name": "tool", "parent": "l4"}],
+        }
+    )
     m = track(spec, generate_urdf(spec), default_trajectory(spec), ["computed-torque"], render=False, plots=False).metrics[0]
     assert not m.passed and m.saturation > 0 and "effort limit" in m.reason
 
@@ -159,8 +189,19 @@ def test_no_gl_gives_a_note_not_a_crash(monkeypatch):
 
 
 def test_tracking_suite_in_verify(tmp_path):
-    code = main(["verify", "models/arm3.toml", "--samples", "10", "--json", str(tmp_path / "r.json"),
-                 "--report", str(tmp_path / "r.html"), "--quiet"])
+    code = main(
+        [
+            "verify",
+            "models/arm3.toml",
+            "--samples",
+            "10",
+            "--json",
+            str(tmp_path / "r.json"),
+            "--report",
+            str(tmp_path / "r.html"),
+            "--quiet",
+        ]
+    )
     assert code == 0
     data = json.loads((tmp_path / "r.json").read_text())
     checks = {c["property"]: c for c in data["checks"]}
@@ -175,13 +216,16 @@ def test_tracking_suite_in_verify(tmp_path):
         assert base64.b64decode(fig["data"])[:5] in (b"<?xml", b"GIF89", b"\x89PNG\r")
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["--controller", "nope"], "unknown controller"),
-    (["--to", "200", "0", "0", "--deg"], "outside its limits"),
-    (["--duration", "0"], "must be positive"),
-    (["--duration", "-2"], "must be positive"),
-    (["--to", "1"], "needs 3 joint values"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--controller", "nope"], "unknown controller"),
+        (["--to", "200", "0", "0", "--deg"], "outside its limits"),
+        (["--duration", "0"], "must be positive"),
+        (["--duration", "-2"], "must be positive"),
+        (["--to", "1"], "needs 3 joint values"),
+    ],
+)
 def test_track_bad_input_is_one_line_and_exit_2(argv, words, capsys):
     assert main(["track", "models/arm3.toml", *argv]) == 2
     err = capsys.readouterr().err

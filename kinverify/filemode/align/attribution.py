@@ -44,6 +44,7 @@ class Attribution:
     axis lines after the carry, (angle rad, distance m); ``moved`` (xyz m, in its parent link's
     axes) and ``turn`` (rotation vector rad, in its own axes): how its frame sits elsewhere on its
     parent, when that is its difference (else None)."""
+
     joint: str
     carry: np.ndarray
     axis: tuple[float, float] = (0.0, 0.0)
@@ -73,14 +74,18 @@ def joint_line(desc: ModelDesc, joint: str, pose: np.ndarray) -> tuple[np.ndarra
 
 def _inertial(desc: ModelDesc, owner: str, poses: dict) -> tuple[float, np.ndarray, np.ndarray] | None:
     """Mass, centre of mass and inertia about it (world) of the bodies moving with ``owner`` only."""
-    parts = [(b.mass, _apply(poses[b.name], b.com_local), poses[b.name][:3, :3] @ b.inertia_local @ poses[b.name][:3, :3].T)
-             for b in desc.bodies if b.owner == owner and b.mass > 0 and b.name in poses]
+    parts = [
+        (b.mass, _apply(poses[b.name], b.com_local), poses[b.name][:3, :3] @ b.inertia_local @ poses[b.name][:3, :3].T)
+        for b in desc.bodies
+        if b.owner == owner and b.mass > 0 and b.name in poses
+    ]
     mass = float(sum(p[0] for p in parts))
     if mass <= 0:
         return None
     com: np.ndarray = sum((p[0] * p[1] for p in parts), np.zeros(3)) / mass
-    inertia: np.ndarray = sum((i + m * (float((c - com) @ (c - com)) * np.eye(3) - np.outer(c - com, c - com)) for m, c, i in parts),
-                              np.zeros((3, 3)))
+    inertia: np.ndarray = sum(
+        (i + m * (float((c - com) @ (c - com)) * np.eye(3) - np.outer(c - com, c - com)) for m, c, i in parts), np.zeros((3, 3))
+    )
     return mass, com, inertia
 
 
@@ -111,8 +116,13 @@ class _Body:
             self.com_tol = self.ptol + 2 * fl.com + self.rtol * float(np.linalg.norm(iu[1] - origin))
             self.tensor_tol = (1e-9 + fl.relative + 2 * (fl.inertial_angle + self.rtol + INERTIAL_ANGLE)) * norm
         for fu, fm, _ in info.matching.frames:
-            if (u.frame_owner.get(fu) == a and m.frame_owner.get(fm) == b and m.frame_kind.get(fm) == "site"
-                    and fu in info.poses_u and fm in pm):
+            if (
+                u.frame_owner.get(fu) == a
+                and m.frame_owner.get(fm) == b
+                and m.frame_kind.get(fm) == "site"
+                and fu in info.poses_u
+                and fm in pm
+            ):
                 self.own.append(("site", info.poses_u[fu][:3, 3], pm[fm][:3, 3]))
 
     def errors(self, feature, carry: np.ndarray) -> list[float]:
@@ -150,11 +160,14 @@ def attribute(info) -> dict[str, Attribution]:
         while up is not None and up not in to_m:  # a joint in one file only: what it moves is held at zero
             up = u.joint(up).parent
         inherited = out[up].carry if up in out else np.eye(4)
-        children = [(c.name, to_m[c.name]) for c in u.joints if c.parent == a and c.name in to_m
-                    and m.has_joint(to_m[c.name]) and m.joint(to_m[c.name]).parent == b]
+        children = [
+            (c.name, to_m[c.name])
+            for c in u.joints
+            if c.parent == a and c.name in to_m and m.has_joint(to_m[c.name]) and m.joint(to_m[c.name]).parent == b
+        ]
         body = _Body(info, a, b, pm, children)
         att = Attribution(a, inherited, parent_frame=u.joint(up).child if up is not None else "")
-        same_parent = (ju.parent == up and (jm.parent == to_m[up] if up is not None else jm.parent is None))
+        same_parent = ju.parent == up and (jm.parent == to_m[up] if up is not None else jm.parent is None)
         if same_parent:
             _frame_change(att, info, body, up, ju.child, pm[jm.child])
         att.axis = tuple(body.errors(body.own[0], att.carry)[k] * (body.rtol, body.ptol)[k] for k in (0, 1))

@@ -113,11 +113,15 @@ class Aligner:
         self.frame_pairs = [(fu, fm, why) for fu, fm, why in matching.frames if fu in poses.ui and fm in poses.mi]
         # bodies both files give the same mass: their centres of mass are evidence (a body whose
         # mass differs is a different inertial, not a displaced one)
-        self.bodies = [(bu, bm) for fu, fm, _ in self.frame_pairs
-                       for bu, bm in [(u.body(fu), m.body(fm))]
-                       if bu is not None and bm is not None and abs(bu.mass - bm.mass) <= 1e-3 * max(bu.mass, bm.mass)]
-        base = Alignment(np.eye(4), [JointMap(a, b, self.types[a]) for a, b in self.pairs], matching.couplings,
-                         matching.independent)
+        self.bodies = [
+            (bu, bm)
+            for fu, fm, _ in self.frame_pairs
+            for bu, bm in [(u.body(fu), m.body(fm))]
+            if bu is not None and bm is not None and abs(bu.mass - bm.mass) <= 1e-3 * max(bu.mass, bm.mass)
+        ]
+        base = Alignment(
+            np.eye(4), [JointMap(a, b, self.types[a]) for a, b in self.pairs], matching.couplings, matching.independent
+        )
         self.template = base
         zero = np.zeros((1, len(base.independent)))
         self.q = np.vstack([zero, samples]) if len(samples) else zero
@@ -219,8 +223,7 @@ class Aligner:
             telling = [(x, v) for x, v in moved if float(v @ v) > 0.25]
             judged = moved if telling else pairs
             telling = telling or [(x, v) for x, v in pairs if float(v @ v) > 0.25] or pairs
-            shift = consensus([float((xu - xm) @ v) / float(v @ v) for (xm, xu), v in telling], [1.0] * len(telling),
-                              linear=True)
+            shift = consensus([float((xu - xm) @ v) / float(v @ v) for (xm, xu), v in telling], [1.0] * len(telling), linear=True)
             ok = all(np.linalg.norm(xm + shift * v - xu) <= ptol for (xm, xu), v in judged)
             return shift if ok else 0.0
         candidates = []
@@ -315,15 +318,15 @@ class Aligner:
             if kind == "point":
                 src.append(a)
                 dst.append(b)
-                wp.append(np.full(len(a), ptol ** -2))
+                wp.append(np.full(len(a), ptol**-2))
             else:
                 (ua, up), (ma, mp) = a, b
                 src.append(up)
                 dst.append(project_on_line(_apply(t, up), mp, ma))
-                wp.append(np.full(len(up), ptol ** -2))
+                wp.append(np.full(len(up), ptol**-2))
                 dsrc.append(ua)
                 ddst.append(ma)
-                wd.append(np.full(len(ua), rtol ** -2))
+                wd.append(np.full(len(ua), rtol**-2))
         if not src:
             return t
         p, w = np.concatenate(src), np.concatenate(wp)
@@ -453,11 +456,19 @@ class Aligner:
                         signs, offsets, (bad, fits, axis_errors) = signs2, offsets2, trial
             else:
                 bad, fits, axis_errors = self.evaluate(t, signs, offsets)
-            n_explain = (int(not _is_identity(t, self.scale)) + sum(s < 0 for s in signs.values())
-                         + sum(abs(o) > TOL for o in offsets.values()))
+            n_explain = (
+                int(not _is_identity(t, self.scale))
+                + sum(s < 0 for s in signs.values())
+                + sum(abs(o) > TOL for o in offsets.values())
+            )
             root_offsets = sum(abs(offsets[a]) > TOL for a, _ in self.pairs if self.p.u.joint(a).parent is None)
-            key = (bad, n_explain, self.root_orientation_mismatch(t), root_offsets,
-                   float(geodesic_distance(t[:3, :3], np.eye(3))))
+            key = (
+                bad,
+                n_explain,
+                self.root_orientation_mismatch(t),
+                root_offsets,
+                float(geodesic_distance(t[:3, :3], np.eye(3))),
+            )
             if best_key is None or key < best_key:
                 best_key = key
                 used_set = set(used)
@@ -465,10 +476,13 @@ class Aligner:
                     f.in_fit = f.urdf in used_set
                 joints = [JointMap(a, b, self.types[a], signs[a], offsets[a]) for a, b in self.pairs]
                 kept = [f for f in fits if f.in_fit]
-                residual = (max([f.position for f in kept] + [e[1] for e in axis_errors.values()], default=0.0),
-                            max([e[0] for e in axis_errors.values()], default=0.0))
-                best = Alignment(t, joints, self.matching.couplings, self.matching.independent, fits, axis_errors,
-                                 residual, label, bad)
+                residual = (
+                    max([f.position for f in kept] + [e[1] for e in axis_errors.values()], default=0.0),
+                    max([e[0] for e in axis_errors.values()], default=0.0),
+                )
+                best = Alignment(
+                    t, joints, self.matching.couplings, self.matching.independent, fits, axis_errors, residual, label, bad
+                )
         assert best is not None  # candidates() is never empty (identity first)
         return best
 
@@ -477,8 +491,7 @@ def _is_identity(t: np.ndarray, scale: float) -> bool:
     return float(np.abs(t[:3, 3]).max()) <= TOL * scale and float(geodesic_distance(t[:3, :3], np.eye(3))) <= TOL
 
 
-def align(poses: PairPoses, matching: Matching, floors: Floors, samples: np.ndarray,
-          base_fixes_frame: bool = False) -> Alignment:
+def align(poses: PairPoses, matching: Matching, floors: Floors, samples: np.ndarray, base_fixes_frame: bool = False) -> Alignment:
     """The best alignment of the MJCF onto the URDF (see the module docstring). ``base_fixes_frame``
     (both files float): the base bodies fix the frame, both at the same base coordinates, so ``T``
     stays the identity unless another transform explains every feature (a base frame the files

@@ -87,28 +87,51 @@ def decide(base: UrdfBase, free: list[str]) -> tuple[bool, str, str]:
     """(compare the base as coordinates, finding kind, message) for the URDF's base and the MJCF's
     free top-level bodies; kind "" when there is nothing to say."""
     if len(free) == 1 and base.kind in ("floating", "unstated"):
-        how = (f"the URDF's root joint {base.joint} is floating" if base.kind == "floating" else
-               f"the URDF's root link {base.root} has no joint (ROS describes fixed and floating robots alike so; the "
-               "MJCF's free joint says this one floats)")
-        return True, "floating_base", (
-            f"both files float ({how}; the MJCF's body {free[0]} has a free joint): the base pose is compared as six "
-            f"coordinates ({', '.join(BASE_COORDINATES)}), both bases at the same pose; the MJCF's start pose (its free "
-            "body's pos/quat) is the free joint's initial value, not a property of the robot")
+        how = (
+            f"the URDF's root joint {base.joint} is floating"
+            if base.kind == "floating"
+            else f"the URDF's root link {base.root} has no joint (ROS describes fixed and floating robots alike so; the "
+            "MJCF's free joint says this one floats)"
+        )
+        return (
+            True,
+            "floating_base",
+            (
+                f"both files float ({how}; the MJCF's body {free[0]} has a free joint): the base pose is compared as six "
+                f"coordinates ({', '.join(BASE_COORDINATES)}), both bases at the same pose; the MJCF's start pose (its free "
+                "body's pos/quat) is the free joint's initial value, not a property of the robot"
+            ),
+        )
     if len(free) > 1:
         extra = "; the URDF's floating root is held there too" if base.kind == "floating" else ""
-        return False, "floating_base", (
-            f"the MJCF has {len(free)} free top-level bodies ({', '.join(free)}): held at the identity pose, where the "
-            f"URDF's root link is{extra} (the base pose of one robot is compared only when one body floats)")
+        return (
+            False,
+            "floating_base",
+            (
+                f"the MJCF has {len(free)} free top-level bodies ({', '.join(free)}): held at the identity pose, where the "
+                f"URDF's root link is{extra} (the base pose of one robot is compared only when one body floats)"
+            ),
+        )
     if len(free) == 1 and base.kind == "fixed":
-        return False, "floating_one_file", (
-            f"the MJCF's body {free[0]} floats (free joint) but the URDF welds its root link to the world ({base.joint} "
-            "is fixed): the files describe different robots; the rest is compared with the MJCF's base held fixed "
-            "where the URDF's is")
+        return (
+            False,
+            "floating_one_file",
+            (
+                f"the MJCF's body {free[0]} floats (free joint) but the URDF welds its root link to the world ({base.joint} "
+                "is fixed): the files describe different robots; the rest is compared with the MJCF's base held fixed "
+                "where the URDF's is"
+            ),
+        )
     if not free and base.kind == "floating":
-        return False, "floating_one_file", (
-            f"the URDF's root joint {base.joint} is floating but the MJCF has no free joint (its robot is welded to the "
-            "world): the files describe different robots; the rest is compared with the URDF's base held fixed at the "
-            "joint's origin")
+        return (
+            False,
+            "floating_one_file",
+            (
+                f"the URDF's root joint {base.joint} is floating but the MJCF has no free joint (its robot is welded to the "
+                "world): the files describe different robots; the rest is compared with the URDF's base held fixed at the "
+                "joint's origin"
+            ),
+        )
     return False, "", ""
 
 
@@ -150,8 +173,18 @@ def base_findings(findings: list, base) -> list:
     moved = next((f for f in findings if f.kind == "base_transform"), None)
     if moved is not None and base.floating:
         v = moved.values
-        out.insert(0, finding("base_frame_offset", f"the base frames differ: the URDF's base link {base.urdf.link} sits at "
-                              f"xyz = {fmt(v['xyz'])} m, rpy = {fmt(v['rpy'])} rad in the frame of the MJCF's base body "
-                              f"{base.free[0]}, so the same base coordinates place the two robots apart (the files are compared "
-                              "after it)", v, magnitude=moved.magnitude, unit="m|rad", link=base.urdf.link))
+        out.insert(
+            0,
+            finding(
+                "base_frame_offset",
+                f"the base frames differ: the URDF's base link {base.urdf.link} sits at "
+                f"xyz = {fmt(v['xyz'])} m, rpy = {fmt(v['rpy'])} rad in the frame of the MJCF's base body "
+                f"{base.free[0]}, so the same base coordinates place the two robots apart (the files are compared "
+                "after it)",
+                v,
+                magnitude=moved.magnitude,
+                unit="m|rad",
+                link=base.urdf.link,
+            ),
+        )
     return out

@@ -29,8 +29,7 @@ def line_distance(p1, a1, p2, a2) -> float:
 
 def pose_difference(t_a: np.ndarray, t_b: np.ndarray) -> tuple[float, float]:
     """(position distance [m], rotation angle [rad]) between two poses."""
-    return (float(np.linalg.norm(t_a[:3, 3] - t_b[:3, 3])),
-            float(geodesic_distance(t_a[:3, :3], t_b[:3, :3])))
+    return (float(np.linalg.norm(t_a[:3, 3] - t_b[:3, 3])), float(geodesic_distance(t_a[:3, :3], t_b[:3, :3])))
 
 
 def frame_pose(desc: ModelDesc, name: str) -> np.ndarray:
@@ -74,8 +73,14 @@ def rpy_string(rot: np.ndarray) -> list[float]:
     return [float(v) for v in matrix_to_rpy(rot)]
 
 
-def kabsch(p_src: np.ndarray, p_dst: np.ndarray, w_p: np.ndarray | None = None, d_src: np.ndarray | None = None,
-           d_dst: np.ndarray | None = None, w_d: np.ndarray | None = None) -> np.ndarray:
+def kabsch(
+    p_src: np.ndarray,
+    p_dst: np.ndarray,
+    w_p: np.ndarray | None = None,
+    d_src: np.ndarray | None = None,
+    d_dst: np.ndarray | None = None,
+    w_d: np.ndarray | None = None,
+) -> np.ndarray:
     """The rigid transform T (4x4) minimising Σ w_p |T p_src − p_dst|² + Σ w_d |R d_src − d_dst|²
     over points ``(N, 3)`` and unit directions ``(M, 3)`` (directions constrain the rotation only)."""
     w_p = np.ones(len(p_src)) if w_p is None else np.asarray(w_p, dtype=float)

@@ -120,15 +120,22 @@ def _layout(desc: ModelDesc, names: list[str], parent: str | None) -> tuple[np.n
     return dist, cos, to_parent
 
 
-def _pair_siblings(u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], parents: tuple, sizes: tuple) -> list[tuple[str, str]]:
+def _pair_siblings(
+    u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], parents: tuple, sizes: tuple
+) -> list[tuple[str, str]]:
     """The assignment of sibling joints (same matched parent) that best keeps their types, what
     hangs below them and how their axes lie (see the module docstring)."""
     lu, lm = _layout(u, cu, parents[0]), _layout(m, cm, parents[1])
     scale = max(1e-3, float(lu[0].max(initial=0.0)), float(lm[0].max(initial=0.0)))
 
     def cost(iu: tuple, im: tuple) -> float:
-        c = sum(1e3 * (u.joint(cu[a]).type != m.joint(cm[b]).type) + abs(sizes[0][cu[a]] - sizes[1][cm[b]])
-                + abs(lu[2][a, 0] - lm[2][b, 0]) / scale + abs(lu[2][a, 1] - lm[2][b, 1]) for a, b in zip(iu, im, strict=True))
+        c = sum(
+            1e3 * (u.joint(cu[a]).type != m.joint(cm[b]).type)
+            + abs(sizes[0][cu[a]] - sizes[1][cm[b]])
+            + abs(lu[2][a, 0] - lm[2][b, 0]) / scale
+            + abs(lu[2][a, 1] - lm[2][b, 1])
+            for a, b in zip(iu, im, strict=True)
+        )
         for (a1, b1), (a2, b2) in itertools.combinations(list(zip(iu, im, strict=True)), 2):
             c += abs(lu[0][a1, a2] - lm[0][b1, b2]) / scale + abs(lu[1][a1, a2] - lm[1][b1, b2])
         return c
@@ -137,7 +144,9 @@ def _pair_siblings(u: ModelDesc, m: ModelDesc, cu: list[str], cm: list[str], par
     iu: list[int] | tuple[int, ...]
     im: list[int] | tuple[int, ...]
     if max(len(cu), len(cm)) <= MAX_PERMUTED:
-        options = ((iu, im) for iu in itertools.combinations(range(len(cu)), k) for im in itertools.permutations(range(len(cm)), k))
+        options = (
+            (iu, im) for iu in itertools.combinations(range(len(cu)), k) for im in itertools.permutations(range(len(cm)), k)
+        )
         iu, im = min(options, key=lambda o: round(cost(*o), 9))  # a tie (mirror-image fingers) keeps the files' order
     else:  # many siblings: each takes its best remaining partner, in order
         iu, im = [], []
@@ -300,11 +309,15 @@ def match_couplings(u: ModelDesc, m: ModelDesc, joints) -> dict[str, Coupling]:
     to_u = {b: a for a, b, _ in joints}
     order = [a for a, _, _ in joints]
     mine = [c for c in u.couplings if c.follower in to_u.values() and c.leader in to_u.values()]
-    theirs = [Coupling(to_u[c.follower], to_u[c.leader], c.multiplier, c.offset, c.source, c.nonlinear)
-              for c in m.couplings if c.follower in to_u and c.leader in to_u]
+    theirs = [
+        Coupling(to_u[c.follower], to_u[c.leader], c.multiplier, c.offset, c.source, c.nonlinear)
+        for c in m.couplings
+        if c.follower in to_u and c.leader in to_u
+    ]
     coupled = {x for c in mine for x in (c.follower, c.leader)}
-    return resolve_couplings(mine + [c for c in theirs if c.follower not in coupled and c.leader not in coupled], order,
-                             {c.follower for c in mine})
+    return resolve_couplings(
+        mine + [c for c in theirs if c.follower not in coupled and c.leader not in coupled], order, {c.follower for c in mine}
+    )
 
 
 def match_frames(u: ModelDesc, m: ModelDesc, joints, explicit=()) -> list[tuple[str, str, str]]:
@@ -317,8 +330,15 @@ def match_frames(u: ModelDesc, m: ModelDesc, joints, explicit=()) -> list[tuple[
     used_u, used_m = {f[0] for f in frames}, {f[1] for f in frames}
     for a, b, _ in joints:  # on the base in both files, and not a frame the other file names otherwise
         pu, pm = u.joint(a).parent_frame, m.joint(b).parent_frame
-        if (u.joint(a).parent is None and m.joint(b).parent is None and pu in u.frames and pm in m.frames
-                and pu not in used_u and pm not in used_m and (pu == pm or (pu not in m.frames and pm not in u.frames))):
+        if (
+            u.joint(a).parent is None
+            and m.joint(b).parent is None
+            and pu in u.frames
+            and pm in m.frames
+            and pu not in used_u
+            and pm not in used_m
+            and (pu == pm or (pu not in m.frames and pm not in u.frames))
+        ):
             frames.append((pu, pm, f"{a} hangs from it"))
             used_u.add(pu)
             used_m.add(pm)
@@ -354,6 +374,8 @@ def match(u: ModelDesc, m: ModelDesc, joints=(), frames=()) -> Matching:
         raise InputError("the MJCF has no movable hinge or slide joints")
     pairs, uu, um = match_joints(u, m, joints)
     if not pairs:
-        raise InputError(f"no common joints: URDF has {', '.join(j.name for j in u.joints)}; "
-                         f"MJCF has {', '.join(j.name for j in m.joints)} (pair them with --joints URDF=MJCF)")
+        raise InputError(
+            f"no common joints: URDF has {', '.join(j.name for j in u.joints)}; "
+            f"MJCF has {', '.join(j.name for j in m.joints)} (pair them with --joints URDF=MJCF)"
+        )
     return Matching(pairs, uu, um, match_frames(u, m, pairs, frames), match_couplings(u, m, pairs))

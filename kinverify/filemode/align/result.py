@@ -29,6 +29,7 @@ class FrameFit:
     """One matched frame after alignment: max over the fit's configurations of the position and
     rotation error with ``T`` and the joint map applied, and after removing a constant offset ``C``
     (``pose_urdf = T⁻¹ · pose_mjcf · C``)."""
+
     urdf: str
     mjcf: str
     why: str
@@ -97,8 +98,10 @@ class PairPoses:
     """FK of both files' frames at configurations of the matched joints (each file's own names):
     Pinocchio on the URDF, MuJoCo on the MJCF, Drake on an SDFormat side (joints in one file only held at zero, MJCF ones at
     ``qpos0``, where MuJoCo places a joint with a ``ref``)."""
-    def __init__(self, u: ModelDesc, m: ModelDesc, matching: Matching, urdf_text: str, mjcf_text: str,
-                 urdf_library: str = "pinocchio") -> None:
+
+    def __init__(
+        self, u: ModelDesc, m: ModelDesc, matching: Matching, urdf_text: str, mjcf_text: str, urdf_library: str = "pinocchio"
+    ) -> None:
 
         self.u, self.m = u, m
         self.ujoints = [a for a, _, _ in matching.joints]
@@ -107,15 +110,19 @@ class PairPoses:
         if u.kind == "usd":
             self.ub = build_backend("usd", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (), usd=urdf_text))
         elif u.kind == "sdf" or urdf_library == "drake":  # an SDFormat side, or a URDF only Drake reads
-            self.ub = build_backend(f"drake-{u.kind}", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (),
-                                                                    **{u.kind: urdf_text}))  # type: ignore[arg-type]  # the text of u.kind
+            texts: dict = {u.kind: urdf_text}  # the text of u.kind
+            self.ub = build_backend(
+                f"drake-{u.kind}", ModelSources("", tuple(self.ujoints), tuple(self.uframes), (), (), (), **texts)
+            )
         else:
             reader = PinocchioBackend if urdf_library == "pinocchio" else MujocoBackend
             self.ub = reader.from_urdf(urdf_text, self.ujoints, self.uframes)
         if m.kind == "usd":
             self.mb = build_backend("usd", ModelSources("", tuple(self.mjoints), tuple(self.mframes), (), (), (), usd=mjcf_text))
         elif m.kind == "sdf":
-            self.mb = build_backend("drake-sdf", ModelSources("", tuple(self.mjoints), tuple(self.mframes), (), (), (), sdf=mjcf_text))
+            self.mb = build_backend(
+                "drake-sdf", ModelSources("", tuple(self.mjoints), tuple(self.mframes), (), (), (), sdf=mjcf_text)
+            )
         else:
             self.mb = MujocoBackend.from_mjcf(mjcf_text, self.mjoints, self.mframes)
         self.ui = {f: i for i, f in enumerate(self.uframes)}

@@ -32,12 +32,14 @@ def sample_ranges(u: ModelDesc, joints) -> tuple[list, list, list]:
 
 
 def identity_alignment(u: ModelDesc, matching: Matching) -> Alignment:
-    return Alignment(np.eye(4), [JointMap(a, b, u.joint(a).type) for a, b, _ in matching.joints], matching.couplings,
-                     matching.independent)
+    return Alignment(
+        np.eye(4), [JointMap(a, b, u.joint(a).type) for a, b, _ in matching.joints], matching.couplings, matching.independent
+    )
 
 
-def run_alignment(u, m, matching, urdf_text, mjcf_text, library, floors, samples, internal: list,
-                  base_fixes_frame: bool = False) -> tuple[Alignment, PairPoses]:
+def run_alignment(
+    u, m, matching, urdf_text, mjcf_text, library, floors, samples, internal: list, base_fixes_frame: bool = False
+) -> tuple[Alignment, PairPoses]:
     poses = PairPoses(u, m, matching, urdf_text, mjcf_text, library)
     try:
         return align(poses, matching, floors, samples, base_fixes_frame), poses

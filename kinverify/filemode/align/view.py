@@ -22,8 +22,16 @@ class AlignedBackend(BackendBase):
     drives some couplings itself, like yourdfpy the URDF's ``<mimic>`` followers, is given the other
     joints only, each at the value every other library gets."""
 
-    def __init__(self, inner, alignment: Alignment, frames, mode: str, left: np.ndarray | None = None,
-                 constants: list[np.ndarray] | np.ndarray | None = None, pick: list[str] | None = None) -> None:
+    def __init__(
+        self,
+        inner,
+        alignment: Alignment,
+        frames,
+        mode: str,
+        left: np.ndarray | None = None,
+        constants: list[np.ndarray] | np.ndarray | None = None,
+        pick: list[str] | None = None,
+    ) -> None:
         self.inner, self.alignment, self.mode = inner, alignment, mode
         self.name, self.frames = inner.name, tuple(frames)
         self.floating = bool(getattr(inner, "floating", False))

@@ -28,6 +28,7 @@ PAIRS = {"urdf": ("pinocchio-urdf", "mujoco-urdf"), "mjcf": ("mujoco", "pinocchi
 
 class PinocchioMjcfDynamics(PinocchioDynamics):
     """:class:`PinocchioDynamics` on Pinocchio's MJCF parser's model."""
+
     @staticmethod
     def build_model(mjcf: str):
 
@@ -36,6 +37,7 @@ class PinocchioMjcfDynamics(PinocchioDynamics):
 
 class AuditDynamicsSuite(DynamicsSuite):
     """Pinocchio and MuJoCo on one file (``kind``); ``top``: the MJCF's top-level pose Pinocchio drops."""
+
     def __init__(self, kind: str, text: str, top: np.ndarray | None = None) -> None:
         self.kind, self.text, self.top = kind, text, top
         self.title = f"Dynamics: the {kind.upper()} in {' and '.join(PAIRS[kind])}"
@@ -43,7 +45,6 @@ class AuditDynamicsSuite(DynamicsSuite):
     def models(self, ctx: VerifyContext):
         joints = ctx.sources.joint_names
         if self.kind == "urdf":
-
             mj = MujocoDynamics(urdf_for_mujoco(self.text), joints, rigid=True)
             return PinocchioDynamics(self.text, joints, mj.armature), mj, "MuJoCo's URDF import"
         mj = MujocoDynamics(self.text, joints, rigid=True)
@@ -54,8 +55,9 @@ class AuditDynamicsSuite(DynamicsSuite):
 
     def run(self, ctx: VerifyContext):
         src = ctx.sources
-        both = ModelSources(src.name, src.joint_names, src.frames, src.lower, src.upper, src.revolute,
-                            urdf=self.text, mjcf=self.text)  # one file: run() asks for both sources
+        both = ModelSources(
+            src.name, src.joint_names, src.frames, src.lower, src.upper, src.revolute, urdf=self.text, mjcf=self.text
+        )  # one file: run() asks for both sources
         out = super().run(VerifyContext(both, {}, ctx.q, ctx.options))
         out.checks = [dataclasses.replace(c, backends=PAIRS[self.kind]) for c in out.checks]  # the reference first
         if out.section is not None:
@@ -67,8 +69,10 @@ def _relabel(section: Section, title: str, pinocchio: str, mujoco: str) -> Secti
     """The suite's section with the two libraries reading one file named instead of "URDF" (its
     Pinocchio side) and "MJCF" (its MuJoCo side)."""
     section.title = title
-    section.tables = [dataclasses.replace(t, columns=[c.replace("URDF", pinocchio).replace("MJCF", mujoco) for c in t.columns])
-                      for t in section.tables]
+    section.tables = [
+        dataclasses.replace(t, columns=[c.replace("URDF", pinocchio).replace("MJCF", mujoco) for c in t.columns])
+        for t in section.tables
+    ]
     section.notes = [n for n in section.notes if "URDF cannot express joint armature" not in n]
     section.notes.append(f"{pinocchio}'s joint armature is set to {mujoco}'s (a URDF has none): armature is not compared.")
     return section
@@ -93,15 +97,29 @@ def inertial_findings(urdf_text: str, desc, scale: float = 1.0) -> list:
             di = float(np.abs(a.inertia - b.inertia).max())
             differs = dm > tol or dc > 1e-9 * scale or di > tol
             prop = "inertia.mass" if dm > tol else "inertia.com" if dc > 1e-9 * scale else "inertia.tensor"
-            what = {"inertia.mass": f"a mass of {b.mass:.6g} kg, pinocchio-urdf {a.mass:.6g} kg",
-                    "inertia.com": f"its centre of mass {dc:.3g} m from pinocchio-urdf's",
-                    "inertia.tensor": f"an inertia up to {di:.3g} kg·m² from pinocchio-urdf's"}[prop]
+            what = {
+                "inertia.mass": f"a mass of {b.mass:.6g} kg, pinocchio-urdf {a.mass:.6g} kg",
+                "inertia.com": f"its centre of mass {dc:.3g} m from pinocchio-urdf's",
+                "inertia.tensor": f"an inertia up to {di:.3g} kg·m² from pinocchio-urdf's",
+            }[prop]
         if differs:
-            out.append(finding("parser_disagreement", f"mujoco-urdf gives link {name} {what}"
-                               + (" (the link has no <inertial>: MuJoCo's URDF import takes one from its geometry)"
-                                  if a is None else ""),
-                               {"file": "URDF", "backends": ["pinocchio-urdf", "mujoco-urdf"], "backend": "mujoco-urdf",
-                                "pinocchio-urdf": mass[0], "mujoco-urdf": mass[1]},
-                               magnitude=abs(mass[0] - mass[1]) if prop == "inertia.mass" else None, unit="kg" if prop == "inertia.mass" else "",
-                               prop=prop, severity="error", link=name))
+            out.append(
+                finding(
+                    "parser_disagreement",
+                    f"mujoco-urdf gives link {name} {what}"
+                    + (" (the link has no <inertial>: MuJoCo's URDF import takes one from its geometry)" if a is None else ""),
+                    {
+                        "file": "URDF",
+                        "backends": ["pinocchio-urdf", "mujoco-urdf"],
+                        "backend": "mujoco-urdf",
+                        "pinocchio-urdf": mass[0],
+                        "mujoco-urdf": mass[1],
+                    },
+                    magnitude=abs(mass[0] - mass[1]) if prop == "inertia.mass" else None,
+                    unit="kg" if prop == "inertia.mass" else "",
+                    prop=prop,
+                    severity="error",
+                    link=name,
+                )
+            )
     return out

@@ -49,8 +49,23 @@ def top_level_pose(mjcf_text: str) -> np.ndarray | None:
     return None
 
 
-COMPARED = ("<site>", "<frame>", "<inertial>", "<equality>", "<tendon>", "in <equality>", "body@", "inertial@",
-            "joint@range", "joint@ref", "joint@axis", "joint@pos", "joint@limited", "geom@mass", "geom@density")
+COMPARED = (
+    "<site>",
+    "<frame>",
+    "<inertial>",
+    "<equality>",
+    "<tendon>",
+    "in <equality>",
+    "body@",
+    "inertial@",
+    "joint@range",
+    "joint@ref",
+    "joint@axis",
+    "joint@pos",
+    "joint@limited",
+    "geom@mass",
+    "geom@density",
+)
 
 
 def refusal_findings(backends: dict, kinds) -> list:
@@ -69,12 +84,23 @@ def refusal_findings(backends: dict, kinds) -> list:
         matters = [e for e in ignored if any(key in e for key in COMPARED)]
         rest = [e for e in ignored if e not in matters]
         if matters:
-            out.append(finding("parser_refused", f"{name} ignores part of the {side} that is compared: {', '.join(matters)} "
-                               "(unsupported by its parser; the rest is read and compared)",
-                               {"file": side, "backend": name, "elements": matters}))
+            out.append(
+                finding(
+                    "parser_refused",
+                    f"{name} ignores part of the {side} that is compared: {', '.join(matters)} "
+                    "(unsupported by its parser; the rest is read and compared)",
+                    {"file": side, "backend": name, "elements": matters},
+                )
+            )
         if rest:
-            out.append(finding("parser_ignores", f"{name} ignores {', '.join(rest)} in the {side} (unsupported by its parser; "
-                               "nothing compared through it depends on them)", {"file": side, "backend": name, "elements": rest}))
+            out.append(
+                finding(
+                    "parser_ignores",
+                    f"{name} ignores {', '.join(rest)} in the {side} (unsupported by its parser; "
+                    "nothing compared through it depends on them)",
+                    {"file": side, "backend": name, "elements": rest},
+                )
+            )
     return out
 
 
@@ -102,8 +128,9 @@ def majority(poses: dict, tol, backends=None) -> tuple[list[str], dict[str, tupl
             pos, rot = pose_errors(poses[agree[0]], poses[name])
             apart[name] = (float(pos.max()), float(rot.max()))
     # a float32 reading close to the majority is named with it when it tells each reading apart from it
-    agree += [n for n in names if n not in voters and n not in apart and n not in agree
-              and all(not close(n, other) for other in apart)]
+    agree += [
+        n for n in names if n not in voters and n not in apart and n not in agree and all(not close(n, other) for other in apart)
+    ]
     return agree, apart
 
 
@@ -134,8 +161,13 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                 p1 = backends[name].poses(q)[:, cols]
             except Exception as err:  # the library fails on this file: a finding, not a crash
                 keep.pop(name)
-                findings.append(finding("parser_refused", f"{name} cannot evaluate the {side}: {library_reason(err)}",
-                                        {"file": side, "backend": name}))
+                findings.append(
+                    finding(
+                        "parser_refused",
+                        f"{name} cannot evaluate the {side}: {library_reason(err)}",
+                        {"file": side, "backend": name},
+                    )
+                )
                 continue
             pos, rot = pose_errors(readings[loaded[0]], p1)
             rows.append([side, f"{loaded[0]} vs {name}", float(pos.max()), float(rot.max())])
@@ -148,27 +180,48 @@ def cross_check(backends: dict, q: np.ndarray, tol, t_base: np.ndarray, top_pose
                     shift = float(np.linalg.norm(top_pose[:3, 3]))
                     angle = float(geodesic_distance(top_pose[:3, :3], np.eye(3)))
                     rows[-1] += [f"corrected: {float(cpos.max()):.2g} m, {float(crot.max()):.2g} rad"]
-                    findings.append(finding(
-                        "parser_quirk", f"Pinocchio's MJCF parser drops the pose of the top-level body ({shift:.4g} m, "
-                        f"{angle:.4g} rad = {math.degrees(angle):.4g}°): its reading of the MJCF is off by that much "
-                        f"everywhere (pinocchio#2782, {QUIRK_ISSUE}); kinverify puts the pose back before comparing",
-                        {"file": side, "backends": [loaded[0], name], "position_m": float(pos.max()),
-                         "rotation_rad": float(rot.max()), "top_level_xyz": top_pose[:3, 3].tolist(), "issue": QUIRK_ISSUE},
-                        magnitude=max(shift, angle), unit="m|rad"))
+                    findings.append(
+                        finding(
+                            "parser_quirk",
+                            f"Pinocchio's MJCF parser drops the pose of the top-level body ({shift:.4g} m, "
+                            f"{angle:.4g} rad = {math.degrees(angle):.4g}°): its reading of the MJCF is off by that much "
+                            f"everywhere (pinocchio#2782, {QUIRK_ISSUE}); kinverify puts the pose back before comparing",
+                            {
+                                "file": side,
+                                "backends": [loaded[0], name],
+                                "position_m": float(pos.max()),
+                                "rotation_rad": float(rot.max()),
+                                "top_level_xyz": top_pose[:3, 3].tolist(),
+                                "issue": QUIRK_ISSUE,
+                            },
+                            magnitude=max(shift, angle),
+                            unit="m|rad",
+                        )
+                    )
             readings[name] = p1
         agree, apart = majority(readings, tol, backends)
         for name, (pos, rot) in apart.items():  # type: ignore[assignment]  # floats here, arrays above
             keep.pop(name, None)
-            values = {"file": side, "backends": [agree[0], name], "agree": agree, "apart": name, "position_m": pos,
-                      "rotation_rad": rot}
+            values = {
+                "file": side,
+                "backends": [agree[0], name],
+                "agree": agree,
+                "apart": name,
+                "position_m": pos,
+                "rotation_rad": rot,
+            }
             if len(agree) > 1:
-                message = (f"the {side} is read alike by {_listed(agree)}, and differently by {name}: up to {pos:.3g} m, "
-                           f"{rot:.3g} rad on the same file; {name} stands apart and is left out of the comparison "
-                           "between the files")
+                message = (
+                    f"the {side} is read alike by {_listed(agree)}, and differently by {name}: up to {pos:.3g} m, "
+                    f"{rot:.3g} rad on the same file; {name} stands apart and is left out of the comparison "
+                    "between the files"
+                )
             else:
-                message = (f"the {side} is read differently by {agree[0]} and {name}: up to {pos:.3g} m, {rot:.3g} rad on the "
-                           f"same file (no third reading agrees with either); {name} is left out of the comparison "
-                           "between the files")
+                message = (
+                    f"the {side} is read differently by {agree[0]} and {name}: up to {pos:.3g} m, {rot:.3g} rad on the "
+                    f"same file (no third reading agrees with either); {name} is left out of the comparison "
+                    "between the files"
+                )
             findings.append(finding("parser_disagreement", message, values, magnitude=float(max(pos, rot)), unit="m|rad"))
     return keep, findings, rows
 

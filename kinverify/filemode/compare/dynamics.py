@@ -35,8 +35,10 @@ from kinverify.tracking.models import MujocoDynamics, PinocchioDynamics
 class AlignedMujoco:
     """MuJoCo's dynamics of the MJCF seen in the URDF's joint coordinates (``T``: the world
     transform, for a floating base's coordinates: :func:`kinverify.filemode.align.floating.conjugated`)."""
-    def __init__(self, inner: MujocoDynamics, signs: np.ndarray, offsets: np.ndarray, gravity: np.ndarray,
-                 t: np.ndarray | None = None) -> None:
+
+    def __init__(
+        self, inner: MujocoDynamics, signs: np.ndarray, offsets: np.ndarray, gravity: np.ndarray, t: np.ndarray | None = None
+    ) -> None:
         self.inner, self.s, self.o = inner, signs, offsets
         self.t = None if t is None or np.array_equal(t, np.eye(4)) else t
         inner.model.opt.gravity[:] = gravity
@@ -85,6 +87,7 @@ class AlignedMujoco:
 class DampingSubstituted:
     """Pinocchio's dynamics with ``extra`` damping added in the state comparisons only: the
     parameters (``damping``, ``friction``) stay what the URDF says."""
+
     def __init__(self, inner: PinocchioDynamics, extra: np.ndarray) -> None:
         self.inner, self.extra = inner, extra
         self.model, self.idx_v, self.damping, self.friction = inner.model, inner.idx_v, inner.damping, inner.friction
@@ -112,6 +115,7 @@ class FileDynamicsSuite(DynamicsSuite):
     accelerations, so the written-precision floor of the forward check grows with them."""
 
     forward_scales_with_acceleration = True
+
     def __init__(self, info, inertial_groups: dict, damping_joints: set, notes: list[str]) -> None:
         self.info, self.groups, self.damping_joints, self.explained = info, inertial_groups, damping_joints, notes
 
@@ -120,16 +124,25 @@ class FileDynamicsSuite(DynamicsSuite):
         base = BASE_COORDINATES if info.base_coordinates else ()
         u_names = base + tuple(j.urdf for j in al.joints)
         m_names = base + tuple(j.mjcf for j in al.joints)
-        revolute = BASE_REVOLUTE[:len(base)] + tuple(j.type == "revolute" for j in al.joints)
+        revolute = BASE_REVOLUTE[: len(base)] + tuple(j.type == "revolute" for j in al.joints)
         src = ctx.sources
         assert src.urdf is not None and src.mjcf is not None  # file mode: both files
-        sources = ModelSources(src.name, u_names, src.frames, (), (), revolute,
-                               None, lock_urdf_joints(src.urdf, info.matching.unmatched_urdf + info.u.held),
-                               lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf + info.m.held), m_names,
-                               src.mjcf_frames)
+        sources = ModelSources(
+            src.name,
+            u_names,
+            src.frames,
+            (),
+            (),
+            revolute,
+            None,
+            lock_urdf_joints(src.urdf, info.matching.unmatched_urdf + info.u.held),
+            lock_mjcf_joints(src.mjcf, info.matching.unmatched_mjcf + info.m.held),
+            m_names,
+            src.mjcf_frames,
+        )
         n = int(ctx.options.extra.get("dynamics_samples", 100))
         q = np.asarray(ctx.q[:n])
-        q = np.concatenate([q[:, :len(base)], al.expand(q[:, len(base):])], axis=1)
+        q = np.concatenate([q[:, : len(base)], al.expand(q[:, len(base) :])], axis=1)
         return VerifyContext(sources, {}, q, ctx.options)
 
     def run(self, ctx: VerifyContext):
@@ -141,8 +154,10 @@ class FileDynamicsSuite(DynamicsSuite):
         mj = MujocoDynamics(ctx.sources.mjcf, ctx.sources.mjcf_joint_names, rigid=True)
         pin = PinocchioDynamics(ctx.sources.urdf, ctx.sources.joint_names, mj.armature)
         self._substitute_inertia(pin)
-        extra = np.array([0.0] * 6 * pin.floating + [mj.damping[k] - pin.damping[k] if j.urdf in self.damping_joints else 0.0
-                                                     for k, j in enumerate(al.joints)])
+        extra = np.array(
+            [0.0] * 6 * pin.floating
+            + [mj.damping[k] - pin.damping[k] if j.urdf in self.damping_joints else 0.0 for k, j in enumerate(al.joints)]
+        )
         gravity = al.T[:3, :3] @ np.array([0.0, 0.0, -9.81])
         return DampingSubstituted(pin, extra), AlignedMujoco(mj, al.signs, al.offsets, gravity, al.T), "MJCF"
 
@@ -173,9 +188,11 @@ def parameter_findings(info, tolerances: dict) -> list:
     out, groups = [], {}
     for j in info.alignment.joints:
         ju, jm = info.u.joint(j.urdf), info.m.joint(j.mjcf)
-        for prop, value, x, y in (("dynamics.damping", "damping", ju.damping, jm.damping),
-                                  ("dynamics.friction", "friction", ju.friction, jm.friction),
-                                  ("dynamics.armature", "armature", ju.armature, jm.armature)):
+        for prop, value, x, y in (
+            ("dynamics.damping", "damping", ju.damping, jm.damping),
+            ("dynamics.friction", "friction", ju.friction, jm.friction),
+            ("dynamics.armature", "armature", ju.armature, jm.armature),
+        ):
             if value == "armature" and "usd" not in (info.u.kind, info.m.kind):
                 continue  # a URDF has none; an MJCF's, against any file but a USD, is the finding below
             if x is None or y is None or abs(x - y) <= tolerances.get(prop, 1e-12):
@@ -183,12 +200,19 @@ def parameter_findings(info, tolerances: dict) -> list:
             silent = "URDF" if unset(ju.stated, value) else "MJCF" if unset(jm.stated, value) else ""
             groups.setdefault((value, prop, silent, round(x, 12), round(y, 12)), []).append(j)
     units = {"dynamics.damping": "N·m·s/rad", "dynamics.friction": "N·m", "dynamics.armature": "kg·m²"}
-    usd = {"damping": "no newton:damping or mjc:damping on the joint", "friction": "no newton:friction or mjc:frictionloss "
-           "on the joint", "armature": "no physxJoint:armature, newton:armature or mjc:armature on the joint"}
-    how = {"URDF": {"damping": "no <dynamics damping>", "friction": "no <dynamics friction>"},
-           "MJCF": {"damping": "no damping on the joint or its default class",
-                    "friction": "no frictionloss on the joint or its default class",
-                    "armature": "no armature on the joint or its default class"}}
+    usd = {
+        "damping": "no newton:damping or mjc:damping on the joint",
+        "friction": "no newton:friction or mjc:frictionloss on the joint",
+        "armature": "no physxJoint:armature, newton:armature or mjc:armature on the joint",
+    }
+    how = {
+        "URDF": {"damping": "no <dynamics damping>", "friction": "no <dynamics friction>"},
+        "MJCF": {
+            "damping": "no damping on the joint or its default class",
+            "friction": "no frictionloss on the joint or its default class",
+            "armature": "no armature on the joint or its default class",
+        },
+    }
     for side, desc in (("URDF", info.u), ("MJCF", info.m)):
         if desc.kind == "usd":  # a USD side takes the URDF's or the MJCF's place
             how[side] = usd
@@ -198,50 +222,109 @@ def parameter_findings(info, tolerances: dict) -> list:
         count = f"{len(joints)} joint{'s' if len(joints) > 1 else ''}"
         if silent:
             other, said = ("MJCF", y) if silent == "URDF" else ("URDF", x)
-            message = (f"the {silent} leaves {label} unset on {count} ({how[silent][value]}: 0 by default); the {other} "
-                       f"states {said:g}: {names}")
+            message = (
+                f"the {silent} leaves {label} unset on {count} ({how[silent][value]}: 0 by default); the {other} "
+                f"states {said:g}: {names}"
+            )
             kind = f"{value}_unset"
         else:
             message = f"{label} {x:g} in the URDF, {y:g} in the MJCF on {count}: {names}"
             kind = f"{value}_difference"
-        out.append(finding(kind, message, {"urdf": x, "mjcf": y, "unset_in": silent or None, "checks": [[prop, "parameters"]]},
-                           magnitude=abs(x - y), unit=units[prop], prop=prop, joint=[j.urdf for j in joints],
-                           mjcf_joint=[j.mjcf for j in joints]))
+        out.append(
+            finding(
+                kind,
+                message,
+                {"urdf": x, "mjcf": y, "unset_in": silent or None, "checks": [[prop, "parameters"]]},
+                magnitude=abs(x - y),
+                unit=units[prop],
+                prop=prop,
+                joint=[j.urdf for j in joints],
+                mjcf_joint=[j.mjcf for j in joints],
+            )
+        )
     if "usd" in (info.u.kind, info.m.kind):
         out += velocity_findings(info)
     for kind, field, what, unit, prop, handled in (
-            ("inexpressible", "armature", "armature (rotor inertia) {}", "kg·m²", "dynamics.armature",
-             "the comparison gives Pinocchio the MJCF's"),
-            ("stiffness_inexpressible", "stiffness", "a spring (stiffness {})", "N·m/rad", "dynamics.stiffness",
-             "springs are left out of the dynamics comparison")):
-        given = [(j, getattr(info.m.joint(j.mjcf), field)) for j in info.alignment.joints if getattr(info.m.joint(j.mjcf), field)
-                 and not (info.u.kind == "usd" and field == "armature")]  # a USD first side: compared above
+        (
+            "inexpressible",
+            "armature",
+            "armature (rotor inertia) {}",
+            "kg·m²",
+            "dynamics.armature",
+            "the comparison gives Pinocchio the MJCF's",
+        ),
+        (
+            "stiffness_inexpressible",
+            "stiffness",
+            "a spring (stiffness {})",
+            "N·m/rad",
+            "dynamics.stiffness",
+            "springs are left out of the dynamics comparison",
+        ),
+    ):
+        given = [
+            (j, getattr(info.m.joint(j.mjcf), field))
+            for j in info.alignment.joints
+            if getattr(info.m.joint(j.mjcf), field) and not (info.u.kind == "usd" and field == "armature")
+        ]  # a USD first side: compared above
         if given:
             values = ", ".join(f"{v:g}" for v in sorted({round(x, 12) for _, x in given}))
-            out.append(finding(kind, f"the MJCF gives {len(given)} joints {what.format(values)}, which a URDF cannot express: "
-                               f"the URDF's dynamics lack it ({handled})", {"mjcf": {j.urdf: x for j, x in given}},
-                               magnitude=max(x for _, x in given), unit=unit, prop=prop,
-                               joint=[j.urdf for j, _ in given], mjcf_joint=[j.mjcf for j, _ in given]))
+            out.append(
+                finding(
+                    kind,
+                    f"the MJCF gives {len(given)} joints {what.format(values)}, which a URDF cannot express: "
+                    f"the URDF's dynamics lack it ({handled})",
+                    {"mjcf": {j.urdf: x for j, x in given}},
+                    magnitude=max(x for _, x in given),
+                    unit=unit,
+                    prop=prop,
+                    joint=[j.urdf for j, _ in given],
+                    mjcf_joint=[j.mjcf for j, _ in given],
+                )
+            )
     if info.m.gravcomp:
         shares = ", ".join(f"{v:g}" for v in sorted(set(info.m.gravcomp.values())))
-        out.append(finding("inexpressible", f"the MJCF compensates gravity on {len(info.m.gravcomp)} bodies (gravcomp "
-                           f"{shares}: MuJoCo cancels that share of their weight), which a URDF cannot express: the "
-                           "rigid-body dynamics are compared without it: " + ", ".join(info.m.gravcomp),
-                           {"file": "MJCF", "mjcf_gravcomp": dict(info.m.gravcomp)},
-                           magnitude=max(info.m.gravcomp.values()), unit="", prop="dynamics.gravity"))
+        out.append(
+            finding(
+                "inexpressible",
+                f"the MJCF compensates gravity on {len(info.m.gravcomp)} bodies (gravcomp "
+                f"{shares}: MuJoCo cancels that share of their weight), which a URDF cannot express: the "
+                "rigid-body dynamics are compared without it: " + ", ".join(info.m.gravcomp),
+                {"file": "MJCF", "mjcf_gravcomp": dict(info.m.gravcomp)},
+                magnitude=max(info.m.gravcomp.values()),
+                unit="",
+                prop="dynamics.gravity",
+            )
+        )
     if info.m.free_joint:
         said = " and ".join(f"{k} {v:g}" for k, v in info.m.free_joint.items())
-        out.append(finding("inexpressible", f"the MJCF gives its free joint {said} (a floating base in a URDF has "
-                           "neither): left out of the rigid-body dynamics comparison", {"file": "MJCF", **info.m.free_joint},
-                           magnitude=max(info.m.free_joint.values()), unit="", prop="dynamics.mass_matrix"))
+        out.append(
+            finding(
+                "inexpressible",
+                f"the MJCF gives its free joint {said} (a floating base in a URDF has "
+                "neither): left out of the rigid-body dynamics comparison",
+                {"file": "MJCF", **info.m.free_joint},
+                magnitude=max(info.m.free_joint.values()),
+                unit="",
+                prop="dynamics.mass_matrix",
+            )
+        )
     rotor = {j: e for j, e in info.u.extensions.items() if "rotor_inertia" in e}
     if rotor:
         reflected = {j: e["rotor_inertia"] * e.get("gear_ratio", 1.0) ** 2 for j, e in rotor.items()}
-        out.append(finding("format_extension", "the URDF's transmissions give rotor inertia and gear ratio (a Drake extension "
-                           "Pinocchio does not read): reflected inertia G²·I of " + ", ".join(
-                               f"{j} {v:.4g}" for j, v in reflected.items()) + " kg·m², not in the comparison",
-                           {"reflected_inertia": reflected}, magnitude=max(reflected.values()), unit="kg·m²",
-                           joint=list(reflected)))
+        out.append(
+            finding(
+                "format_extension",
+                "the URDF's transmissions give rotor inertia and gear ratio (a Drake extension "
+                "Pinocchio does not read): reflected inertia G²·I of "
+                + ", ".join(f"{j} {v:.4g}" for j, v in reflected.items())
+                + " kg·m², not in the comparison",
+                {"reflected_inertia": reflected},
+                magnitude=max(reflected.values()),
+                unit="kg·m²",
+                joint=list(reflected),
+            )
+        )
     return out
 
 
@@ -259,8 +342,17 @@ def velocity_findings(info) -> list:
     out = []
     for (x, y, kind), joints in groups.items():
         unit = "rad/s" if kind == "revolute" else "m/s"
-        out.append(finding("velocity_difference", f"velocity limit {x:g} {unit} in the URDF, {y:g} {unit} in the MJCF on "
-                           f"{len(joints)} joint{'s' if len(joints) > 1 else ''}: " + ", ".join(j.urdf for j in joints),
-                           {"urdf": x, "mjcf": y}, magnitude=abs(x - y), unit=unit, prop="limits.velocity",
-                           joint=[j.urdf for j in joints], mjcf_joint=[j.mjcf for j in joints]))
+        out.append(
+            finding(
+                "velocity_difference",
+                f"velocity limit {x:g} {unit} in the URDF, {y:g} {unit} in the MJCF on "
+                f"{len(joints)} joint{'s' if len(joints) > 1 else ''}: " + ", ".join(j.urdf for j in joints),
+                {"urdf": x, "mjcf": y},
+                magnitude=abs(x - y),
+                unit=unit,
+                prop="limits.velocity",
+                joint=[j.urdf for j in joints],
+                mjcf_joint=[j.mjcf for j in joints],
+            )
+        )
     return out

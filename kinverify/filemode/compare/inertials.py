@@ -49,6 +49,7 @@ def combine(parts: list[tuple[float, np.ndarray, np.ndarray]]) -> Inertial:
 @dataclass
 class Part:
     """One body of a file placed in the common frame."""
+
     name: str
     mass: float
     com: np.ndarray
@@ -83,6 +84,7 @@ class Group:
 @dataclass(frozen=True)
 class Difference:
     """How two inertials differ: |Δm| [kg], |Δcom| [m], ‖ΔI‖₂ [kg·m²]."""
+
     mass: float
     com: float
     tensor: float
@@ -122,8 +124,7 @@ def _base_body(desc: ModelDesc) -> str | None:
     return min(massive, key=lambda n: desc.frame_depth[n], default=None)
 
 
-def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, poses_m: dict,
-           floating: bool) -> list[Group]:
+def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, poses_m: dict, floating: bool) -> list[Group]:
     """The rigid bodies of both files, paired. ``poses_u``/``poses_m``: body frame name -> pose at
     the aligned zero in the URDF's world (the MJCF's already brought through the alignment)."""
     key_u = {a: a for a, _ in joint_pairs}
@@ -131,10 +132,17 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
     twin_u = {fu: fm for fu, fm in frame_pairs}
     twin_m = {fm: fu for fu, fm in frame_pairs}
     out: dict[str, Group] = {}
-    root = next(((fu, fm) for fu, fm in frame_pairs if u.frame_owner.get(fu) is None and m.frame_owner.get(fm) is None),
-                (ROOT, ROOT))
-    both = sorted((u.frame_depth.get(f, 0), f) for f in u.frames if u.frame_owner.get(f) is None and f in m.frames
-                  and m.frame_owner.get(f) is None and (u.body(f) is not None or m.body(f) is not None))
+    root = next(
+        ((fu, fm) for fu, fm in frame_pairs if u.frame_owner.get(fu) is None and m.frame_owner.get(fm) is None), (ROOT, ROOT)
+    )
+    both = sorted(
+        (u.frame_depth.get(f, 0), f)
+        for f in u.frames
+        if u.frame_owner.get(f) is None
+        and f in m.frames
+        and m.frame_owner.get(f) is None
+        and (u.body(f) is not None or m.body(f) is not None)
+    )
     # the base is named after its body (the same name in both files, else the massive body nearest
     # the root), not after a frame on it that a first joint happens to hang from
     root = (both[0][1], both[0][1]) if both else (_base_body(u) or root[0], _base_body(m) or root[1])
@@ -152,26 +160,50 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
     def same_body(bu: BodyInertial, bm: BodyInertial | None) -> bool:
         """Twin frames are one body when they move with the same matched joint and no joint in
         one file only moves either."""
-        return (bm is not None and _owner_key(u, bu.owner, key_u) == _owner_key(m, bm.owner, key_m)
-                and _moved_by(u, bu.owner, key_u) is None and _moved_by(m, bm.owner, key_m) is None)
+        return (
+            bm is not None
+            and _owner_key(u, bu.owner, key_u) == _owner_key(m, bm.owner, key_m)
+            and _moved_by(u, bu.owner, key_u) is None
+            and _moved_by(m, bm.owner, key_m) is None
+        )
 
     for body in u.bodies:
         com, inertia = place(body, poses_u.get(body.name))
         twin = twin_u.get(body.name)
         silent = twin if twin is not None and m.body(twin) is None and twin in m.no_inertial else None
         twin = twin if twin is not None and same_body(body, m.body(twin)) else None
-        out[_owner_key(u, body.owner, key_u)].urdf.append(Part(body.name, body.mass, com, inertia, twin,
-                                                               known=body.mass_known, unset_twin=silent,
-                                                               moved_by=_moved_by(u, body.owner, key_u)))
+        out[_owner_key(u, body.owner, key_u)].urdf.append(
+            Part(
+                body.name,
+                body.mass,
+                com,
+                inertia,
+                twin,
+                known=body.mass_known,
+                unset_twin=silent,
+                moved_by=_moved_by(u, body.owner, key_u),
+            )
+        )
     for body in m.bodies:
         com, inertia = place(body, poses_m.get(body.name))
         twin = twin_m.get(body.name)
         silent = twin if twin is not None and u.body(twin) is None and twin in u.no_inertial else None
         twin = twin if twin is not None and (tb := u.body(twin)) is not None and same_body(tb, body) else None
-        out[_owner_key(m, body.owner, key_m)].mjcf.append(Part(body.name, body.mass, com, inertia, twin, body.snapped,
-                                                               known=body.mass_known, unset_twin=silent,
-                                                               moved_by=_moved_by(m, body.owner, key_m),
-                                                               snapped_com=body.snapped_com, com_known=body.com_known))
+        out[_owner_key(m, body.owner, key_m)].mjcf.append(
+            Part(
+                body.name,
+                body.mass,
+                com,
+                inertia,
+                twin,
+                body.snapped,
+                known=body.mass_known,
+                unset_twin=silent,
+                moved_by=_moved_by(m, body.owner, key_m),
+                snapped_com=body.snapped_com,
+                com_known=body.com_known,
+            )
+        )
     return [g for g in out.values() if g.urdf or g.mjcf]
 
 
@@ -207,13 +239,25 @@ def describe_tensors(a: np.ndarray, b: np.ndarray, frame: np.ndarray | None, mom
     for k in range(3):
         gap = min(abs(wa[k] - wa[j]) for j in range(3) if j != k) / scale
         angle = math.degrees(math.atan2(float(np.linalg.norm(np.cross(va[:, k], vb[:, k]))), abs(float(va[:, k] @ vb[:, k]))))
-        axes.append({"moment_urdf": float(wa[k]), "moment_mjcf": float(wb[k]), "angle_deg": angle,
-                     "defined": gap > 1e-3, "urdf_axis": _axis_name(va[:, k], frame), "mjcf_axis": _axis_name(vb[:, k], frame)})
+        axes.append(
+            {
+                "moment_urdf": float(wa[k]),
+                "moment_mjcf": float(wb[k]),
+                "angle_deg": angle,
+                "defined": gap > 1e-3,
+                "urdf_axis": _axis_name(va[:, k], frame),
+                "mjcf_axis": _axis_name(vb[:, k], frame),
+            }
+        )
     turned = [x for x in axes if x["defined"] and x["angle_deg"] > 1e-3]
-    return {"urdf_principal": wa.tolist(), "mjcf_principal": wb.tolist(), "same_moments": same_moments, "axes": axes,
-            "largest_axis_angle_deg": max([x["angle_deg"] for x in axes if x["defined"]], default=0.0),
-            "turned": [f"moment {x['moment_urdf']:.4g} along {x['urdf_axis']} (URDF) vs {x['mjcf_axis']} (MJCF)"
-                       for x in turned]}
+    return {
+        "urdf_principal": wa.tolist(),
+        "mjcf_principal": wb.tolist(),
+        "same_moments": same_moments,
+        "axes": axes,
+        "largest_axis_angle_deg": max([x["angle_deg"] for x in axes if x["defined"]], default=0.0),
+        "turned": [f"moment {x['moment_urdf']:.4g} along {x['urdf_axis']} (URDF) vs {x['mjcf_axis']} (MJCF)" for x in turned],
+    }
 
 
 @dataclass
@@ -224,6 +268,7 @@ class GroupResult:
     whose twin in the other file states no inertial are left out), ``unknown`` (part of a mass came
     from an absent mesh: not compared) or ``differs``. The parts a joint in one file only moves
     (``moved``) are that joint's, said once with it, and never compared here."""
+
     group: Group
     urdf: Inertial
     mjcf: Inertial
@@ -265,8 +310,15 @@ def carry_to_joints(grps: list[Group], info) -> None:
 def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
     """Every rigid body of both files compared (see the module docstring); ``defaults``: the
     mass, CoM and tensor tolerances in effect (the written precision may raise them)."""
-    grps = groups(info.u, info.m, info.joint_pairs, info.frame_pairs, info.poses_u,
-                  aligned_poses(info.alignment, info.poses_m) if info.file_mode else info.poses_m, info.floating)
+    grps = groups(
+        info.u,
+        info.m,
+        info.joint_pairs,
+        info.frame_pairs,
+        info.poses_u,
+        aligned_poses(info.alignment, info.poses_m) if info.file_mode else info.poses_m,
+        info.floating,
+    )
     fl = info.floors
     out = []
     if info.file_mode:
@@ -283,8 +335,14 @@ def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
         com_tol = max(defaults[1], com_floor) + sum(p.snapped_com * p.mass for p in g.mjcf) / max(b.mass, 1e-300)
         norm = max(float(np.abs(np.linalg.eigvalsh(a.inertia)).max()), float(np.abs(np.linalg.eigvalsh(b.inertia)).max()))
         snapped = sum(2 * p.snapped * float(np.ptp(np.linalg.eigvalsh(p.inertia))) for p in g.mjcf)
-        tensor_tol = max(defaults[2], info.floor("inertia.tensor", (fl.relative + 2 * (fl.inertial_angle + rot_floor)) * norm
-                                                + 2 * big * (lever + fl.com) * com_floor), defaults[2] + snapped)
+        tensor_tol = max(
+            defaults[2],
+            info.floor(
+                "inertia.tensor",
+                (fl.relative + 2 * (fl.inertial_angle + rot_floor)) * norm + 2 * big * (lever + fl.com) * com_floor,
+            ),
+            defaults[2] + snapped,
+        )
         diff = difference(a, b)
         if not all(p.com_known for p in g.urdf + g.mjcf):  # the mass is compared, not where it sits
             com_tol = tensor_tol = math.inf
@@ -310,7 +368,11 @@ def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
         if not all(p.known for p in g.urdf + g.mjcf):  # a placeholder mass: nothing to say, either way
             result = GroupResult(g, a, b, diff, tol, "unknown", moved=moved)
         elif diff.within(*tol):
-            exact = (defaults[0], defaults[1], defaults[2] + snapped) if math.isfinite(com_tol) else (defaults[0], com_tol, tensor_tol)
+            exact = (
+                (defaults[0], defaults[1], defaults[2] + snapped)
+                if math.isfinite(com_tol)
+                else (defaults[0], com_tol, tensor_tol)
+            )
             status = "rounding" if not diff.within(*exact) and info.file_mode else "agree"
             result = GroupResult(g, a, b, diff, tol, status, moved=moved)
         else:

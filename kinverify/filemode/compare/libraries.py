@@ -33,8 +33,12 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
     for f in frames_u:
         fit = next((x for x in al.frames if x.urdf == f), None)
         ptol, rtol = tol(f)
-        convention = (fit is not None and (fit.position > ptol or fit.rotation > rtol)
-                      and fit.residual_position <= ptol and fit.residual_rotation <= rtol)
+        convention = (
+            fit is not None
+            and (fit.position > ptol or fit.rotation > rtol)
+            and fit.residual_position <= ptol
+            and fit.residual_rotation <= rtol
+        )
         constants.append(fit.constant if convention and fit is not None else np.eye(4))
     out = {}
     for name in wanted:
@@ -47,8 +51,11 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
                 load = getattr(klass, f"from_{kinds[0]}")
                 # yourdfpy drives the URDF's own <mimic> followers from their leaders itself; a
                 # coupling only the other file states is given to it like to every other library
-                pick = [j for j in all_u if j not in al.couplings or al.couplings[j].source != "<mimic>"] \
-                    if name == "yourdfpy" else None
+                pick = (
+                    [j for j in all_u if j not in al.couplings or al.couplings[j].source != "<mimic>"]
+                    if name == "yourdfpy"
+                    else None
+                )
                 inner = load(urdf_text, base + (all_u if pick is None else pick), frames_u, name=name)
                 out[name] = AlignedBackend(inner, al, frames_u, "urdf", pick=pick)
             elif name in second:
@@ -64,8 +71,7 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
                 raise
             side = LABELS[kinds[0] if name in first else kinds[1]]
             text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {library_reason(err)}"
-            findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}",
-                                    {"file": side, "backend": name}))
+            findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}", {"file": side, "backend": name}))
     findings += refusal_findings(out, kinds)
     return out
 
@@ -90,6 +96,8 @@ def side_names(options, kinds=("urdf", "mjcf")) -> list[str]:
     if not any(n in first for n in wanted) or not any(n in second for n in wanted):
         article = {"URDF": "a"}
         a, b = (f"{article.get(LABELS[k], 'an')} {LABELS[k]}" for k in kinds)
-        raise InputError(f"--backends: file mode needs {a} backend ({', '.join(first)}) and {b} backend "
-                         f"({', '.join(second)}); got {', '.join(options.backends or [])}")
+        raise InputError(
+            f"--backends: file mode needs {a} backend ({', '.join(first)}) and {b} backend "
+            f"({', '.join(second)}); got {', '.join(options.backends or [])}"
+        )
     return wanted

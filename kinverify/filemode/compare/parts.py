@@ -52,17 +52,44 @@ def part_findings(info, results, tol_mass: float) -> list:
             text.append(f"joint{'s' if len(unmatched) > 1 else ''} {', '.join(unmatched)}")
         if parts:
             brief = len(parts) > 4  # many parts: the joints that move them are named above already
-            text.append("link" + ("s " if len(parts) > 1 else " ") + ", ".join(
-                f"{p['name']} ({p['mass']:.6g} kg)" if brief and p["how"].startswith("moved by")
-                else f"{p['name']} ({p['mass']:.6g} kg, {p['how']})" for p in parts))
-        msg = (f"the {side} has parts the {other} lacks: {'; '.join(text)}"
-               + (f": {mass:.6g} kg in all, left out when comparing the rigid bodies they join "
-                  f"({', '.join(sorted(set(p['body'] for p in parts)))})" if parts else "") + (" (not compared; held at zero)" if unmatched else ""))
-        out.append(finding("extra_parts", msg, {"file": side, "joints": list(unmatched), "links": parts, "mass_kg": mass,
-                                                "groups": groups, "checks": [[p, "rigid bodies"] for p in
-                                                                              ("inertia.mass", "inertia.com", "inertia.tensor")]},
-                           magnitude=mass if parts else len(unmatched), unit="kg" if parts else "joints",
-                           joint=list(unmatched) or None, link=None if unmatched else [p["name"] for p in parts]))
+            text.append(
+                "link"
+                + ("s " if len(parts) > 1 else " ")
+                + ", ".join(
+                    f"{p['name']} ({p['mass']:.6g} kg)"
+                    if brief and p["how"].startswith("moved by")
+                    else f"{p['name']} ({p['mass']:.6g} kg, {p['how']})"
+                    for p in parts
+                )
+            )
+        msg = (
+            f"the {side} has parts the {other} lacks: {'; '.join(text)}"
+            + (
+                f": {mass:.6g} kg in all, left out when comparing the rigid bodies they join "
+                f"({', '.join(sorted(set(p['body'] for p in parts)))})"
+                if parts
+                else ""
+            )
+            + (" (not compared; held at zero)" if unmatched else "")
+        )
+        out.append(
+            finding(
+                "extra_parts",
+                msg,
+                {
+                    "file": side,
+                    "joints": list(unmatched),
+                    "links": parts,
+                    "mass_kg": mass,
+                    "groups": groups,
+                    "checks": [[p, "rigid bodies"] for p in ("inertia.mass", "inertia.com", "inertia.tensor")],
+                },
+                magnitude=mass if parts else len(unmatched),
+                unit="kg" if parts else "joints",
+                joint=list(unmatched) or None,
+                link=None if unmatched else [p["name"] for p in parts],
+            )
+        )
     out += _unset_inertials(results)
     out += _unknown_masses(results)
     out += _lumped(results)
@@ -80,12 +107,22 @@ def _unset_inertials(results) -> list:
         parts = [(p, r) for r in results if r.status == "unset" for p in r.extra if any(p is x for x in _side(r, other))]
         if not parts:
             continue
-        out.append(finding("inertial_unset", f"the {side} leaves the inertial of {len(parts)} link{'s' if len(parts) > 1 else ''} "
-                           f"unset (massless by default); the {other} states it: " + ", ".join(
-                               f"{p.unset_twin} ({p.mass:.6g} kg in the {other})" for p, _ in parts),
-                           {"unset_in": side, "links": [{"name": p.unset_twin, "other": p.name, "mass": p.mass, "body": r.label}
-                                                         for p, r in parts], "checks": INERTIA_CHECKS},
-                           magnitude=sum(p.mass for p, _ in parts), unit="kg", link=[p.unset_twin for p, _ in parts]))
+        out.append(
+            finding(
+                "inertial_unset",
+                f"the {side} leaves the inertial of {len(parts)} link{'s' if len(parts) > 1 else ''} "
+                f"unset (massless by default); the {other} states it: "
+                + ", ".join(f"{p.unset_twin} ({p.mass:.6g} kg in the {other})" for p, _ in parts),
+                {
+                    "unset_in": side,
+                    "links": [{"name": p.unset_twin, "other": p.name, "mass": p.mass, "body": r.label} for p, r in parts],
+                    "checks": INERTIA_CHECKS,
+                },
+                magnitude=sum(p.mass for p, _ in parts),
+                unit="kg",
+                link=[p.unset_twin for p, _ in parts],
+            )
+        )
     return out
 
 
@@ -95,11 +132,16 @@ def _unknown_masses(results) -> list:
     if not unknown:
         return []
     parts = [(side, p.name) for r in unknown for side in ("URDF", "MJCF") for p in _side(r, side) if not p.known]
-    return [finding("mass_unknown", f"{len(unknown)} rigid bod{'ies' if len(unknown) > 1 else 'y'} not compared: part of the mass "
-                    "comes from mesh files that are absent (MuJoCo computes a body's mass from its geoms when it has no "
-                    "<inertial>): " + ", ".join(f"{name} ({side})" for side, name in parts),
-                    {"bodies": [r.label for r in unknown], "parts": [[s, n] for s, n in parts], "checks": INERTIA_CHECKS},
-                    link=[r.group.urdf_link for r in unknown])]
+    return [
+        finding(
+            "mass_unknown",
+            f"{len(unknown)} rigid bod{'ies' if len(unknown) > 1 else 'y'} not compared: part of the mass "
+            "comes from mesh files that are absent (MuJoCo computes a body's mass from its geoms when it has no "
+            "<inertial>): " + ", ".join(f"{name} ({side})" for side, name in parts),
+            {"bodies": [r.label for r in unknown], "parts": [[s, n] for s, n in parts], "checks": INERTIA_CHECKS},
+            link=[r.group.urdf_link for r in unknown],
+        )
+    ]
 
 
 def _moved_by(desc, unmatched) -> dict[str, str]:
@@ -119,15 +161,26 @@ def _lumped(results) -> list:
     out = []
     for side in ("URDF", "MJCF"):
         other_side = "MJCF" if side == "URDF" else "URDF"
-        found = [(p, r) for r in results if r.status in ("agree", "rounding") and not r.group.fixed_base_root
-                 for p in _side(r, side) if p.twin is None and p.mass > 0
-                 and p.name not in {o.name for o in _side(r, other_side)}]  # a same-named body in the same rigid body is its twin
+        found = [
+            (p, r)
+            for r in results
+            if r.status in ("agree", "rounding") and not r.group.fixed_base_root
+            for p in _side(r, side)
+            if p.twin is None and p.mass > 0 and p.name not in {o.name for o in _side(r, other_side)}
+        ]  # a same-named body in the same rigid body is its twin
         if found:
             other = "MJCF" if side == "URDF" else "URDF"
-            out.append(finding("lumped_links", f"the {side} keeps as separate fixed links what the {other} merges into one body "
-                               "(the rigid bodies agree): " + ", ".join(f"{p.name} ({p.mass:.6g} kg) in {r.label}" for p, r in found),
-                               {"file": side, "links": [{"name": p.name, "mass": p.mass, "body": r.label} for p, r in found]},
-                               magnitude=sum(p.mass for p, _ in found), unit="kg", link=[p.name for p, _ in found]))
+            out.append(
+                finding(
+                    "lumped_links",
+                    f"the {side} keeps as separate fixed links what the {other} merges into one body "
+                    "(the rigid bodies agree): " + ", ".join(f"{p.name} ({p.mass:.6g} kg) in {r.label}" for p, r in found),
+                    {"file": side, "links": [{"name": p.name, "mass": p.mass, "body": r.label} for p, r in found]},
+                    magnitude=sum(p.mass for p, _ in found),
+                    unit="kg",
+                    link=[p.name for p, _ in found],
+                )
+            )
     return out
 
 
@@ -141,18 +194,31 @@ def _world(results, tol_mass: float) -> list:
             continue
         parts = [(side, p) for side in ("URDF", "MJCF") for p in _side(r, side) if p.twin is None and p.mass > 0]
         if r.status == "explained":
-            out.append(finding("world_parts", "bodies welded to the world of this fixed-base robot in one file only: "
-                               + ", ".join(f"{p.name} ({p.mass:.6g} kg, {side})" for side, p in parts)
-                               + ": part of the world, they cannot move the robot",
-                               {"links": [{"file": s, "name": p.name, "mass": p.mass} for s, p in parts]},
-                               magnitude=sum(p.mass for _, p in parts), unit="kg", link=[p.name for _, p in parts]))
+            out.append(
+                finding(
+                    "world_parts",
+                    "bodies welded to the world of this fixed-base robot in one file only: "
+                    + ", ".join(f"{p.name} ({p.mass:.6g} kg, {side})" for side, p in parts)
+                    + ": part of the world, they cannot move the robot",
+                    {"links": [{"file": s, "name": p.name, "mass": p.mass} for s, p in parts]},
+                    magnitude=sum(p.mass for _, p in parts),
+                    unit="kg",
+                    link=[p.name for _, p in parts],
+                )
+            )
         else:
-            out.append(finding("base_inertial_difference", f"the base ({r.label}, welded to the world) weighs {r.urdf.mass:.6g} kg "
-                               f"in the URDF and {r.mjcf.mass:.6g} kg in the MJCF, centres of mass {r.diff.com:.3g} m apart, "
-                               f"ΔI {r.diff.tensor:.3g} kg·m²: a fixed base cannot move, so this changes no joint force",
-                               {"urdf": r.urdf.mass, "mjcf": r.mjcf.mass, "com_m": r.diff.com, "inertia_kgm2": r.diff.tensor},
-                               magnitude=r.diff.mass if r.diff.mass > tol_mass else r.diff.tensor,
-                               unit="kg" if r.diff.mass > tol_mass else "kg·m²", link=r.group.urdf_link))
+            out.append(
+                finding(
+                    "base_inertial_difference",
+                    f"the base ({r.label}, welded to the world) weighs {r.urdf.mass:.6g} kg "
+                    f"in the URDF and {r.mjcf.mass:.6g} kg in the MJCF, centres of mass {r.diff.com:.3g} m apart, "
+                    f"ΔI {r.diff.tensor:.3g} kg·m²: a fixed base cannot move, so this changes no joint force",
+                    {"urdf": r.urdf.mass, "mjcf": r.mjcf.mass, "com_m": r.diff.com, "inertia_kgm2": r.diff.tensor},
+                    magnitude=r.diff.mass if r.diff.mass > tol_mass else r.diff.tensor,
+                    unit="kg" if r.diff.mass > tol_mass else "kg·m²",
+                    link=r.group.urdf_link,
+                )
+            )
     return out
 
 
@@ -160,14 +226,21 @@ def total_mass_finding(info, findings: list, tol: float):
     mu, mm = info.u.total_mass, info.m.total_mass
     if abs(mu - mm) <= max(tol, info.floors.relative * max(mu, mm)):
         return None
-    causes = [f for f in findings if f.kind in ("extra_parts", "mass_difference", "mass_units", "world_parts",
-                                                 "base_inertial_difference")]
+    causes = [
+        f
+        for f in findings
+        if f.kind in ("extra_parts", "mass_difference", "mass_units", "world_parts", "base_inertial_difference")
+    ]
     if causes and all(f.kind == "world_parts" for f in causes):
         return None  # bodies welded to the world, already said
-    return finding("total_mass", f"total mass {mu:.6g} kg (URDF), {mm:.6g} kg (MJCF): {mm - mu:+.6g} kg"
-                   + (", from " + "; ".join(f"{f.kind} ({f.label})" for f in causes) if causes else ""),
-                   {"urdf": mu, "mjcf": mm, "difference_kg": mm - mu, "causes": [f.kind for f in causes]},
-                   magnitude=abs(mm - mu), unit="kg")
+    return finding(
+        "total_mass",
+        f"total mass {mu:.6g} kg (URDF), {mm:.6g} kg (MJCF): {mm - mu:+.6g} kg"
+        + (", from " + "; ".join(f"{f.kind} ({f.label})" for f in causes) if causes else ""),
+        {"urdf": mu, "mjcf": mm, "difference_kg": mm - mu, "causes": [f.kind for f in causes]},
+        magnitude=abs(mm - mu),
+        unit="kg",
+    )
 
 
 FAR = 0.01  # m: a frame farther than this from every frame of the other file on its body has no twin there
@@ -189,11 +262,19 @@ def frame_twins(info, tol) -> tuple[list, list[tuple[str, str, str]]]:
             continue
         if info.u.body(f) is not None:  # a link with mass: the rigid-body comparison reports it
             continue
-        cands = [g for g in info.m.frames if info.m.frame_owner.get(g) == (to_m.get(owner) if owner else None) and g not in gone_m]
+        cands = [
+            g for g in info.m.frames if info.m.frame_owner.get(g) == (to_m.get(owner) if owner else None) and g not in gone_m
+        ]
         if not cands:
             continue
-        scored = sorted(cands, key=lambda g: (float(np.linalg.norm(pm[g][:3, 3] - pose[:3, 3])),
-                                              float(geodesic_distance(pm[g][:3, :3], pose[:3, :3])), g in matched_m))
+        scored = sorted(
+            cands,
+            key=lambda g: (
+                float(np.linalg.norm(pm[g][:3, 3] - pose[:3, 3])),
+                float(geodesic_distance(pm[g][:3, :3], pose[:3, :3])),
+                g in matched_m,
+            ),
+        )
         g = scored[0]
         rel = invert_transform(pm[g]) @ pose
         dist, angle = float(np.linalg.norm(rel[:3, 3])), float(geodesic_distance(rel[:3, :3], np.eye(3)))
@@ -203,17 +284,35 @@ def frame_twins(info, tol) -> tuple[list, list[tuple[str, str, str]]]:
             pairs.append((f, g, "same place (no same-named twin)"))
             used.add(g)
         what = ("is" if same else "is not") + f" the MJCF's {info.m.frame_kind.get(g, 'frame')} {g}"
-        offset = "" if same else (f": nearest, {dist:.4g} m away (xyz {np.round(rel[:3, 3], 6).tolist()} in {g}'s axes)"
-                                  + (f" and turned {math.degrees(angle):.4g}°" if angle > rtol else ""))
+        offset = (
+            ""
+            if same
+            else (
+                f": nearest, {dist:.4g} m away (xyz {np.round(rel[:3, 3], 6).tolist()} in {g}'s axes)"
+                + (f" and turned {math.degrees(angle):.4g}°" if angle > rtol else "")
+            )
+        )
         if dist > FAR:  # nothing of the MJCF is near it: no twin to name
             what, offset = "has no twin in the MJCF", f" (the nearest MJCF frame on its body, {g}, is {dist:.4g} m away)"
-        out.append(finding("frame_twin", f"URDF frame {f} (no same-named MJCF frame) {what}{offset}",
-                           {"mjcf_frame": g, "distance_m": dist, "rotation_rad": angle, "xyz": rel[:3, 3].tolist()},
-                           magnitude=dist, unit="m", frame=f, mjcf_frame=g))
+        out.append(
+            finding(
+                "frame_twin",
+                f"URDF frame {f} (no same-named MJCF frame) {what}{offset}",
+                {"mjcf_frame": g, "distance_m": dist, "rotation_rad": angle, "xyz": rel[:3, 3].tolist()},
+                magnitude=dist,
+                unit="m",
+                frame=f,
+                mjcf_frame=g,
+            )
+        )
     return out, pairs
 
 
 def _is_world(desc, name: str, pose) -> bool:
     """A massless root link at the origin: the world frame itself, not part of the robot."""
-    return desc.frame_owner.get(name) is None and desc.body(name) is None and desc.frame_depth.get(name, 0) <= 1 \
+    return (
+        desc.frame_owner.get(name) is None
+        and desc.body(name) is None
+        and desc.frame_depth.get(name, 0) <= 1
         and np.allclose(pose, np.eye(4), atol=1e-12)
+    )

@@ -63,13 +63,21 @@ def load(path, label: str = "--accept") -> list[Entry]:
     out = []
     for i, e in enumerate(entries):
         if not isinstance(e, dict) or not isinstance(e.get("kind"), str) or not isinstance(e.get("subject", ""), str):
-            raise InputError(f"{label}: {path}: accepted[{i}] needs kind = \"...\" and subject = \"...\"")
+            raise InputError(f'{label}: {path}: accepted[{i}] needs kind = "..." and subject = "..."')
         magnitude = e.get("magnitude")
-        if magnitude is not None and (not isinstance(magnitude, (int, float)) or isinstance(magnitude, bool)
-                                      or math.isnan(magnitude)):
+        if magnitude is not None and (
+            not isinstance(magnitude, (int, float)) or isinstance(magnitude, bool) or math.isnan(magnitude)
+        ):
             raise InputError(f"{label}: {path}: accepted[{i}].magnitude must be a number")
-        out.append(Entry(e["kind"], e.get("subject", ""), None if magnitude is None else float(magnitude),
-                         str(e.get("unit", "")), str(e.get("reason", ""))))
+        out.append(
+            Entry(
+                e["kind"],
+                e.get("subject", ""),
+                None if magnitude is None else float(magnitude),
+                str(e.get("unit", "")),
+                str(e.get("reason", "")),
+            )
+        )
     return out
 
 
@@ -92,8 +100,11 @@ def apply(findings: list[Finding], entries: list[Entry], tolerance_of) -> list[F
             if _same(e.magnitude, f.magnitude, tolerance_of(f)):
                 f = dataclasses.replace(f, accepted=True, values={**f.values, "accepted_reason": e.reason})
             else:
-                f = dataclasses.replace(f, message=f"{f.message} (changed: accepted at {_size(e.magnitude, e.unit)}, now "
-                                        f"{_size(f.magnitude, f.unit)})", values={**f.values, "accepted_magnitude": e.magnitude})
+                f = dataclasses.replace(
+                    f,
+                    message=f"{f.message} (changed: accepted at {_size(e.magnitude, e.unit)}, now {_size(f.magnitude, f.unit)})",
+                    values={**f.values, "accepted_magnitude": e.magnitude},
+                )
         out.append(f)
     return out
 
@@ -104,8 +115,11 @@ def _size(magnitude: float | None, unit: str) -> str:
 
 def write(path, findings: list[Finding], source: str) -> Path:
     """Write the error findings as entries (to review: fill in each ``reason``)."""
-    lines = [toml_comment(f"kinverify accepted differences for {source}"),
-             "# Each entry accepts one finding (kind + subject) at its magnitude; review every one and say why.", ""]
+    lines = [
+        toml_comment(f"kinverify accepted differences for {source}"),
+        "# Each entry accepts one finding (kind + subject) at its magnitude; review every one and say why.",
+        "",
+    ]
     for f in findings:
         if f.severity != "error":
             continue

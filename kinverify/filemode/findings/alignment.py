@@ -44,21 +44,43 @@ def origin_findings(att, frames: list[str], names: dict) -> list[Finding]:
     carried = ": everything it carries moved with it" if len(frames) > 1 else ""
     if att.moved is not None:
         size = float(np.linalg.norm(att.moved))
-        out.append(finding("joint_origin_moved", f"joint {names['joint']}/{names['mjcf_joint']}: its frame sits {size:.4g} m "
-                           f"from the URDF's{where} (moved by xyz {fmt(att.moved)} m in {att.parent_frame or 'world'} axes)"
-                           f"{carried}", {"xyz": att.moved.tolist(), "distance_m": size, "frames": frames},
-                           magnitude=size, unit="m", **names))
+        out.append(
+            finding(
+                "joint_origin_moved",
+                f"joint {names['joint']}/{names['mjcf_joint']}: its frame sits {size:.4g} m "
+                f"from the URDF's{where} (moved by xyz {fmt(att.moved)} m in {att.parent_frame or 'world'} axes)"
+                f"{carried}",
+                {"xyz": att.moved.tolist(), "distance_m": size, "frames": frames},
+                magnitude=size,
+                unit="m",
+                **names,
+            )
+        )
     if att.turn is not None:
         angle = float(np.linalg.norm(att.turn))
         axis = att.turn / angle
         tilt, twist = (math.degrees(x) for x in att.tilt_twist)
         folded = f"; the {att.folded:.6g} rad a zero offset would take is part of it" if att.folded else ""
-        out.append(finding("joint_origin_turned", f"joint {names['joint']}/{names['mjcf_joint']}: its frame is turned by "
-                           f"{angle:.4g} rad ({math.degrees(angle):.4g}°) about {fmt(axis)} (its own axes) from the URDF's{where} "
-                           f"(its axis tilted {tilt:.4g}° and turned {twist:.4g}° about itself{folded}){carried}",
-                           {"angle_rad": angle, "axis": axis.tolist(), "rotation_vector": att.turn.tolist(),
-                            "tilt_rad": att.tilt_twist[0], "twist_rad": att.tilt_twist[1], "zero_offset": att.folded,
-                            "frames": frames}, magnitude=angle, unit="rad", **names))
+        out.append(
+            finding(
+                "joint_origin_turned",
+                f"joint {names['joint']}/{names['mjcf_joint']}: its frame is turned by "
+                f"{angle:.4g} rad ({math.degrees(angle):.4g}°) about {fmt(axis)} (its own axes) from the URDF's{where} "
+                f"(its axis tilted {tilt:.4g}° and turned {twist:.4g}° about itself{folded}){carried}",
+                {
+                    "angle_rad": angle,
+                    "axis": axis.tolist(),
+                    "rotation_vector": att.turn.tolist(),
+                    "tilt_rad": att.tilt_twist[0],
+                    "twist_rad": att.tilt_twist[1],
+                    "zero_offset": att.folded,
+                    "frames": frames,
+                },
+                magnitude=angle,
+                unit="rad",
+                **names,
+            )
+        )
     return out
 
 
@@ -82,14 +104,26 @@ def _alike_axes(findings: list[Finding]) -> list[Finding]:
             what = f.message.split(": ", 1)[1]
             values = {**f.values, "frames": [fr for x in same for fr in x.values["frames"]]}
             if f.kind == "joint_origin_moved":
-                what = f"each frame sits {f.magnitude:.4g} m from the URDF's on its parent (xyz " + ", ".join(
-                    fmt(x.values["xyz"]) for x in same) + " m in the parents' axes)"
+                what = (
+                    f"each frame sits {f.magnitude:.4g} m from the URDF's on its parent (xyz "
+                    + ", ".join(fmt(x.values["xyz"]) for x in same)
+                    + " m in the parents' axes)"
+                )
                 values["xyz_each"] = [x.values["xyz"] for x in same]
             elif f.kind == "joint_origin_turned":
                 what = f"each frame is turned by {f.magnitude:.4g} rad ({math.degrees(f.magnitude or 0.0):.4g}°) from the URDF's"
                 values["axis_each"] = [x.values["axis"] for x in same]
-            out.append(finding(f.kind, f"{len(same)} joints alike: {', '.join(joints)}: {what}", values,
-                               magnitude=f.magnitude, unit=f.unit, joint=joints, mjcf_joint=others))
+            out.append(
+                finding(
+                    f.kind,
+                    f"{len(same)} joints alike: {', '.join(joints)}: {what}",
+                    values,
+                    magnitude=f.magnitude,
+                    unit=f.unit,
+                    joint=joints,
+                    mjcf_joint=others,
+                )
+            )
     return out
 
 
@@ -108,37 +142,72 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
         xyz = np.where(np.abs(t[:3, 3]) < noise, 0.0, t[:3, 3]).tolist()
         rpy = np.where(np.abs(r := matrix_to_rpy(t[:3, :3])) < noise, 0.0, r).tolist()
         dist = dist if dist >= noise else 0.0
-        out.append(finding("base_transform", f"the MJCF's world is the URDF's moved by xyz = {fmt(xyz)} m, rpy = {fmt(rpy)} rad "
-                           f"({math.degrees(ang):.4g}° turn): the same joint values put the robot elsewhere in the world; "
-                           f"fitted over {len(al.frames)} frames and {len(al.joints)} axes, residual {al.residual[0]:.2g} m, "
-                           f"{al.residual[1]:.2g} rad", {"T_mjcf_from_urdf": t.tolist(), "xyz": xyz, "rpy": rpy,
-                           "translation_m": dist, "rotation_rad": ang, "residual_m": al.residual[0],
-                           "residual_rad": al.residual[1]},
-                           magnitude=max(dist, ang), unit="m|rad"))
+        out.append(
+            finding(
+                "base_transform",
+                f"the MJCF's world is the URDF's moved by xyz = {fmt(xyz)} m, rpy = {fmt(rpy)} rad "
+                f"({math.degrees(ang):.4g}° turn): the same joint values put the robot elsewhere in the world; "
+                f"fitted over {len(al.frames)} frames and {len(al.joints)} axes, residual {al.residual[0]:.2g} m, "
+                f"{al.residual[1]:.2g} rad",
+                {
+                    "T_mjcf_from_urdf": t.tolist(),
+                    "xyz": xyz,
+                    "rpy": rpy,
+                    "translation_m": dist,
+                    "rotation_rad": ang,
+                    "residual_m": al.residual[0],
+                    "residual_rad": al.residual[1],
+                },
+                magnitude=max(dist, ang),
+                unit="m|rad",
+            )
+        )
     differs: set[str] = set()
     for j in al.joints:
         names: dict[str, Any] = {"joint": j.urdf, "mjcf_joint": j.mjcf}
         frames = [f for f in _downstream(u, j.urdf) if f in compared]
         if j.sign < 0:
-            out.append(finding("axis_sign_flip", f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
-                               "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else ""),
-                               {"sign": -1, "moves": frames}, magnitude=1, unit="", **names))
+            out.append(
+                finding(
+                    "axis_sign_flip",
+                    f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
+                    "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else ""),
+                    {"sign": -1, "moves": frames},
+                    magnitude=1,
+                    unit="",
+                    **names,
+                )
+            )
         att = al.attribution.get(j.urdf)
         if j.offset:
             unit = "rad" if j.type == "revolute" else "m"
             deg = f" ({math.degrees(j.offset):.4g}°)" if j.type == "revolute" else ""
-            out.append(finding("zero_offset", f"joint {j.urdf}/{j.mjcf}: zero offset of {j.offset:.6g} {unit}{deg}: at the same q "
-                               f"the MJCF's joint sits {j.offset:.6g} {unit} further (q_mjcf = {'−' if j.sign < 0 else ''}q_urdf "
-                               f"{'+' if j.offset >= 0 else '−'} {abs(j.offset):.6g})",
-                               {"offset": j.offset, "unit": unit, "moves": frames}, magnitude=abs(j.offset), unit=unit, **names))
+            out.append(
+                finding(
+                    "zero_offset",
+                    f"joint {j.urdf}/{j.mjcf}: zero offset of {j.offset:.6g} {unit}{deg}: at the same q "
+                    f"the MJCF's joint sits {j.offset:.6g} {unit} further (q_mjcf = {'−' if j.sign < 0 else ''}q_urdf "
+                    f"{'+' if j.offset >= 0 else '−'} {abs(j.offset):.6g})",
+                    {"offset": j.offset, "unit": unit, "moves": frames},
+                    magnitude=abs(j.offset),
+                    unit=unit,
+                    **names,
+                )
+            )
         uj, mj = u.joint(j.urdf), m.joint(j.mjcf)
         upstream = uj.parent
         while upstream is not None and upstream not in differs:
             upstream = u.joint(upstream).parent
         if uj.type != mj.type:
             differs.add(j.urdf)
-            out.append(finding("type_difference", f"joint {j.urdf}/{j.mjcf}: {uj.type} in the URDF, {mj.type} in the MJCF",
-                               {"urdf": uj.type, "mjcf": mj.type, "frames": frames}, **names))
+            out.append(
+                finding(
+                    "type_difference",
+                    f"joint {j.urdf}/{j.mjcf}: {uj.type} in the URDF, {mj.type} in the MJCF",
+                    {"urdf": uj.type, "mjcf": mj.type, "frames": frames},
+                    **names,
+                )
+            )
             continue
         if att is not None and att.changed:
             differs.add(j.urdf)
@@ -151,20 +220,42 @@ def alignment_findings(u: ModelDesc, m: ModelDesc, matching: Matching, al: Align
         ptol, rtol = tol(uj.child)
         if angle > rtol:
             differs.add(j.urdf)
-            out.append(finding("axis_direction", f"joint {j.urdf}/{j.mjcf}: the axes differ by {angle:.4g} rad "
-                               f"({math.degrees(angle):.4g}°){how}", {"angle_rad": angle, "frames": frames},
-                               magnitude=angle, unit="rad", **names))
+            out.append(
+                finding(
+                    "axis_direction",
+                    f"joint {j.urdf}/{j.mjcf}: the axes differ by {angle:.4g} rad ({math.degrees(angle):.4g}°){how}",
+                    {"angle_rad": angle, "frames": frames},
+                    magnitude=angle,
+                    unit="rad",
+                    **names,
+                )
+            )
         elif distance > ptol:
             differs.add(j.urdf)
-            out.append(finding("axis_position", f"joint {j.urdf}/{j.mjcf}: the axis lines are {distance:.4g} m apart{how}",
-                               {"distance_m": distance, "frames": frames}, magnitude=distance, unit="m", **names))
+            out.append(
+                finding(
+                    "axis_position",
+                    f"joint {j.urdf}/{j.mjcf}: the axis lines are {distance:.4g} m apart{how}",
+                    {"distance_m": distance, "frames": frames},
+                    magnitude=distance,
+                    unit="m",
+                    **names,
+                )
+            )
     out = _alike_axes(out)
     renamed = [(a, b, how) for a, b, how in matching.joints if a != b]
     if renamed:
         hows = sorted({how for _, _, how in renamed})
-        out.append(finding("joint_names", f"{len(renamed)} joints have other names in the MJCF (matched by {', '.join(hows)}): "
-                           + ", ".join(f"{a}={b}" for a, b, _ in renamed), {"pairs": [[a, b, h] for a, b, h in renamed]},
-                           joint=[a for a, _, _ in renamed], mjcf_joint=[b for _, b, _ in renamed]))
+        out.append(
+            finding(
+                "joint_names",
+                f"{len(renamed)} joints have other names in the MJCF (matched by {', '.join(hows)}): "
+                + ", ".join(f"{a}={b}" for a, b, _ in renamed),
+                {"pairs": [[a, b, h] for a, b, h in renamed]},
+                joint=[a for a, _, _ in renamed],
+                mjcf_joint=[b for _, b, _ in renamed],
+            )
+        )
     return out
 
 
@@ -184,23 +275,53 @@ def convention_findings(al: Alignment, kinds: dict[str, str], tol, moved=frozens
             continue  # not a constant: an unexplained difference, reported where it starts
         shift = float(np.linalg.norm(f.constant[:3, 3]))
         angle = _angle(f.constant)
-        values = {"translation_m": shift, "rotation_rad": angle, "xyz": f.constant[:3, 3].tolist(),
-                  "rpy": matrix_to_rpy(f.constant[:3, :3]).tolist(), "frames": [f.urdf]}
+        values = {
+            "translation_m": shift,
+            "rotation_rad": angle,
+            "xyz": f.constant[:3, 3].tolist(),
+            "rpy": matrix_to_rpy(f.constant[:3, :3]).tolist(),
+            "frames": [f.urdf],
+        }
         names: dict[str, Any] = {"frame": f.urdf, "mjcf_frame": f.mjcf}
         if kinds.get(f.urdf) == "site" and shift > ptol and f.why in ("same name", "given"):
-            out.append(finding("frame_offset", f"frame {f.urdf}/{f.mjcf}: placed {shift:.4g} m and {angle:.4g} rad away from "
-                               f"the other file's, on the same link (xyz {fmt(f.constant[:3, 3])} in its own axes)", values,
-                               magnitude=shift, unit="m", **names))
+            out.append(
+                finding(
+                    "frame_offset",
+                    f"frame {f.urdf}/{f.mjcf}: placed {shift:.4g} m and {angle:.4g} rad away from "
+                    f"the other file's, on the same link (xyz {fmt(f.constant[:3, 3])} in its own axes)",
+                    values,
+                    magnitude=shift,
+                    unit="m",
+                    **names,
+                )
+            )
         elif kinds.get(f.urdf) == "site" and shift > ptol:  # a name alike is no proof of one frame: said, not blamed
-            out.append(finding("frame_twin", f"URDF frame {f.urdf} and the MJCF's site {f.mjcf} have similar names but sit "
-                               f"{shift:.4g} m and {angle:.4g} rad apart on the same link: not taken for one frame (compared "
-                               "after removing that offset)", values, magnitude=shift, unit="m", **names))
+            out.append(
+                finding(
+                    "frame_twin",
+                    f"URDF frame {f.urdf} and the MJCF's site {f.mjcf} have similar names but sit "
+                    f"{shift:.4g} m and {angle:.4g} rad apart on the same link: not taken for one frame (compared "
+                    "after removing that offset)",
+                    values,
+                    magnitude=shift,
+                    unit="m",
+                    **names,
+                )
+            )
         else:
-            out.append(finding("frame_convention", f"frame {f.urdf}/{f.mjcf}: the files define this frame differently, by a "
-                               f"constant {angle:.4g} rad ({math.degrees(angle):.4g}°) and {shift:.4g} m (rpy {fmt(values['rpy'])}, "
-                               f"xyz {fmt(values['xyz'])}); the joint and its motion agree, so it is compared after removing "
-                               "that constant", values, magnitude=angle if angle > rtol else shift,
-                               unit="rad" if angle > rtol else "m", **names))
+            out.append(
+                finding(
+                    "frame_convention",
+                    f"frame {f.urdf}/{f.mjcf}: the files define this frame differently, by a "
+                    f"constant {angle:.4g} rad ({math.degrees(angle):.4g}°) and {shift:.4g} m (rpy {fmt(values['rpy'])}, "
+                    f"xyz {fmt(values['xyz'])}); the joint and its motion agree, so it is compared after removing "
+                    "that constant",
+                    values,
+                    magnitude=angle if angle > rtol else shift,
+                    unit="rad" if angle > rtol else "m",
+                    **names,
+                )
+            )
     return out
 
 
@@ -217,7 +338,16 @@ def length_units(u: ModelDesc, m: ModelDesc, matching: Matching, compared: list[
     name = unit_factor(lm / lu, "length")
     if name is None:
         return []
-    return [finding("length_units", f"the MJCF's lengths are the URDF's {name}: every link is {lm / lu:.6g} times as long",
-                    {"ratio": lm / lu, "frames": compared, "checks": [[p, "rigid bodies"] for p in
-                                                                     ("inertia.mass", "inertia.com", "inertia.tensor")]},
-                    magnitude=lm / lu, unit="")]
+    return [
+        finding(
+            "length_units",
+            f"the MJCF's lengths are the URDF's {name}: every link is {lm / lu:.6g} times as long",
+            {
+                "ratio": lm / lu,
+                "frames": compared,
+                "checks": [[p, "rigid bodies"] for p in ("inertia.mass", "inertia.com", "inertia.tensor")],
+            },
+            magnitude=lm / lu,
+            unit="",
+        )
+    ]

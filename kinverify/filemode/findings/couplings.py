@@ -39,19 +39,38 @@ def coupling_findings(u, m, matching, alignment=None) -> list:
         a, b = mine.get(f), theirs.get(f)
         if a is None or b is None or a.leader != b.leader:
             if a is not None and b is not None:  # both couple it, to different joints
-                out.append(finding("coupling_difference", f"joint {f}: {f} = {a.multiplier:g}·{a.leader} + {a.offset:g} in the "
-                                   f"URDF, {b.multiplier:g}·{b.leader} + {b.offset:g} in the MJCF",
-                                   {"urdf": [a.multiplier, a.offset], "mjcf": [b.multiplier, b.offset]}, joint=f))
+                out.append(
+                    finding(
+                        "coupling_difference",
+                        f"joint {f}: {f} = {a.multiplier:g}·{a.leader} + {a.offset:g} in the "
+                        f"URDF, {b.multiplier:g}·{b.leader} + {b.offset:g} in the MJCF",
+                        {"urdf": [a.multiplier, a.offset], "mjcf": [b.multiplier, b.offset]},
+                        joint=f,
+                    )
+                )
                 continue
             c, side = (a, "URDF") if a is not None else (b, "MJCF")
             assert c is not None  # one of the two couples it
-            out.append(finding("coupling_one_file", f"joint {f} follows {c.leader} in the {side} only ({c.source}); the "
-                               "other file leaves it free: compared as coupled", {"file": side, "leader": c.leader}, joint=f))
+            out.append(
+                finding(
+                    "coupling_one_file",
+                    f"joint {f} follows {c.leader} in the {side} only ({c.source}); the "
+                    "other file leaves it free: compared as coupled",
+                    {"file": side, "leader": c.leader},
+                    joint=f,
+                )
+            )
         elif abs(a.multiplier - b.multiplier) > 1e-9 or abs(a.offset - b.offset) > (
-                FITTED_OFFSET_TOL[u.joint(f).type] if {f, a.leader} & fitted else 1e-9):
+            FITTED_OFFSET_TOL[u.joint(f).type] if {f, a.leader} & fitted else 1e-9
+        ):
             mapped = " (its coupling carried into the URDF's joint coordinates)" if {f, a.leader} & set(maps) - same else ""
-            out.append(finding("coupling_difference", f"joint {f}: {f} = {a.multiplier:g}·{a.leader} + {a.offset:g} in the URDF, "
-                               f"{b.multiplier:g}·{b.leader} + {b.offset:.6g} in the MJCF{mapped}", {"urdf": [a.multiplier, a.offset],
-                                                                                          "mjcf": [b.multiplier, b.offset]},
-                               joint=f))
+            out.append(
+                finding(
+                    "coupling_difference",
+                    f"joint {f}: {f} = {a.multiplier:g}·{a.leader} + {a.offset:g} in the URDF, "
+                    f"{b.multiplier:g}·{b.leader} + {b.offset:.6g} in the MJCF{mapped}",
+                    {"urdf": [a.multiplier, a.offset], "mjcf": [b.multiplier, b.offset]},
+                    joint=f,
+                )
+            )
     return out

@@ -33,8 +33,12 @@ def apply_floors(checks: list[Check], info) -> tuple[list[Check], list[Check]]:
     for c in checks:
         floor = info.floor(c.property, info.floors.check(c.property, c.frame)) if c.property in KINEMATIC else 0.0
         if floor > c.tolerance:
-            new = dataclasses.replace(c, tolerance=floor, passed=within(c.max_error, floor),
-                                      note="; ".join(x for x in (c.note, f"tolerance raised to the written precision ({floor:.2g})") if x))
+            new = dataclasses.replace(
+                c,
+                tolerance=floor,
+                passed=within(c.max_error, floor),
+                note="; ".join(x for x in (c.note, f"tolerance raised to the written precision ({floor:.2g})") if x),
+            )
             if new.passed and not c.passed:
                 raised.append(new)
             c = new
@@ -50,8 +54,12 @@ def dynamics_floors(checks: list[Check], info, defaults: dict) -> list[Check]:
         if c.property in STATE and base > 0 and info.floors.dynamics > 0:
             floor = info.floor(c.property, info.floors.dynamics * max(1.0, c.tolerance / base))
             if floor > c.tolerance:
-                c = dataclasses.replace(c, tolerance=floor, passed=within(c.max_error, floor),
-                                        note="; ".join(x for x in (c.note, f"tolerance raised to the written precision ({floor:.2g})") if x))
+                c = dataclasses.replace(
+                    c,
+                    tolerance=floor,
+                    passed=within(c.max_error, floor),
+                    note="; ".join(x for x in (c.note, f"tolerance raised to the written precision ({floor:.2g})") if x),
+                )
         out.append(c)
     return out
 
@@ -65,20 +73,41 @@ def rounding_finding(raised: list[Check], info, culprits: list[tuple]) -> Findin
     pos = max((c.max_error for c in raised if c.property == "fk.position"), default=0.0)
     rot = max((c.max_error for c in raised if c.property == "fk.rotation"), default=0.0)
     pa, pb = info.precision
-    where = "; ".join(f"the {side} writes {written} for {label} at {place} (rounded to {decimals} decimals)"
-                      for side, place, written, label, decimals in culprits)
-    msg = (f"the files agree to {pos:.2g} m and {rot:.2g} rad only, from frame {first.frame} on: within the precision they are "
-           f"written with ({where or pa.describe(['angle', 'length']) + '; ' + pb.describe(['angle', 'length'])})")
+    where = "; ".join(
+        f"the {side} writes {written} for {label} at {place} (rounded to {decimals} decimals)"
+        for side, place, written, label, decimals in culprits
+    )
+    msg = (
+        f"the files agree to {pos:.2g} m and {rot:.2g} rad only, from frame {first.frame} on: within the precision they are "
+        f"written with ({where or pa.describe(['angle', 'length']) + '; ' + pb.describe(['angle', 'length'])})"
+    )
     mjcf = next((b for a, b, _ in info.matching.frames if a == first.frame), "")
-    return finding("rounding", msg, {"position_m": pos, "rotation_rad": rot, "frames": sorted({c.frame for c in raised}),
-                                     "culprits": [list(c) for c in culprits]},
-                   magnitude=max(pos, rot), unit="m|rad", frame=first.frame, mjcf_frame=mjcf)
+    return finding(
+        "rounding",
+        msg,
+        {
+            "position_m": pos,
+            "rotation_rad": rot,
+            "frames": sorted({c.frame for c in raised}),
+            "culprits": [list(c) for c in culprits],
+        },
+        magnitude=max(pos, rot),
+        unit="m|rad",
+        frame=first.frame,
+        mjcf_frame=mjcf,
+    )
 
 
 def _explainers(c: Check, findings: list[Finding]) -> list[Finding]:
-    return [f for f in findings if f.severity in CAUSES and (
-        [c.property, c.frame] in [list(x) for x in f.values.get("checks", [])]
-        or (c.property in KINEMATIC and c.frame in f.values.get("frames", [])))]
+    return [
+        f
+        for f in findings
+        if f.severity in CAUSES
+        and (
+            [c.property, c.frame] in [list(x) for x in f.values.get("checks", [])]
+            or (c.property in KINEMATIC and c.frame in f.values.get("frames", []))
+        )
+    ]
 
 
 def _explainer(c: Check, findings: list[Finding]) -> Finding | None:
@@ -97,19 +126,34 @@ def explain(checks: list[Check], findings: list[Finding], info) -> tuple[list[Ch
         pos = max((c.max_error for c in loose if c.property == "fk.position"), default=0.0)
         rot = max((c.max_error for c in loose if c.property == "fk.rotation"), default=0.0)
         mjcf = next((b for a, b, _ in info.matching.frames if a == first.frame), "")
-        new_findings.append(finding("disagreement_starts", f"forward kinematics differ from frame {first.frame} on, by up to "
-                                    f"{pos:.3g} m and {rot:.3g} rad after alignment ({len(frames)} frames; the alignment cannot "
-                                    "explain it: a joint origin, axis or link length differs there)",
-                                    {"position_m": pos, "rotation_rad": rot, "frames": frames},
-                                    magnitude=max(pos, rot), unit="m|rad", frame=first.frame, mjcf_frame=mjcf))
+        new_findings.append(
+            finding(
+                "disagreement_starts",
+                f"forward kinematics differ from frame {first.frame} on, by up to "
+                f"{pos:.3g} m and {rot:.3g} rad after alignment ({len(frames)} frames; the alignment cannot "
+                "explain it: a joint origin, axis or link length differs there)",
+                {"position_m": pos, "rotation_rad": rot, "frames": frames},
+                magnitude=max(pos, rot),
+                unit="m|rad",
+                frame=first.frame,
+                mjcf_frame=mjcf,
+            )
+        )
     state = [c for c in checks if c.decisive_failure and c.property in STATE]
     kinematic = [f for f in new_findings if f.severity == "error" and f.values.get("frames")]
     if state and not kinematic and not any(_explainer(c, new_findings) for c in state):
         worst = max(state, key=lambda c: c.max_error / c.tolerance if c.tolerance else 0.0)
-        new_findings.append(finding("dynamics_difference", f"the dynamics still differ after substituting every difference "
-                                    f"reported: {', '.join(f'{c.property} {c.max_error:.3g} {c.unit}' for c in state)}",
-                                    {"checks": [[c.property, c.frame] for c in state]},
-                                    magnitude=worst.max_error, unit=worst.unit, prop=worst.property))
+        new_findings.append(
+            finding(
+                "dynamics_difference",
+                f"the dynamics still differ after substituting every difference "
+                f"reported: {', '.join(f'{c.property} {c.max_error:.3g} {c.unit}' for c in state)}",
+                {"checks": [[c.property, c.frame] for c in state]},
+                magnitude=worst.max_error,
+                unit=worst.unit,
+                prop=worst.property,
+            )
+        )
     out = []
     for c in checks:
         if c.decisive_failure:

@@ -27,17 +27,26 @@ def _tol(opts, name: str) -> float:
 def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
     unknown = [r.label for r in results if r.status == "unknown"]
     if unknown:  # a placeholder mass makes the mass matrix near singular: nothing to measure there
-        result.sections["dynamics"] = Section(FileDynamicsSuite.title, "not compared: the masses of " + ", ".join(unknown)
-                                              + " come from mesh files that are absent (see mass_unknown)")
+        result.sections["dynamics"] = Section(
+            FileDynamicsSuite.title,
+            "not compared: the masses of " + ", ".join(unknown) + " come from mesh files that are absent (see mass_unknown)",
+        )
         return
     snapped = {r.group.key for r in results if any(p.snapped or p.snapped_com for p in r.group.mjcf)}
     # the MJCF's whole rigid body, with what a joint in one file only moves (held at zero, as the
     # locked models hold it)
-    groups = {r.group.key: r.group.total("mjcf") for r in results
-              if (r.status in ("differs", "explained", "unset", "unknown") or r.moved or r.group.key in snapped)
-              and not r.group.fixed_base_root}
-    subs = [f"the MJCF's inertial of {r.label}" + (" (MuJoCo aligned its principal axes with the body frame)"
-                                                   if r.group.key in snapped else "") for r in results if r.group.key in groups]
+    groups = {
+        r.group.key: r.group.total("mjcf")
+        for r in results
+        if (r.status in ("differs", "explained", "unset", "unknown") or r.moved or r.group.key in snapped)
+        and not r.group.fixed_base_root
+    }
+    subs = [
+        f"the MJCF's inertial of {r.label}"
+        + (" (MuJoCo aligned its principal axes with the body frame)" if r.group.key in snapped else "")
+        for r in results
+        if r.group.key in groups
+    ]
     subs += [f"the MJCF's damping of {', '.join(sorted(damping_joints))}"] if damping_joints else []
     suite = FileDynamicsSuite(info, groups, damping_joints, subs)
     q = Samples(sources.lower, sources.upper, sources.revolute, max(opts.samples, 1), opts.seed)
@@ -49,14 +58,17 @@ def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
         return
     except Exception as err:  # our bug: say so, keep the rest
         where = traceback.extract_tb(err.__traceback__)[-1]
-        result.internal_errors.append(f"suite dynamics: {type(err).__name__}: {err} ({where.filename.rsplit('/', 1)[-1]}:{where.lineno})")
+        result.internal_errors.append(
+            f"suite dynamics: {type(err).__name__}: {err} ({where.filename.rsplit('/', 1)[-1]}:{where.lineno})"
+        )
         return
     finally:
         result.timings["dynamics"] = time.perf_counter() - t0
     if out.section is not None:
         if subs:
-            out.section.notes.insert(0, "Substituted on the Pinocchio side before comparing (each reported as a finding): "
-                                     + "; ".join(subs) + ".")
+            out.section.notes.insert(
+                0, "Substituted on the Pinocchio side before comparing (each reported as a finding): " + "; ".join(subs) + "."
+            )
         result.sections["dynamics"] = out.section
     result.checks += out.checks
     result.findings += out.findings
@@ -74,11 +86,21 @@ def finish(result, diag, sources, opts, dynamics: bool, entries, write_accepted,
     total = total_mass_finding(info, findings, defaults[0])
     findings += [total] if total else []
     checks, raised = apply_floors(result.checks, info)
-    checks = dynamics_floors(checks, info, {p: _tol(opts, p) for p in ("dynamics.mass_matrix", "dynamics.gravity",
-                                                                          "dynamics.bias", "dynamics.inverse", "dynamics.forward")})
+    checks = dynamics_floors(
+        checks,
+        info,
+        {
+            p: _tol(opts, p)
+            for p in ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias", "dynamics.inverse", "dynamics.forward")
+        },
+    )
     xml = {"usd": "<robot/>"}  # a USD side is no XML: no rounded constant written as text to find
-    culprits = [c for c in rounded_constants(xml.get(diag["urdf"].kind, diag["urdf"].text), xml.get(diag["mjcf"].kind,
-                                                                                                   diag["mjcf"].original))]
+    culprits = [
+        c
+        for c in rounded_constants(
+            xml.get(diag["urdf"].kind, diag["urdf"].text), xml.get(diag["mjcf"].kind, diag["mjcf"].original)
+        )
+    ]
     culprits = [(side, where, written, exact[1], decimals) for side, where, written, exact, decimals in culprits]
     rounding = rounding_finding(raised, info, culprits)
     findings += [rounding] if rounding else []

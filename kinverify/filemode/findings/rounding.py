@@ -44,7 +44,7 @@ def rounded_constants(urdf_text: str, mjcf_text: str):
     URDF joint origins (rpy) and MJCF body orientations (euler, axisangle, in radians)."""
     for joint in ET.fromstring(urdf_text).iter("joint"):
         origin = joint.find("origin")
-        for word in (origin.get("rpy", "").split() if origin is not None else []):
+        for word in origin.get("rpy", "").split() if origin is not None else []:
             hit = _try(word)
             if hit:
                 yield ("URDF", joint.get("name"), word, *hit)
@@ -55,10 +55,10 @@ def rounded_constants(urdf_text: str, mjcf_text: str):
     for body in root.iter("body"):
         hit = _quat(body.get("quat", ""))
         if hit:
-            yield ("MJCF", body.get("name"), f"quat=\"{body.get('quat')}\"", *hit)
+            yield ("MJCF", body.get("name"), f'quat="{body.get("quat")}"', *hit)
         for attr in ("euler", "axisangle"):
             words = body.get(attr, "").split()
-            for word in (words[3:] if attr == "axisangle" else words):
+            for word in words[3:] if attr == "axisangle" else words:
                 hit = _try(word)
                 if hit:
                     yield ("MJCF", body.get("name"), word, *hit)
@@ -84,6 +84,6 @@ def _quat(text: str):
         return None
     angle = 2 * math.atan2(math.sqrt(x * x + y * y + z * z), abs(w))
     for exact, label in _NICE:
-        if 1e-12 < abs(angle - abs(exact)) < 4 * 10.0 ** -decimals:
+        if 1e-12 < abs(angle - abs(exact)) < 4 * 10.0**-decimals:
             return (abs(exact), label.lstrip("-")), decimals
     return None

@@ -24,13 +24,20 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
     flex_notes += unnamed_notes
     robot = [j for j in range(m.njnt) if int(m.jnt_bodyid[j]) not in flex]
     movable = {j: m.joint(j).name for j in robot if int(m.jnt_type[j]) in (hinge, slide)}
-    skipped = [f"{m.joint(j).name or f'joint #{j}'}: {mujoco.mjtJoint(int(m.jnt_type[j])).name} joints are not compared "
-               "(held at 0)" for j in robot if j not in movable] + flex_notes
+    skipped = [
+        f"{m.joint(j).name or f'joint #{j}'}: {mujoco.mjtJoint(int(m.jnt_type[j])).name} joints are not compared (held at 0)"
+        for j in robot
+        if j not in movable
+    ] + flex_notes
     held = [m.joint(j).name for j in robot if j not in movable and m.joint(j).name]
 
     def body_owner(b: int) -> str | None:
         while b > 0:
-            js = [j for j in range(m.body_jntadr[b], m.body_jntadr[b] + m.body_jntnum[b]) if j in movable] if m.body_jntnum[b] else []
+            js = (
+                [j for j in range(m.body_jntadr[b], m.body_jntadr[b] + m.body_jntnum[b]) if j in movable]
+                if m.body_jntnum[b]
+                else []
+            )
             if js:
                 return movable[js[-1]]
             b = m.body_parentid[b]
@@ -62,14 +69,27 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
             cap = float(max(abs(m.jnt_actfrcrange[j][0]), abs(m.jnt_actfrcrange[j][1])))
             if effort is None or cap < effort:
                 effort, how, each = cap, f"joint actuatorfrcrange ±{cap:g}", ()
-        joints.append(JointDesc(
-            name, "revolute" if int(m.jnt_type[j]) == hinge else "prismatic", parent, m.body(b).name,
-            m.body(m.body_parentid[b]).name if m.body_parentid[b] > 0 else "world",
-            np.array(d.xaxis[j]), np.array(d.xanchor[j]), lo, up,
-            damping=float(m.dof_damping[v]), friction=float(m.dof_frictionloss[v]), armature=float(m.dof_armature[v]),
-            stiffness=float(m.jnt_stiffness[j]),
-            effort=effort, velocity=None, effort_how=how,
-            effort_each=each if len(each) > 1 else ()))
+        joints.append(
+            JointDesc(
+                name,
+                "revolute" if int(m.jnt_type[j]) == hinge else "prismatic",
+                parent,
+                m.body(b).name,
+                m.body(m.body_parentid[b]).name if m.body_parentid[b] > 0 else "world",
+                np.array(d.xaxis[j]),
+                np.array(d.xanchor[j]),
+                lo,
+                up,
+                damping=float(m.dof_damping[v]),
+                friction=float(m.dof_frictionloss[v]),
+                armature=float(m.dof_armature[v]),
+                stiffness=float(m.jnt_stiffness[j]),
+                effort=effort,
+                velocity=None,
+                effort_how=how,
+                effort_each=each if len(each) > 1 else (),
+            )
+        )
     bodies = []
     for b in range(1, m.nbody):
         if m.body_mass[b] <= 0 or b in flex:
@@ -78,20 +98,51 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
         rot_b = np.reshape(d.xmat[b], (3, 3))
         ine_w = rot_i @ np.diag(m.body_inertia[b]) @ rot_i.T
         com_l = rot_b.T @ (np.array(d.xipos[b]) - d.xpos[b])
-        bodies.append(BodyInertial(body_owner(b), float(m.body_mass[b]), np.array(d.xipos[b]), ine_w, m.body(b).name,
-                                   com_l, rot_b.T @ ine_w @ rot_b, _snapped(m, b), snapped_com=_snapped_com(m, b)))
-    return ModelDesc("mjcf", "mujoco", joints, frames, owner, depth, bodies, skipped, kind, _mjcf_couplings(m, movable),
-                     np.array(m.opt.gravity, dtype=float), held=held,
-                     gravcomp={m.body(b).name: float(m.body_gravcomp[b]) for b in range(1, m.nbody)
-                               if m.body_gravcomp[b] and m.body_mass[b] > 0 and b not in flex})
+        bodies.append(
+            BodyInertial(
+                body_owner(b),
+                float(m.body_mass[b]),
+                np.array(d.xipos[b]),
+                ine_w,
+                m.body(b).name,
+                com_l,
+                rot_b.T @ ine_w @ rot_b,
+                _snapped(m, b),
+                snapped_com=_snapped_com(m, b),
+            )
+        )
+    return ModelDesc(
+        "mjcf",
+        "mujoco",
+        joints,
+        frames,
+        owner,
+        depth,
+        bodies,
+        skipped,
+        kind,
+        _mjcf_couplings(m, movable),
+        np.array(m.opt.gravity, dtype=float),
+        held=held,
+        gravcomp={
+            m.body(b).name: float(m.body_gravcomp[b])
+            for b in range(1, m.nbody)
+            if m.body_gravcomp[b] and m.body_mass[b] > 0 and b not in flex
+        },
+    )
 
 
 def unnamed_subtrees(m, skipped: set[int]) -> tuple[set[int], list[str]]:
     """Bodies moved by a hinge or slide joint without a name (no library can be asked for it by
     name), with the bodies they carry, and one note per such body: not compared."""
     moving = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
-    tops = sorted({int(m.jnt_bodyid[j]) for j in range(m.njnt) if not m.joint(j).name
-                   and int(m.jnt_type[j]) in moving and int(m.jnt_bodyid[j]) not in skipped})
+    tops = sorted(
+        {
+            int(m.jnt_bodyid[j])
+            for j in range(m.njnt)
+            if not m.joint(j).name and int(m.jnt_type[j]) in moving and int(m.jnt_bodyid[j]) not in skipped
+        }
+    )
     out = set()
     for b in range(1, m.nbody):
         a = b
@@ -99,8 +150,11 @@ def unnamed_subtrees(m, skipped: set[int]) -> tuple[set[int], list[str]]:
             a = int(m.body_parentid[a])
         if a > 0:
             out.add(b)
-    notes = [f"body {m.body(b).name or f'#{b}'}: moved by an unnamed joint; it and the bodies it carries are not "
-             "compared (name the joint to compare them)" for b in tops]
+    notes = [
+        f"body {m.body(b).name or f'#{b}'}: moved by an unnamed joint; it and the bodies it carries are not "
+        "compared (name the joint to compare them)"
+        for b in tops
+    ]
     return out, notes
 
 
@@ -111,14 +165,15 @@ def flex_bodies(m) -> tuple[set[int], list[str]]:
     out, notes = set(), []
     for f in range(m.nflex):
         name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_FLEX, f) or f"#{f}"
-        ids = {int(b) for b in m.flex_vertbodyid[m.flex_vertadr[f]:m.flex_vertadr[f] + m.flex_vertnum[f]]}
+        ids = {int(b) for b in m.flex_vertbodyid[m.flex_vertadr[f] : m.flex_vertadr[f] + m.flex_vertnum[f]]}
         parents = {int(m.body_parentid[b]) for b in ids}
         # <flexcomp name="cloth"> makes bodies cloth_0, cloth_1, ...; a <flex> over the model's own bodies makes none
         own = {b for b in ids if b > 0 and b not in parents and m.body(b).name.startswith(f"{name}_")} if len(ids) > 1 else set()
         if own:
             out |= own
-            notes.append(f"flex {name}: a deformable object of {len(own)} bodies (<flexcomp>), not part of the robot: "
-                         "not compared")
+            notes.append(
+                f"flex {name}: a deformable object of {len(own)} bodies (<flexcomp>), not part of the robot: not compared"
+            )
     return out, notes
 
 
@@ -129,10 +184,13 @@ def free_joint_values(text: str) -> dict[str, float]:
         m = mujoco.MjModel.from_xml_string(text)
     except ValueError:
         return {}
-    dofs = [int(m.jnt_dofadr[j]) + k for j in range(m.njnt) if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)
-            for k in range(6)]
-    values = {"armature": float(max((m.dof_armature[v] for v in dofs), default=0.0)),
-              "damping": float(max((m.dof_damping[v] for v in dofs), default=0.0))}
+    dofs = [
+        int(m.jnt_dofadr[j]) + k for j in range(m.njnt) if int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE) for k in range(6)
+    ]
+    values = {
+        "armature": float(max((m.dof_armature[v] for v in dofs), default=0.0)),
+        "damping": float(max((m.dof_damping[v] for v in dofs), default=0.0)),
+    }
     return {k: v for k, v in values.items() if v}
 
 
@@ -176,8 +234,16 @@ def _mjcf_couplings(m, movable: dict) -> list[Coupling]:
             continue
         p = np.array(m.eq_data[e][:5], dtype=float)
         ref1, ref2 = float(m.qpos0[m.jnt_qposadr[j1]]), float(m.qpos0[m.jnt_qposadr[j2]])
-        out.append(Coupling(movable[j1], movable[j2], float(p[1]), ref1 + float(p[0]) - float(p[1]) * ref2,
-                            "<equality joint>", nonlinear=bool(np.any(p[2:] != 0))))
+        out.append(
+            Coupling(
+                movable[j1],
+                movable[j2],
+                float(p[1]),
+                ref1 + float(p[0]) - float(p[1]) * ref2,
+                "<equality joint>",
+                nonlinear=bool(np.any(p[2:] != 0)),
+            )
+        )
     return out
 
 
@@ -200,15 +266,18 @@ def actuator_efforts(m) -> dict[int, tuple[float, str, tuple[tuple[float, str], 
             through = [(target, 1.0, "")]
         elif trn == int(mujoco.mjtTrn.mjTRN_TENDON):
             tname = m.tendon(target).name or f"#{target}"
-            through = [(int(m.wrap_objid[w]), float(m.wrap_prm[w]), f" on tendon {tname} (coef {float(m.wrap_prm[w]):g})")
-                       for w in range(m.tendon_adr[target], m.tendon_adr[target] + m.tendon_num[target])
-                       if int(m.wrap_type[w]) == int(mujoco.mjtWrap.mjWRAP_JOINT)]
+            through = [
+                (int(m.wrap_objid[w]), float(m.wrap_prm[w]), f" on tendon {tname} (coef {float(m.wrap_prm[w]):g})")
+                for w in range(m.tendon_adr[target], m.tendon_adr[target] + m.tendon_num[target])
+                if int(m.wrap_type[w]) == int(mujoco.mjtWrap.mjWRAP_JOINT)
+            ]
         else:
             continue
         gear = float(m.actuator_gear[a][0])
         name = m.actuator(a).name or f"actuator #{a}"
-        motor = (int(m.actuator_gaintype[a]) == int(mujoco.mjtGain.mjGAIN_FIXED)
-                 and int(m.actuator_biastype[a]) == int(mujoco.mjtBias.mjBIAS_NONE))
+        motor = int(m.actuator_gaintype[a]) == int(mujoco.mjtGain.mjGAIN_FIXED) and int(m.actuator_biastype[a]) == int(
+            mujoco.mjtBias.mjBIAS_NONE
+        )
         if m.actuator_forcelimited[a]:
             force = float(max(abs(m.actuator_forcerange[a][0]), abs(m.actuator_forcerange[a][1])))
             bound, why = force, f"forcerange ±{force:g}"
@@ -223,5 +292,4 @@ def actuator_efforts(m) -> dict[int, tuple[float, str, tuple[tuple[float, str], 
             effort = bound * scale if math.isfinite(bound) else INF
             gear_txt = f" × gear {gear:g}" if gear != 1 else ""
             found.setdefault(joint, []).append((effort, f"{name}{via}: {why}{gear_txt}"))
-    return {j: (float(max(e for e, _ in items)), "; ".join(h for _, h in items), tuple(items))
-            for j, items in found.items()}
+    return {j: (float(max(e for e, _ in items)), "; ".join(h for _, h in items), tuple(items)) for j, items in found.items()}

@@ -27,8 +27,11 @@ def describe_sdf(sdf_text: str, source: str = "sdf") -> ModelDesc:
     joints = [plant.get_joint(j) for j in plant.GetJointIndices()]
     movable = {j.child_body().index(): j for j in joints if j.num_positions() == 1 and j.num_velocities() == 1}
     parent_of = {j.child_body().index(): j.parent_body().index() for j in joints}
-    skipped = [f"{j.name()}: {j.type_name()} joint with {j.num_positions()} coordinates; only 1-DOF joints are compared "
-               "(held at 0)" for j in joints if j.num_positions() > 1]
+    skipped = [
+        f"{j.name()}: {j.type_name()} joint with {j.num_positions()} coordinates; only 1-DOF joints are compared (held at 0)"
+        for j in joints
+        if j.num_positions() > 1
+    ]
     held = [j.name() for j in joints if j.num_positions() > 1]
     world_index = plant.world_body().index()
 
@@ -66,8 +69,13 @@ def describe_sdf(sdf_text: str, source: str = "sdf") -> ModelDesc:
             bodies.append(BodyInertial(owner(index), mass, com_w, ine_w, name, com, about_com))
     for f in range(plant.num_frames()):
         frame = plant.get_frame(type(plant.world_frame().index())(f))
-        if (frame.name() in frames or frame.index() in joint_frames or frame.is_ephemeral() or frame.index() == world.index()
-                or frame.name() in ("", "__model__")):
+        if (
+            frame.name() in frames
+            or frame.index() in joint_frames
+            or frame.is_ephemeral()
+            or frame.index() == world.index()
+            or frame.name() in ("", "__model__")
+        ):
             continue  # a link's own frame, a joint's, one Drake made, the world, the model frame
         body = frame.body().index()
         frames[frame.name()] = plant.CalcRelativeTransform(ctx, world, frame).GetAsMatrix4()
@@ -82,13 +90,25 @@ def describe_sdf(sdf_text: str, source: str = "sdf") -> ModelDesc:
         lo, up = float(j.position_lower_limits()[0]), float(j.position_upper_limits()[0])
         force, reflected = effort.get(j.name(), (None, 0.0))
         vel = float(j.velocity_upper_limits()[0])
-        described.append(JointDesc(
-            j.name(), "revolute" if revolute else "prismatic", owner(j.parent_body().index()), j.child_body().name(),
-            j.parent_body().name(), axis / np.linalg.norm(axis), x_wf[:3, 3].copy(), lo if abs(lo) < 1e300 else -INF,
-            up if abs(up) < 1e300 else INF,  # a URDF continuous joint: ±1e308 (prepare_urdf) or ±inf
-            damping=float(j.default_damping()), friction=None, armature=reflected,
-            effort=force, velocity=vel if np.isfinite(vel) else None,
-            effort_how="SDFormat <limit><effort> (Drake's actuator)" if force is not None else "no actuator in Drake's model"))
+        described.append(
+            JointDesc(
+                j.name(),
+                "revolute" if revolute else "prismatic",
+                owner(j.parent_body().index()),
+                j.child_body().name(),
+                j.parent_body().name(),
+                axis / np.linalg.norm(axis),
+                x_wf[:3, 3].copy(),
+                lo if abs(lo) < 1e300 else -INF,
+                up if abs(up) < 1e300 else INF,  # a URDF continuous joint: ±1e308 (prepare_urdf) or ±inf
+                damping=float(j.default_damping()),
+                friction=None,
+                armature=reflected,
+                effort=force,
+                velocity=vel if np.isfinite(vel) else None,
+                effort_how="SDFormat <limit><effort> (Drake's actuator)" if force is not None else "no actuator in Drake's model",
+            )
+        )
     skipped += [f"Drake: {w}" for w in warnings]
     gravity = np.array(plant.gravity_field().gravity_vector(), dtype=float)
     return ModelDesc(source, "drake", described, frames, owners, depths, bodies, skipped, kinds, [], gravity, held=held)

@@ -32,8 +32,9 @@ def describe_urdf(urdf_text: str) -> ModelDesc:
     for jid in range(1, model.njoints):
         jm = model.joints[jid]
         if jm.nq != 1 or jm.nv != 1:
-            skipped.append(f"{model.names[jid]}: {jm.shortname()} has {jm.nq} coordinates; only 1-DOF joints are "
-                           "compared (held at neutral)")
+            skipped.append(
+                f"{model.names[jid]}: {jm.shortname()} has {jm.nq} coordinates; only 1-DOF joints are compared (held at neutral)"
+            )
             held.append(model.names[jid])
             continue
         movable[jid] = model.names[jid]
@@ -57,23 +58,47 @@ def describe_urdf(urdf_text: str) -> ModelDesc:
             lo, up = -INF, INF
         limit = xml_joints[name].find("limit") if name in xml_joints else None
         stated = limit is not None and limit.get("effort") is not None
-        joints.append(JointDesc(
-            name, "revolute" if revolute else "prismatic", _movable_ancestor(model, model.parents[jid], movable),
-            _child_link(model, jid), _parent_link(model, jid), axis / np.linalg.norm(axis), data.oMi[jid].translation.copy(),
-            lo if abs(lo) < 1e300 else -INF, up if abs(up) < 1e300 else INF,
-            damping=float(model.damping[jm.idx_v]), friction=float(model.friction[jm.idx_v]), armature=None,
-            effort=float(model.effortLimit[jm.idx_v]) if stated else None,
-            velocity=float(model.velocityLimit[jm.idx_v]) if limit is not None and limit.get("velocity") else None,
-            effort_how="URDF <limit effort>" if stated else "no effort in the URDF"))
+        joints.append(
+            JointDesc(
+                name,
+                "revolute" if revolute else "prismatic",
+                _movable_ancestor(model, model.parents[jid], movable),
+                _child_link(model, jid),
+                _parent_link(model, jid),
+                axis / np.linalg.norm(axis),
+                data.oMi[jid].translation.copy(),
+                lo if abs(lo) < 1e300 else -INF,
+                up if abs(up) < 1e300 else INF,
+                damping=float(model.damping[jm.idx_v]),
+                friction=float(model.friction[jm.idx_v]),
+                armature=None,
+                effort=float(model.effortLimit[jm.idx_v]) if stated else None,
+                velocity=float(model.velocityLimit[jm.idx_v]) if limit is not None and limit.get("velocity") else None,
+                effort_how="URDF <limit effort>" if stated else "no effort in the URDF",
+            )
+        )
     bodies = _urdf_bodies(model, data, movable)
     couplings = []
     for name, el in xml_joints.items():
         mimic = el.find("mimic")
-        if mimic is not None and mimic.get("joint"):
-            couplings.append(Coupling(name, mimic.get("joint"), float(mimic.get("multiplier", 1.0)),  # type: ignore[arg-type]  # checked above
-                                      float(mimic.get("offset", 0.0)), "<mimic>"))
-    return ModelDesc("urdf", "pinocchio", joints, frames, owner, depth, bodies, skipped, kind, couplings,
-                     extensions=_urdf_extensions(root), held=held)
+        if mimic is not None and (leader := mimic.get("joint")):
+            couplings.append(
+                Coupling(name, leader, float(mimic.get("multiplier", 1.0)), float(mimic.get("offset", 0.0)), "<mimic>")  # type: ignore[arg-type]  # joints are named
+            )
+    return ModelDesc(
+        "urdf",
+        "pinocchio",
+        joints,
+        frames,
+        owner,
+        depth,
+        bodies,
+        skipped,
+        kind,
+        couplings,
+        extensions=_urdf_extensions(root),
+        held=held,
+    )
 
 
 def _urdf_bodies(model, data, movable: dict) -> list[BodyInertial]:

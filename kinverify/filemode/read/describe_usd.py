@@ -73,8 +73,9 @@ def joint_values(robot: UsdRobot, joint) -> dict:
     out: dict[str, Any] = {"drive": None, "custom_effort": _number(prim, "urdf:limit:effort"), "initial": None}
     if f"PhysicsDriveAPI:{kind}" in applied_schemas(prim):
         pre = f"drive:{kind}:physics:"
-        drive: dict[str, Any] = {key: _number(prim, pre + key) for key in ("stiffness", "damping", "maxForce", "targetPosition",
-                                                           "targetVelocity")}
+        drive: dict[str, Any] = {
+            key: _number(prim, pre + key) for key in ("stiffness", "damping", "maxForce", "targetPosition", "targetVelocity")
+        }
         drive["type"] = str(_get(prim, pre + "type") or "force")
         for key in ("stiffness", "damping"):
             drive[key] = _per_degree(drive[key], force * per) if angular else _scaled(drive[key], force * per)
@@ -88,28 +89,40 @@ def joint_values(robot: UsdRobot, joint) -> dict:
     effort, how = None, ""
     if out["drive"] is not None:
         effort = out["drive"]["maxForce"] if out["drive"]["maxForce"] is not None else math.inf
-        how = (f"USD drive:{kind}:physics:maxForce" if out["drive"]["maxForce"] is not None
-               else f"USD PhysicsDriveAPI:{kind} without maxForce (unbounded)")
+        how = (
+            f"USD drive:{kind}:physics:maxForce"
+            if out["drive"]["maxForce"] is not None
+            else f"USD PhysicsDriveAPI:{kind} without maxForce (unbounded)"
+        )
     else:
         lo, hi = _number(prim, "mjc:actuatorfrcrange:min"), _number(prim, "mjc:actuatorfrcrange:max")
         if hi is not None and str(_get(prim, "mjc:actuatorfrclimited")).lower() not in ("false", "0"):
             effort, how = max(abs(lo or 0.0), abs(hi)) * force, "USD mjc:actuatorfrcrange"
     if effort is None:
-        how = (f"no drive: urdf:limit:effort = {out['custom_effort']:g} is a custom attribute no simulator reads"
-               if out["custom_effort"] is not None else "no drive and no force range in the USD")
+        how = (
+            f"no drive: urdf:limit:effort = {out['custom_effort']:g} is a custom attribute no simulator reads"
+            if out["custom_effort"] is not None
+            else "no drive and no force range in the USD"
+        )
     out["effort"], out["effort_how"] = effort, how
     damping = _number(prim, "newton:damping")
-    out["damping"] = ((_per_degree(damping, force * per) if angular else _scaled(damping, force * per)) if damping is not None
-                      else _scaled(_number(prim, "mjc:damping"), force))
+    out["damping"] = (
+        (_per_degree(damping, force * per) if angular else _scaled(damping, force * per))
+        if damping is not None
+        else _scaled(_number(prim, "mjc:damping"), force)
+    )
     friction = _number(prim, "newton:friction")
     out["friction"] = _scaled(friction if friction is not None else _number(prim, "mjc:frictionloss"), force)
-    armature = next((v for v in (_number(prim, a) for a in ("physxJoint:armature", "newton:armature", "mjc:armature"))
-                     if v is not None), None)
+    armature = next(
+        (v for v in (_number(prim, a) for a in ("physxJoint:armature", "newton:armature", "mjc:armature")) if v is not None), None
+    )
     out["armature"] = _scaled(armature, k * m * m if angular else k)
-    velocity = next((v for v in (_number(prim, a) for a in ("physxJoint:maxJointVelocity", "newton:velocityLimit"))
-                     if v is not None), None)
-    out["velocity"] = (None if velocity is None or not math.isfinite(velocity) else
-                       _per_degree(velocity, DEG) if angular else velocity * m)
+    velocity = next(
+        (v for v in (_number(prim, a) for a in ("physxJoint:maxJointVelocity", "newton:velocityLimit")) if v is not None), None
+    )
+    out["velocity"] = (
+        None if velocity is None or not math.isfinite(velocity) else _per_degree(velocity, DEG) if angular else velocity * m
+    )
     out["physx_friction"] = _number(prim, "physxJoint:jointFriction")
     out["range"] = _get(prim, "physics:lowerLimit") is not None or _get(prim, "physics:upperLimit") is not None
     return out
@@ -140,8 +153,9 @@ def _couplings(robot: UsdRobot, names: dict[str, str]) -> list[Coupling]:
                 leader = names.get(str(rel.GetTargets()[0])) if rel and rel.GetTargets() else None
                 if leader:
                     gearing = _number(prim, f"physxMimicJoint:{axis}:gearing") or 0.0
-                    offset = (_number(prim, f"physxMimicJoint:{axis}:offset") or 0.0) * (DEG if j.kind == "revolute"
-                                                                                         else robot.meters)
+                    offset = (_number(prim, f"physxMimicJoint:{axis}:offset") or 0.0) * (
+                        DEG if j.kind == "revolute" else robot.meters
+                    )
                     out.append(Coupling(j.name, leader, -gearing, -offset, "PhysxMimicJointAPI"))
     return out
 
@@ -155,7 +169,9 @@ def _inertial(robot: UsdRobot, body: str, pose: np.ndarray, owner) -> tuple[Body
         return None, f"{name}: no MassAPI mass (the simulator derives it from the colliders)"
     mass *= robot.kilograms
     com, diag = _get(prim, "physics:centerOfMass"), _get(prim, "physics:diagonalInertia")
-    known = bool(com is not None and diag is not None and np.all(np.isfinite(np.array(com, float))) and any(float(x) > 0 for x in diag))
+    known = bool(
+        com is not None and diag is not None and np.all(np.isfinite(np.array(com, float))) and any(float(x) > 0 for x in diag)
+    )
     com_l = np.array([f32(x) for x in com], dtype=float) * robot.meters if known else np.zeros(3)
     ine_l = np.zeros((3, 3))
     if known:
@@ -163,7 +179,7 @@ def _inertial(robot: UsdRobot, body: str, pose: np.ndarray, owner) -> tuple[Body
         rot = np.eye(3)
         if axes is not None and (axes.GetReal() != 0 or any(axes.GetImaginary())):
             rot = frame_matrix((0, 0, 0), axes, 1.0)[:3, :3]
-        ine_l = rot @ np.diag([f32(x) for x in diag]) @ rot.T * robot.kilograms * robot.meters ** 2
+        ine_l = rot @ np.diag([f32(x) for x in diag]) @ rot.T * robot.kilograms * robot.meters**2
     com_w, ine_w = inertial_world(pose, com_l, ine_l)
     why = "" if known else f"{name}: mass {mass:g} kg with no centre of mass or inertia (derived from the colliders)"
     return BodyInertial(owner, mass, com_w, ine_w, name, com_l, ine_l, com_known=known), why
@@ -190,17 +206,37 @@ def describe_usd(robot: UsdRobot) -> ModelDesc:
         frame = poses[j.body0] @ j.x0 if not flipped else poses[j.body1] @ j.x1
         axis = frame[:3, j.axis] * (-1.0 if flipped else 1.0)
         v = joint_values(robot, j)
-        stated = {name for name, key in (("damping", "damping"), ("friction", "friction"), ("armature", "armature"),
-                                         ("effort", "effort")) if v[key] is not None}
+        stated = {
+            name
+            for name, key in (("damping", "damping"), ("friction", "friction"), ("armature", "armature"), ("effort", "effort"))
+            if v[key] is not None
+        }
         if v["range"]:
             stated.add("range")
-        joints.append(JointDesc(
-            j.name, j.kind, owner[up], robot.names[body], robot.names[up], axis / np.linalg.norm(axis), frame[:3, 3].copy(),
-            j.lower, j.upper, damping=v["damping"] or 0.0, friction=v["friction"] or 0.0, armature=v["armature"] or 0.0,
-            stiffness=None,  # unset: the simulators' default, 0 (``stated`` says which are unset)
-            effort=v["effort"], velocity=v["velocity"], effort_how=v["effort_how"], stated=frozenset(stated)))
-        extensions[j.name] = {k: v[k] for k in ("drive", "custom_effort", "initial", "physx_friction", "velocity")
-                              if v[k] is not None}
+        joints.append(
+            JointDesc(
+                j.name,
+                j.kind,
+                owner[up],
+                robot.names[body],
+                robot.names[up],
+                axis / np.linalg.norm(axis),
+                frame[:3, 3].copy(),
+                j.lower,
+                j.upper,
+                damping=v["damping"] or 0.0,
+                friction=v["friction"] or 0.0,
+                armature=v["armature"] or 0.0,
+                stiffness=None,  # unset: the simulators' default, 0 (``stated`` says which are unset)
+                effort=v["effort"],
+                velocity=v["velocity"],
+                effort_how=v["effort_how"],
+                stated=frozenset(stated),
+            )
+        )
+        extensions[j.name] = {
+            k: v[k] for k in ("drive", "custom_effort", "initial", "physx_friction", "velocity") if v[k] is not None
+        }
     frames = {robot.names[b]: poses[b] for b in robot.bodies}
     frame_owner = {robot.names[b]: owner[b] for b in robot.bodies}
     frame_depth = {robot.names[b]: depth[b] for b in robot.bodies}
@@ -218,12 +254,27 @@ def describe_usd(robot: UsdRobot) -> ModelDesc:
             unset.append(why)
     if unset:
         skipped.append(f"{len(unset)} bodies leave their inertial to the simulator: " + "; ".join(unset))
-    desc = ModelDesc("usd", "usd-core", joints, frames, frame_owner, frame_depth, bodies, skipped + robot.notes, kinds,
-                     _couplings(robot, joint_names), robot.gravity, extensions=extensions, held=held, no_inertial=no_inertial, native=robot)
+    desc = ModelDesc(
+        "usd",
+        "usd-core",
+        joints,
+        frames,
+        frame_owner,
+        frame_depth,
+        bodies,
+        skipped + robot.notes,
+        kinds,
+        _couplings(robot, joint_names),
+        robot.gravity,
+        extensions=extensions,
+        held=held,
+        no_inertial=no_inertial,
+        native=robot,
+    )
     return desc
 
 
-F32 = 2.0 ** -23  # a single-precision number as written: within this share of its value (one unit in the last place)
+F32 = 2.0**-23  # a single-precision number as written: within this share of its value (one unit in the last place)
 
 
 class UsdPrecision(Precision):
@@ -237,8 +288,12 @@ def usd_precision(robot: UsdRobot) -> Precision:
     by; limits, masses, inertias and centres of mass within one unit in the last place."""
     out = UsdPrecision("USD")
     held = next((j for j in robot.joints if robot.root in (j.body0, j.body1) and not (j.body0 and j.body1)), None)
-    bound = {robot.root: (0.0, 0.0) if held is None else  # a root held to the world by a joint: its two frames
-             (8 * F32, math.sqrt(3) * F32 * float(np.linalg.norm(held.x0[:3, 3]) + np.linalg.norm(held.x1[:3, 3])))}
+    bound = {
+        robot.root: (0.0, 0.0)
+        if held is None
+        # a root held to the world by a joint: its two frames
+        else (8 * F32, math.sqrt(3) * F32 * float(np.linalg.norm(held.x0[:3, 3]) + np.linalg.norm(held.x1[:3, 3])))
+    }
     for body in robot.bodies[1:]:
         j = robot.parent_joint[body]
         up = j.body0 if body == j.body1 else j.body1
@@ -247,9 +302,13 @@ def usd_precision(robot: UsdRobot) -> Precision:
     out.frames = {robot.names[b]: v for b, v in bound.items()}
     out.frames.update({site: bound[body] for site, (body, _, _) in robot.sites.items()})
     limits = [abs(x) for j in robot.joints for x in (j.lower, j.upper) if math.isfinite(x)]
-    for category, value in (("limit", max(limits, default=0.0) * F32), ("relative", 2 * F32), ("inertial_angle", 8 * F32),
-                            ("angle", 8 * F32), ("com", F32 * max((float(np.linalg.norm(t[:3, 3])) for t in robot.authored.values()),
-                                                                  default=0.0))):
+    for category, value in (
+        ("limit", max(limits, default=0.0) * F32),
+        ("relative", 2 * F32),
+        ("inertial_angle", 8 * F32),
+        ("angle", 8 * F32),
+        ("com", F32 * max((float(np.linalg.norm(t[:3, 3])) for t in robot.authored.values()), default=0.0)),
+    ):
         out.note(category, value, "float32")
     return out
 
@@ -278,6 +337,10 @@ def pose_mismatches(robot: UsdRobot) -> list[tuple[str, float, float]]:
         if pos > 2 * (pos_b + rot_b * reach) + 1e-9 or rot > 2 * rot_b + 1e-9:
             orient = _get(robot.stage.GetPrimAtPath(body), "xformOp:orient")
             norm = 1.0 if orient is None else math.sqrt(orient.GetReal() ** 2 + sum(x * x for x in orient.GetImaginary()))
-            why = f" (its xformOp:orient is not a unit quaternion, |q| = {norm:.9g}: pxr reads it as a turn)" if abs(norm - 1) > 1e-9 else ""
+            why = (
+                f" (its xformOp:orient is not a unit quaternion, |q| = {norm:.9g}: pxr reads it as a turn)"
+                if abs(norm - 1) > 1e-9
+                else ""
+            )
             out.append((robot.names[body] + why, pos, rot))
     return out

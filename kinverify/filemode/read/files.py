@@ -31,8 +31,7 @@ from kinverify.filemode.read.stated import mjcf_joint_values, urdf_joint_values,
 LABELS = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF", "usd": "USD"}
 
 
-def sides(urdf: str | None, mjcf: str | None, sdf: str | None, usd: str | None = None
-          ) -> tuple[tuple[str, str], tuple[str, str]]:
+def sides(urdf: str | None, mjcf: str | None, sdf: str | None, usd: str | None = None) -> tuple[tuple[str, str], tuple[str, str]]:
     """The two sides ``((kind, path), (kind, path))`` of a pair of files: URDF before MJCF, an
     SDFormat or USD file after a URDF or before an MJCF (SDFormat before USD)."""
     given = [(k, p) for k, p in (("urdf", urdf), ("sdf", sdf), ("usd", usd), ("mjcf", mjcf)) if p]
@@ -50,20 +49,31 @@ def read_urdf(path: str, findings: list, free=()):
     base = urdf_base(loaded.text)
     floating, kind, message = decide(base, list(free))
     fixed = fixed_urdf(loaded.text, keep_origin=not floating)
-    decision = BaseDecision(floating, kind, message, base, list(free),
-                            prepare_urdf(floating_urdf(loaded.text)) if floating else "")
+    decision = BaseDecision(
+        floating, kind, message, base, list(free), prepare_urdf(floating_urdf(loaded.text)) if floating else ""
+    )
     text = prepare_urdf(fixed)
     try:
         return loaded, text, with_statements(describe_urdf(fixed), loaded), "pinocchio", decision
     except (ValueError, RuntimeError) as err:
-        findings.append(finding("parser_refused", f"Pinocchio refuses the URDF: {library_reason(err)}; read with MuJoCo's URDF "
-                                "import instead", {"file": "URDF", "library": "pinocchio"}))
+        findings.append(
+            finding(
+                "parser_refused",
+                f"Pinocchio refuses the URDF: {library_reason(err)}; read with MuJoCo's URDF import instead",
+                {"file": "URDF", "library": "pinocchio"},
+            )
+        )
     try:
         desc = dataclasses.replace(describe_mjcf(urdf_for_mujoco(text)), kind="urdf", library="mujoco (URDF import)")
         return loaded, text, with_statements(desc, loaded), "mujoco", decision
     except ValueError as err:
-        findings.append(finding("parser_refused", f"MuJoCo's URDF import refuses the URDF too: {library_reason(err)}; read with "
-                                "Drake's URDF parser instead", {"file": "URDF", "library": "mujoco"}))
+        findings.append(
+            finding(
+                "parser_refused",
+                f"MuJoCo's URDF import refuses the URDF too: {library_reason(err)}; read with Drake's URDF parser instead",
+                {"file": "URDF", "library": "mujoco"},
+            )
+        )
         refusal = library_reason(err)
     try:
         return loaded, text, with_statements(describe_sdf(text, "urdf"), loaded), "drake", decision
@@ -98,8 +108,14 @@ def read_mjcf(path: str, findings: list):
             return loaded, text, desc, free
         except ValueError as err:
             if attempt == 0 and "mesh assets resolved" in " ".join(loaded.warnings):
-                findings.append(finding("parser_refused", f"MuJoCo cannot read a mesh of the MJCF ({library_reason(err)}): meshes "
-                                        "dropped (they do not change kinematics or dynamics)", {"file": "MJCF", "library": "mujoco"}))
+                findings.append(
+                    finding(
+                        "parser_refused",
+                        f"MuJoCo cannot read a mesh of the MJCF ({library_reason(err)}): meshes "
+                        "dropped (they do not change kinematics or dynamics)",
+                        {"file": "MJCF", "library": "mujoco"},
+                    )
+                )
                 loaded = load_mjcf(path, keep_meshes=False)
                 continue
             raise InputError(f"--mjcf: MuJoCo cannot load {path}: {library_reason(err)}") from None
@@ -142,16 +158,23 @@ def read_sdf(path: str, findings: list, free=None):
     base = UrdfBase("floating" if roots else "fixed", root, "(free body)" if roots else None, root)
     floating, kind, message = decide(base, list(free))
     message = message.replace("the URDF's root joint (free body) is floating", f"the SDF's link {root} is a free body")
-    return loaded, loaded.text, desc, "drake", BaseDecision(floating, kind, message, base, list(free),
-                                                             loaded.text if floating else "")
+    return (
+        loaded,
+        loaded.text,
+        desc,
+        "drake",
+        BaseDecision(floating, kind, message, base, list(free), loaded.text if floating else ""),
+    )
 
 
 def load_usd(path: str) -> tuple[LoadedFile, UsdRobot]:
     """The USD file read by pxr (every layer checked first: :mod:`kinverify.backends.usd_stage`) as a
     :class:`LoadedFile` whose text is the path (pxr resolves its layers from there), and its articulation."""
     robot = read_robot(path)
-    warnings = tuple(f"USD: layer {a} is absent (its prims are read without it: meshes are not needed for kinematics "
-                     "and dynamics)" for a in robot.absent)
+    warnings = tuple(
+        f"USD: layer {a} is absent (its prims are read without it: meshes are not needed for kinematics and dynamics)"
+        for a in robot.absent
+    )
     name = robot.names[robot.root] if not robot.stage.GetDefaultPrim() else robot.stage.GetDefaultPrim().GetName()
     return LoadedFile(str(path), "usd", str(path), str(path), name, warnings), robot
 
@@ -164,22 +187,34 @@ def read_usd(path: str, findings: list, free=None):
     desc = describe_usd(robot)
     mismatched = pose_mismatches(robot)
     if mismatched:
-        findings.append(finding("usd_pose_mismatch", f"the USD places {len(mismatched)} bodies (their xformOps, where a "
-                                "simulator starts them) elsewhere than their joint frames do (compared: the joint frames): "
-                                + ", ".join(f"{b} {p:.3g} m, {r:.3g} rad" for b, p, r in mismatched),
-                                {"file": "USD", "bodies": {b: [p, r] for b, p, r in mismatched}},
-                                magnitude=max(max(p, r) for _, p, r in mismatched), unit="m|rad",
-                                link=[b.split(" (")[0] for b, _, _ in mismatched]))
+        findings.append(
+            finding(
+                "usd_pose_mismatch",
+                f"the USD places {len(mismatched)} bodies (their xformOps, where a "
+                "simulator starts them) elsewhere than their joint frames do (compared: the joint frames): "
+                + ", ".join(f"{b} {p:.3g} m, {r:.3g} rad" for b, p, r in mismatched),
+                {"file": "USD", "bodies": {b: [p, r] for b, p, r in mismatched}},
+                magnitude=max(max(p, r) for _, p, r in mismatched),
+                unit="m|rad",
+                link=[b.split(" (")[0] for b, _, _ in mismatched],
+            )
+        )
     roots = [robot.names[robot.root]] if robot.floating else []
     if free is None:
         return loaded, loaded.text, desc, roots
     root = robot.names[robot.root]
     base = UrdfBase("floating" if roots else "fixed", root, "(free body)" if roots else None, root)
     floating, kind, message = decide(base, list(free))
-    message = message.replace("the URDF's root joint (free body) is floating", f"the USD's root body {root} has no joint "
-                              "to the world")
-    return loaded, loaded.text, desc, "usd", BaseDecision(floating, kind, message, base, list(free),
-                                                           loaded.text if floating else "")
+    message = message.replace(
+        "the URDF's root joint (free body) is floating", f"the USD's root body {root} has no joint to the world"
+    )
+    return (
+        loaded,
+        loaded.text,
+        desc,
+        "usd",
+        BaseDecision(floating, kind, message, base, list(free), loaded.text if floating else ""),
+    )
 
 
 def sdf_free_bodies(sdf_text: str) -> list[str]:

@@ -33,6 +33,7 @@ from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_JOINTS, MAX_LINKS, MAX
 @dataclass(frozen=True)
 class LoadedFile:
     """A model file after safe parsing and cleaning: ``text`` is what the backends load."""
+
     path: str
     kind: str  # "urdf", "mjcf" or "sdf"
     original: str
@@ -62,15 +63,16 @@ def read_xml(path: str, kind: str, text: str | None = None) -> tuple[str, ET.Ele
         except UnicodeDecodeError as err:
             raise InputError(f"{label}: cannot read {path}: not UTF-8 text (byte {err.start})") from None
     elif len(text.encode()) > MAX_MODEL_BYTES:
-        raise InputError(f"{label}: {path} is {len(text.encode()) / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB "
-                         "kinverify reads (see docs/robustness.md)")
+        raise InputError(
+            f"{label}: {path} is {len(text.encode()) / 2**20:.1f} MB, above the {MAX_MODEL_BYTES // 2**20} MB "
+            "kinverify reads (see docs/robustness.md)"
+        )
     root = xml_parse(text.encode(), path, label)
     expected = {"urdf": "robot", "mjcf": "mujoco", "sdf": "sdf"}[kind]
     if root.tag != expected:
         names = {"robot": "a URDF", "mujoco": "an MJCF", "sdf": "an SDFormat file"}
         hint = names.get(root.tag, f"a <{root.tag}> document")
-        raise InputError(f"--{kind}: {path} is {hint}, not {names[expected]} "
-                         f"(root element <{root.tag}>, expected <{expected}>)")
+        raise InputError(f"--{kind}: {path} is {hint}, not {names[expected]} (root element <{root.tag}>, expected <{expected}>)")
     if kind == "urdf" and (compiled or not is_xacro(path, text)):  # a xacro source is checked once compiled
         check_urdf_tree(root, path, label)
         check_urdf_numbers(root, path, label)
@@ -99,8 +101,10 @@ def check_supported(root: ET.Element, kind: str, path) -> None:
         for joint in joints:
             parent = joint.find("parent")
             if joint.get("type") in PLANAR_URDF and parent is not None and parent.get("link") in roots:
-                raise InputError(f"--urdf: {path}: joint {joint.get('name')!r} is {joint.get('type')}: unsupported: planar base "
-                                 f"(kinverify compares fixed and floating bases; make the root joint fixed or floating)")
+                raise InputError(
+                    f"--urdf: {path}: joint {joint.get('name')!r} is {joint.get('type')}: unsupported: planar base "
+                    f"(kinverify compares fixed and floating bases; make the root joint fixed or floating)"
+                )
         bodies, movable = len(links), sum(j.get("type") in MOVABLE["urdf"] for j in joints)
     elif kind == "sdf":
         bodies = sum(1 for _ in root.iter("link"))
@@ -116,8 +120,7 @@ def check_supported(root: ET.Element, kind: str, path) -> None:
     what = "bodies" if kind == "mjcf" else "links"
     if bodies > MAX_LINKS or movable > MAX_JOINTS:
         count, limit, noun = (bodies, MAX_LINKS, what) if bodies > MAX_LINKS else (movable, MAX_JOINTS, "movable joints")
-        raise InputError(f"--{kind}: {path} has {count} {noun}, above the {limit} kinverify compares "
-                         "(see docs/robustness.md)")
+        raise InputError(f"--{kind}: {path} has {count} {noun}, above the {limit} kinverify compares (see docs/robustness.md)")
 
 
 def _product(counts: str | None) -> int:
@@ -140,7 +143,7 @@ def resolve_asset(filename: str, base: Path, packages: dict[str, str] | None = N
     if filename.startswith("package://"):
         found = package_file(filename, base, packages)
         return _read_asset(found, budget) if found is not None and found.is_file() else None
-    filename = filename[len("file://"):] if filename.startswith("file://") else filename
+    filename = filename[len("file://") :] if filename.startswith("file://") else filename
     candidate = Path(filename) if Path(filename).is_absolute() else base / filename
     return _read_asset(candidate, budget) if candidate.is_file() else None
 
@@ -170,8 +173,9 @@ def given_packages(packages: dict[str, str] | None = None, xacro_args: dict[str,
         _GIVEN.update(before)
 
 
-def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | None = None,
-              xacro_args: dict[str, str] | None = None) -> LoadedFile:
+def load_urdf(
+    path: str, keep_meshes: bool = True, packages: dict[str, str] | None = None, xacro_args: dict[str, str] | None = None
+) -> LoadedFile:
     """URDF without the mesh visuals/collisions whose files are absent (kinematics and inertials
     are untouched); meshes that exist are kept with absolute paths (``keep_meshes=False``: none).
     A xacro file (``.xacro``, or the xacro namespace) is compiled first (:mod:`kinverify.filemode.read.xacro`)
@@ -204,13 +208,21 @@ def load_urdf(path: str, keep_meshes: bool = True, packages: dict[str, str] | No
                 else:
                     mesh.set("filename", str(found))
                     kept += 1
-    warnings = tuple(compiled) + ((f"URDF: {dropped} mesh visual/collision elements skipped, their files are absent "
-                                   "(meshes are not needed for kinematics and dynamics)",) if dropped else ())
+    warnings = tuple(compiled) + (
+        (
+            f"URDF: {dropped} mesh visual/collision elements skipped, their files are absent "
+            "(meshes are not needed for kinematics and dynamics)",
+        )
+        if dropped
+        else ()
+    )
     if kept:
         warnings += (f"URDF: {kept} mesh references resolved to existing files and kept",)
     if present:
-        warnings += (f"URDF: {present} mesh visual/collision elements not loaded, their files present (meshes are not "
-                     "needed for kinematics and dynamics)",)
+        warnings += (
+            f"URDF: {present} mesh visual/collision elements not loaded, their files present (meshes are not "
+            "needed for kinematics and dynamics)",
+        )
     cleaned = ET.tostring(root, encoding="unicode")
     return LoadedFile(str(path), "urdf", text, cleaned, root.get("name") or Path(path).stem, warnings)
 
@@ -242,14 +254,23 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     kept, present = _resolve_mesh_assets(root, found, keep_meshes)
     dropped, fitted, massless, approximate = _drop_meshes(root, kept)
     fits = f" ({fitted} of them primitives fitted to a mesh, whose size came from it)" if fitted else ""
-    warnings = [f"MJCF: {dropped} mesh geoms{fits} and their assets skipped, their files are absent" if not present else
-                f"MJCF: {dropped} mesh geoms{fits} and their assets skipped ({present} of their files present, not loaded: "
-                "meshes are not needed for kinematics and dynamics)"] if dropped else []
+    warnings = (
+        [
+            f"MJCF: {dropped} mesh geoms{fits} and their assets skipped, their files are absent"
+            if not present
+            else f"MJCF: {dropped} mesh geoms{fits} and their assets skipped ({present} of their files present, not loaded: "
+            "meshes are not needed for kinematics and dynamics)"
+        ]
+        if dropped
+        else []
+    )
     if kept:
         warnings.append(f"MJCF: {len(kept)} mesh assets resolved to existing files and kept")
     if massless:
-        warnings.append(f"MJCF bodies without <inertial> whose mass came from their (absent) meshes, not compared (a body "
-                        f"left with no mass at all holds {PLACEHOLDER_MASS:g} kg so that MuJoCo loads it): {', '.join(massless)}")
+        warnings.append(
+            f"MJCF bodies without <inertial> whose mass came from their (absent) meshes, not compared (a body "
+            f"left with no mass at all holds {PLACEHOLDER_MASS:g} kg so that MuJoCo loads it): {', '.join(massless)}"
+        )
     cleaned = ET.tostring(root, encoding="unicode")
     try:
         spec = mujoco.MjSpec.from_string(cleaned)
@@ -257,8 +278,10 @@ def load_mjcf(path: str, keep_meshes: bool = True) -> LoadedFile:
     except ValueError as err:
         warnings.append(f"mujoco cannot compile the MJCF (absent meshes dropped): {library_reason(err)}")
     if approximate:
-        warnings.append("MJCF bodies whose (absent) mesh geoms state their mass: the mass is compared, not the centre of "
-                        f"mass and inertia: {', '.join(approximate)}")
+        warnings.append(
+            "MJCF bodies whose (absent) mesh geoms state their mass: the mass is compared, not the centre of "
+            f"mass and inertia: {', '.join(approximate)}"
+        )
     return LoadedFile(str(path), "mjcf", text, cleaned, name, tuple(warnings), tuple(massless), tuple(approximate))
 
 
@@ -341,18 +364,25 @@ def _drop_meshes(root: ET.Element, kept: set[str] | frozenset[str] = frozenset()
             if body.tag != "body" or not weighs or never or not (from_geoms or body.find("inertial") is None):
                 continue
             if mass is not None:  # its mass is stated: kept, as a point at the geom's frame (where in the mesh is not known)
-                point = ET.SubElement(body, "geom", {k: v for k, v in geom.attrib.items() if k in ("pos", "quat", "name")}
-                                      | {"mass": mass, "type": "sphere", "size": "1e-4", "contype": "0", "conaffinity": "0",
-                                         "group": "5"})
+                point = ET.SubElement(
+                    body,
+                    "geom",
+                    {k: v for k, v in geom.attrib.items() if k in ("pos", "quat", "name")}
+                    | {"mass": mass, "type": "sphere", "size": "1e-4", "contype": "0", "conaffinity": "0", "group": "5"},
+                )
                 parents[point] = body
                 approximate.append(body.get("name") or "?")
             elif (body.get("name") or "?") not in massless:
                 massless.append(body.get("name") or "?")
     for body in root.iter("body"):  # massless now: MuJoCo refuses a moving body without mass
-        if (body.get("name") or "?") in massless and body.find("inertial") is None \
-                and not any(_weighs(g, parents, defaults) for g in body.findall("geom")):
-            ET.SubElement(body, "inertial", pos="0 0 0", mass=repr(PLACEHOLDER_MASS),
-                          diaginertia=" ".join([repr(PLACEHOLDER_INERTIA)] * 3))
+        if (
+            (body.get("name") or "?") in massless
+            and body.find("inertial") is None
+            and not any(_weighs(g, parents, defaults) for g in body.findall("geom"))
+        ):
+            ET.SubElement(
+                body, "inertial", pos="0 0 0", mass=repr(PLACEHOLDER_MASS), diaginertia=" ".join([repr(PLACEHOLDER_INERTIA)] * 3)
+            )
     for geom in root.iter("geom"):  # a default class naming a dropped mesh: the mesh is gone
         if parents[geom].tag == "default" and geom.get("mesh") is not None and geom.get("mesh") not in kept:
             del geom.attrib["mesh"]
@@ -374,5 +404,3 @@ def _drop_meshes(root: ET.Element, kept: set[str] | frozenset[str] = frozenset()
             if pair.get("geom1") in gone_geoms or pair.get("geom2") in gone_geoms:
                 contact.remove(pair)
     return dropped, fitted, massless, [b for b in dict.fromkeys(approximate) if b not in massless]
-
-

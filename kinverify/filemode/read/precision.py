@@ -24,8 +24,14 @@ from dataclasses import dataclass, field
 
 LONG = 5  # significant digits from which a number is taken as computed, then rounded
 _NUMBER = re.compile(r"^[+-]?(\d*)\.?(\d*)(?:[eE]([+-]?\d+))?$")
-LABELS = {"relative": "masses and inertias", "com": "centres of mass", "inertial_angle": "inertial orientations",
-          "limit": "joint limits", "angle": "frame orientations", "length": "frame positions"}
+LABELS = {
+    "relative": "masses and inertias",
+    "com": "centres of mass",
+    "inertial_angle": "inertial orientations",
+    "limit": "joint limits",
+    "angle": "frame orientations",
+    "length": "frame positions",
+}
 POSE = ("quat", "xyaxes", "zaxis")  # unitless orientation attributes (MJCF)
 DEGREE_POSE = ("euler", "axisangle")  # MJCF orientation attributes in <compiler angle> units
 
@@ -84,9 +90,11 @@ class Precision:
             self.examples[category] = word
 
     def describe(self, categories=None) -> str:
-        parts = [f"{LABELS[c]} to {_digits(self.examples[c], c)} ({self.examples[c]})"
-                 for c in categories or ("angle", "length", "relative", "com", "inertial_angle", "limit")
-                 if c in self.examples and getattr(self, c) > 0]
+        parts = [
+            f"{LABELS[c]} to {_digits(self.examples[c], c)} ({self.examples[c]})"
+            for c in categories or ("angle", "length", "relative", "com", "inertial_angle", "limit")
+            if c in self.examples and getattr(self, c) > 0
+        ]
         return f"the {self.file} writes " + ", ".join(parts) if parts else f"the {self.file} writes exact values"
 
 
@@ -124,8 +132,9 @@ def urdf_precision(urdf_text: str) -> Precision:
     for joint in root.findall("joint"):
         origin, axis, limit = joint.find("origin"), joint.find("axis"), joint.find("limit")
         pose = _words(origin.get("rpy")) if origin is not None else []
-        rot, pos, word = _element(pose + _words(axis.get("xyz") if axis is not None else None),
-                                  _words(origin.get("xyz")) if origin is not None else [])
+        rot, pos, word = _element(
+            pose + _words(axis.get("xyz") if axis is not None else None), _words(origin.get("xyz")) if origin is not None else []
+        )
         child, parent = joint.find("child"), joint.find("parent")
         if child is not None and parent is not None:
             by_child[child.get("link")] = (parent.get("link"), rot, pos)
@@ -254,8 +263,12 @@ class Floors:
         """Floor of a kinematics check of ``prop`` at ``frame``."""
         pos, rot = self.frame(frame)
         n = math.sqrt(max(self.dof, 1))
-        return {"fk.position": pos, "fk.rotation": rot, "jacobian.linear": n * (rot * self.reach + 2 * pos),
-                "jacobian.angular": n * rot}.get(prop, 0.0)
+        return {
+            "fk.position": pos,
+            "fk.rotation": rot,
+            "jacobian.linear": n * (rot * self.reach + 2 * pos),
+            "jacobian.angular": n * rot,
+        }.get(prop, 0.0)
 
     @property
     def kinematic(self) -> tuple[float, float]:
@@ -281,5 +294,12 @@ def floors(a: Precision, b: Precision, pairs, reach: dict[str, float], dof: int)
         rb, pb = b.frames.get(fb, (0.0, 0.0))
         rot = ra + rb
         frames[fa] = (pa + pb + rot * reach.get(fa, 0.0), rot)
-    return Floors(frames, dof, max(reach.values(), default=0.0), a.limit + b.limit, a.relative + b.relative,
-                  a.com + b.com, 4 * (a.inertial_angle + b.inertial_angle))
+    return Floors(
+        frames,
+        dof,
+        max(reach.values(), default=0.0),
+        a.limit + b.limit,
+        a.relative + b.relative,
+        a.com + b.com,
+        4 * (a.inertial_angle + b.inertial_angle),
+    )

@@ -16,8 +16,12 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 JOINT_VALUES = ("damping", "friction", "armature", "range", "effort")
-MJCF_ATTRIBUTES = {"damping": ("damping",), "friction": ("frictionloss",), "armature": ("armature",),
-                   "range": ("range", "limited")}
+MJCF_ATTRIBUTES = {
+    "damping": ("damping",),
+    "friction": ("frictionloss",),
+    "armature": ("armature",),
+    "range": ("range", "limited"),
+}
 
 
 def class_defaults(root: ET.Element, tag: str) -> dict[str, list[dict]]:
@@ -62,8 +66,11 @@ def mjcf_joint_values(root: ET.Element) -> dict[str, frozenset[str]]:
     for joint in root.iter("joint"):
         if parents.get(joint) is None or parents[joint].tag == "default" or not joint.get("name"):
             continue
-        out[joint.get("name")] = frozenset(value for value, attrs in MJCF_ATTRIBUTES.items()
-                                           if any(attribute(joint, a, parents, defaults) is not None for a in attrs))
+        out[joint.get("name")] = frozenset(
+            value
+            for value, attrs in MJCF_ATTRIBUTES.items()
+            if any(attribute(joint, a, parents, defaults) is not None for a in attrs)
+        )
     return out  # type: ignore[return-value]  # unnamed joints skipped above
 
 
@@ -74,8 +81,11 @@ def urdf_joint_values(root: ET.Element) -> dict[str, frozenset[str]]:
     out = {}
     for joint in root.findall("joint"):  # not a <transmission>'s <joint>, which names one
         dynamics, limit = joint.find("dynamics"), joint.find("limit")
-        values = {v for v, a in (("damping", "damping"), ("friction", "friction"))
-                  if dynamics is not None and dynamics.get(a) is not None}
+        values = {
+            v
+            for v, a in (("damping", "damping"), ("friction", "friction"))
+            if dynamics is not None and dynamics.get(a) is not None
+        }
         if joint.get("type") == "continuous" or (limit is not None and (limit.get("lower") or limit.get("upper"))):
             values.add("range")
         if limit is not None and limit.get("effort") is not None:

@@ -45,12 +45,12 @@ def inertial_problem(mass: float, inertia: np.ndarray | None) -> str | None:
     moments = np.linalg.eigvalsh((inertia + inertia.T) / 2)  # ascending
     scale = max(abs(moments).max(), 1e-300)
     if moments[0] < -TOL * scale:
-        return (f"inertia is not positive semi-definite (principal moments "
-                f"{', '.join(f'{v:.6g}' for v in moments)} kg·m²)")
+        return f"inertia is not positive semi-definite (principal moments {', '.join(f'{v:.6g}' for v in moments)} kg·m²)"
     a, b, c = moments
     if a + b < c - TOL * scale:
-        return (f"principal moments {a:.6g}, {b:.6g}, {c:.6g} kg·m² break the triangle inequality "
-                f"A + B >= C (no rigid body has them)")
+        return (
+            f"principal moments {a:.6g}, {b:.6g}, {c:.6g} kg·m² break the triangle inequality A + B >= C (no rigid body has them)"
+        )
     return None
 
 
@@ -126,11 +126,24 @@ def mjcf_problems(text: str) -> list[tuple[str, float, np.ndarray | None, str]]:
 def _findings(kind: str, path: str, problems) -> list[Finding]:
     label = kind.upper()
     element = "link" if kind == "urdf" else "body"
-    return [Finding(KIND, "error", f"{label} {path}: {element} {name}: non-physical inertial: {problem}", subject=name,
-                    subject_type="link", property="dynamics",
-                    values={"file": label, "path": path, "mass": mass,
-                            "inertia": None if inertia is None else inertia.tolist(), "problem": problem})
-            for name, mass, inertia, problem in problems]
+    return [
+        Finding(
+            KIND,
+            "error",
+            f"{label} {path}: {element} {name}: non-physical inertial: {problem}",
+            subject=name,
+            subject_type="link",
+            property="dynamics",
+            values={
+                "file": label,
+                "path": path,
+                "mass": mass,
+                "inertia": None if inertia is None else inertia.tolist(),
+                "problem": problem,
+            },
+        )
+        for name, mass, inertia, problem in problems
+    ]
 
 
 def validate_inertials(urdf, mjcf) -> list[Finding]:

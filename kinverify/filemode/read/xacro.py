@@ -55,8 +55,9 @@ def parse_pairs(items, flag: str) -> dict[str, str]:
     return out
 
 
-def compile_xacro(path: str | Path, packages: dict[str, str] | None = None,
-                  args: dict[str, str] | None = None) -> tuple[str, list[str]]:
+def compile_xacro(
+    path: str | Path, packages: dict[str, str] | None = None, args: dict[str, str] | None = None
+) -> tuple[str, list[str]]:
     """The URDF text ``path`` compiles to, and the warnings xacro printed while compiling."""
     found = {}
     for name, folder in (packages or {}).items():
@@ -66,7 +67,6 @@ def compile_xacro(path: str | Path, packages: dict[str, str] | None = None,
         found[name] = str(folder_path.resolve())
     xpackages.reset()
     xpackages.update_package_cache(found)
-
 
     try:  # xacro evaluates the file's expressions: in a child process bounded in memory and time
         text, printed, read = in_child(lambda: _compile(path, args))
@@ -86,8 +86,11 @@ def _compile(path, args) -> tuple[str, str, list[str]]:
     printed, read = io.StringIO(), []  # xacro prints its warnings: keep them for the report, off the terminal
     try:
         # the file and everything it includes are read by kinverify's reader (bounded, no FIFO)
-        with contextlib.redirect_stderr(printed), contextlib.redirect_stdout(printed), \
-                library_reads((xacro, xacrodoc.xacrodoc), f"{path}: xacro include", record=read):
+        with (
+            contextlib.redirect_stderr(printed),
+            contextlib.redirect_stdout(printed),
+            library_reads((xacro, xacrodoc.xacrodoc), f"{path}: xacro include", record=read),
+        ):
             text = XacroDoc.from_file(str(path), subargs=dict(args or {}), walk_up=True).to_urdf_string()
     except InputError as err:
         raise InputError(str(err)) from None  # as a plain InputError: it crosses back to the parent

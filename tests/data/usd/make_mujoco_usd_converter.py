@@ -48,8 +48,12 @@ def convert(python: Path, spec_path: Path, work: Path) -> tuple[str, str]:
     mjcf = work / f"{spec.name}.xml"
     mjcf.write_text(generate_mjcf(spec))
     source = f"{spec.name}.xml (kinverify generate {spec_path.as_posix()})"
-    run = subprocess.run([str(python.parent / "mujoco_usd_converter"), "--no-layer-structure", str(mjcf), str(work / "out")],
-                         check=True, capture_output=True, text=True)
+    run = subprocess.run(
+        [str(python.parent / "mujoco_usd_converter"), "--no-layer-structure", str(mjcf), str(work / "out")],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
     usdc = work / "out" / f"{spec.name}.usdc"
     doc = f"Converted from {source} by mujoco-usd-converter {VERSION} (--no-layer-structure)"
     text = subprocess.run([str(python), "-c", EXPORT, str(usdc), doc], check=True, capture_output=True, text=True).stdout
@@ -59,8 +63,12 @@ def convert(python: Path, spec_path: Path, work: Path) -> tuple[str, str]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--venv", type=Path, default=Path(tempfile.gettempdir()) / "kinverify-mujoco-usd-converter",
-                        help="the converter's own venv (made when absent)")
+    parser.add_argument(
+        "--venv",
+        type=Path,
+        default=Path(tempfile.gettempdir()) / "kinverify-mujoco-usd-converter",
+        help="the converter's own venv (made when absent)",
+    )
     args = parser.parse_args()
     python = converter_venv(args.venv)
     for spec_path in sorted(Path("models").glob("*.toml")):
@@ -68,8 +76,10 @@ def main() -> int:
             text, warnings = convert(python, spec_path, Path(tmp))
         out = HERE / f"{spec_path.stem}_mujoco-usd-converter.usda"
         out.write_text(text)
-        print(f"{out.relative_to(Path.cwd()) if out.is_relative_to(Path.cwd()) else out}: {len(text)} bytes"
-              + (f"; converter warnings: {warnings}" if warnings else ""))
+        print(
+            f"{out.relative_to(Path.cwd()) if out.is_relative_to(Path.cwd()) else out}: {len(text)} bytes"
+            + (f"; converter warnings: {warnings}" if warnings else "")
+        )
     return 0
 
 

@@ -85,8 +85,12 @@ def test_a_tilt_below_a_turned_parent_is_measured_in_its_own_right(tmp_path):
     _, mjcf = P.generated_pair("panda")
     tilt = math.radians(2.5)
     mjcf = turned(mjcf, "panda_link3", [1.0, 0.0, 0.0], math.radians(5))
-    mjcf = P.joint_attr(mjcf, "panda_joint4", "axis", P.nums(lambda v: list(axis_angle_to_matrix(
-        np.array([0.0, 1.0, 0.0]), np.array([tilt]))[0] @ np.asarray(v))))
+    mjcf = P.joint_attr(
+        mjcf,
+        "panda_joint4",
+        "axis",
+        P.nums(lambda v: list(axis_angle_to_matrix(np.array([0.0, 1.0, 0.0]), np.array([tilt]))[0] @ np.asarray(v))),
+    )
     diag, errors, bodies = diagnose(tmp_path, mjcf)
     assert errors == [("axis_direction", "panda_joint4"), ("joint_origin_turned", "panda_joint3")] and bodies == []
     assert finding(diag, "axis_direction").magnitude == pytest.approx(tilt, abs=1e-9)
@@ -100,8 +104,11 @@ def test_a_tilted_first_axis_is_that_axis_when_nothing_else_places_the_world(tmp
     urdf, _ = P.generated_pair("panda")
     (tmp_path / "robot.urdf").write_text(urdf)
     mujoco.mj_saveLastXML(str(tmp_path / "written.xml"), mujoco.MjModel.from_xml_path(str(tmp_path / "robot.urdf")))
-    mjcf = (tmp_path / "written.xml").read_text().replace(
-        '<joint name="panda_joint1" ', f'<joint name="panda_joint1" axis="0 {-math.sin(0.05)!r} {math.cos(0.05)!r}" ', 1)
+    mjcf = (
+        (tmp_path / "written.xml")
+        .read_text()
+        .replace('<joint name="panda_joint1" ', f'<joint name="panda_joint1" axis="0 {-math.sin(0.05)!r} {math.cos(0.05)!r}" ', 1)
+    )
     diag, errors, bodies = diagnose(tmp_path, mjcf)
     assert errors == [("axis_direction", "panda_joint1")] and bodies == []
     assert finding(diag, "axis_direction").magnitude == pytest.approx(0.05, abs=1e-9)

@@ -78,8 +78,9 @@ def sign_observable(desc, joint: str, shared=None) -> bool:
         d = p - j.anchor
         return np.linalg.norm(d - (d @ j.axis) * j.axis) <= 1e-9
 
-    roots = [pose[:3, 3] for f, pose in desc.frames.items()
-             if desc.frame_owner.get(f) is None and (shared is None or f in shared)]
+    roots = [
+        pose[:3, 3] for f, pose in desc.frames.items() if desc.frame_owner.get(f) is None and (shared is None or f in shared)
+    ]
     points = [pose[:3, 3] for f, pose in desc.frames.items() if desc.frame_owner.get(f) is not None]
     points += [p for c in desc.joints if c.name != joint for p in (c.anchor, c.anchor + c.axis)]
     points += [r for r in roots if not on_axis(r)]  # a base frame off the axis must lie on ℓ too
@@ -129,14 +130,31 @@ def test_a_prismatic_zero_offset_is_seen_across_a_nearly_parallel_next_axis():
     all frames at the origin. The MJCF's j3 zero sits 0.125 m further. j4's axis line, taken where
     it crosses a plane across j3's axis, moves only by the part of the shift across it (7.8 mm):
     the shift is still a zero offset of j3, not a frame convention of l3 and a moved j4."""
+
     def joint(name, kind, axis, rpy=(0.0, 0.0, 0.0)):
         upper, unit = (1.0, "rad") if kind == "revolute" else (0.25, "m")
-        return {"name": name, "type": kind, "xyz": [0.0, 0.0, 0.0], "rpy": list(rpy), "axis": axis,
-                "limits": {"lower": 0.0, "upper": upper, "unit": unit}, "link": {"name": "l" + name[1:], "mass": 1.0}}
-    spec = spec_from_dict({"name": "slide", "joints": [
-        joint("j1", "revolute", [1, 0, 0]), joint("j2", "revolute", [1, 0, 0]), joint("j3", "prismatic", [1.0, 0.0625, 0.0]),
-        joint("j4", "revolute", [0, 0, 1], (math.pi / 2, 0.0, math.pi / 2))],
-        "tools": [{"name": "tool", "parent": "l4", "xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}]})
+        return {
+            "name": name,
+            "type": kind,
+            "xyz": [0.0, 0.0, 0.0],
+            "rpy": list(rpy),
+            "axis": axis,
+            "limits": {"lower": 0.0, "upper": upper, "unit": unit},
+            "link": {"name": "l" + name[1:], "mass": 1.0},
+        }
+
+    spec = spec_from_dict(
+        {
+            "name": "slide",
+            "joints": [
+                joint("j1", "revolute", [1, 0, 0]),
+                joint("j2", "revolute", [1, 0, 0]),
+                joint("j3", "prismatic", [1.0, 0.0625, 0.0]),
+                joint("j4", "revolute", [0, 0, 1], (math.pi / 2, 0.0, math.pi / 2)),
+            ],
+            "tools": [{"name": "tool", "parent": "l4", "xyz": [0.0, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}],
+        }
+    )
     result = verify(generate_urdf(spec), remap_joint(generate_mjcf(spec), "j3", 1, 0.125))
     joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
     assert joints["j3"]["offset"] == pytest.approx(0.125, abs=1e-9)
@@ -154,8 +172,9 @@ def test_random_zero_offsets_and_reversed_axes_are_recovered_exactly_and_alone(s
         if sign < 0 and not sign_observable(desc, joint.name, describe_mjcf(mjcf).frames):
             sign = 1
         span = math.pi if joint.type == "revolute" else 0.2
-        offset = data.draw(st.sampled_from([0.0, 0.0]) | st.floats(-span, span).filter(lambda x: abs(x) > 1e-3),
-                           label=f"offset {joint.name}")
+        offset = data.draw(
+            st.sampled_from([0.0, 0.0]) | st.floats(-span, span).filter(lambda x: abs(x) > 1e-3), label=f"offset {joint.name}"
+        )
         if offset and not observable(desc, joint.name):
             offset = 0.0
         if sign < 0 or offset:
@@ -170,8 +189,10 @@ def test_random_zero_offsets_and_reversed_axes_are_recovered_exactly_and_alone(s
         if j["type"] == "revolute":  # +π and −π are the same zero
             gap = math.remainder(gap, 2 * math.pi)
         assert j["sign"] == sign and abs(gap) <= 1e-9, (name, j, expected)
-    wanted = sorted([("axis_sign_flip", n) for n, (s, _) in expected.items() if s < 0]
-                    + [("zero_offset", n) for n, (_, o) in expected.items() if o])
+    wanted = sorted(
+        [("axis_sign_flip", n) for n, (s, _) in expected.items() if s < 0]
+        + [("zero_offset", n) for n, (_, o) in expected.items() if o]
+    )
     assert above_info(result) == wanted and not result.failed
 
 
@@ -181,8 +202,11 @@ def test_a_turn_within_the_next_frames_written_precision_is_not_a_zero_offset():
     decimals (a rounding of up to 2e-6 rad). Joint 6's zero offset is measured on joint 7's axis,
     inside panda_link7: the turn is that frame's rounding, not an offset of joint 6."""
     urdf, mjcf = P.generated_pair("panda")
-    urdf = urdf.replace('<origin xyz="0.088 0.0 0.0" rpy="1.5707963267948966 0.0 0.0"/>',
-                        '<origin xyz="0.088 0.0 0.0" rpy="1.5707963267948966 0.0 2.1073424e-08"/>', 1)
+    urdf = urdf.replace(
+        '<origin xyz="0.088 0.0 0.0" rpy="1.5707963267948966 0.0 0.0"/>',
+        '<origin xyz="0.088 0.0 0.0" rpy="1.5707963267948966 0.0 2.1073424e-08"/>',
+        1,
+    )
     mjcf = P.body_attr(mjcf, "panda_link7", "quat", lambda s: "0.707107 0.707107 0 0")
     result = verify(urdf, mjcf)
     joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
@@ -194,17 +218,36 @@ def test_a_prismatic_zero_offset_is_read_off_the_next_axis_when_its_body_differs
     """As in a public mobile manipulator's pair: the MJCF's lift (j2) sits 0.3 m higher at the same
     q, and its body's centre of mass differs on its own (2 cm). The next axis shows the shift in
     full: a zero offset of j2 and a centre of mass, not frame conventions and a moved j3."""
+
     def joint(name, kind, axis, xyz, upper):
         unit = "rad" if kind == "revolute" else "m"
-        return {"name": name, "type": kind, "xyz": xyz, "rpy": [0.0, 0.0, 0.0], "axis": axis,
-                "limits": {"lower": 0.0, "upper": upper, "unit": unit}, "link": {"name": "l" + name[1:], "mass": 1.0}}
-    spec = spec_from_dict({"name": "lift", "joints": [
-        joint("j1", "revolute", [0, 0, 1], [0.0, 0.0, 0.1], 1.0), joint("j2", "prismatic", [0, 0, 1], [0.0, 0.0, 0.1], 1.0),
-        joint("j3", "revolute", [1, 0, 0], [0.2, 0.0, 0.0], 1.0)],
-        "tools": [{"name": "tool", "parent": "l3", "xyz": [0.1, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}]})
+        return {
+            "name": name,
+            "type": kind,
+            "xyz": xyz,
+            "rpy": [0.0, 0.0, 0.0],
+            "axis": axis,
+            "limits": {"lower": 0.0, "upper": upper, "unit": unit},
+            "link": {"name": "l" + name[1:], "mass": 1.0},
+        }
+
+    spec = spec_from_dict(
+        {
+            "name": "lift",
+            "joints": [
+                joint("j1", "revolute", [0, 0, 1], [0.0, 0.0, 0.1], 1.0),
+                joint("j2", "prismatic", [0, 0, 1], [0.0, 0.0, 0.1], 1.0),
+                joint("j3", "revolute", [1, 0, 0], [0.2, 0.0, 0.0], 1.0),
+            ],
+            "tools": [{"name": "tool", "parent": "l3", "xyz": [0.1, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}],
+        }
+    )
     mjcf = remap_joint(generate_mjcf(spec), "j2", 1, 0.3)
-    mjcf = P.sub_once(r'(<body name="l2".*?<inertial pos=")([^"]*)(")',
-                      lambda m: m[1] + nums(lambda v: [v[0] + 0.02, v[1], v[2]])(m[2]) + m[3], mjcf)
+    mjcf = P.sub_once(
+        r'(<body name="l2".*?<inertial pos=")([^"]*)(")',
+        lambda m: m[1] + nums(lambda v: [v[0] + 0.02, v[1], v[2]])(m[2]) + m[3],
+        mjcf,
+    )
     result = verify(generate_urdf(spec), mjcf)
     joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
     assert joints["j2"]["offset"] == pytest.approx(0.3, abs=1e-9)

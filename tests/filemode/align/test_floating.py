@@ -32,7 +32,7 @@ def floating_arm3() -> tuple[str, str]:
     urdf = P.sub_once(r'<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">', urdf)
     mjcf = P.sub_once(r'<body name="world_mount">\s*<inertial[^>]*/>\s*', "", mjcf)
     end = mjcf.rindex("</body>")
-    mjcf = mjcf[:end] + mjcf[end + len("</body>"):]
+    mjcf = mjcf[:end] + mjcf[end + len("</body>") :]
     return urdf, P.sub_once(r'(<body name="base" pos="[^"]*">)', r"\1<freejoint/>", mjcf)
 
 
@@ -65,8 +65,11 @@ def test_the_space_arm_spec_pair_passes_in_file_mode(tmp_path):
 
 def test_the_base_mass_and_a_flipped_joint_axis_are_named(tmp_path):
     urdf, mjcf = floating_arm3()
-    heavier = P.sub_once(r'(<body name="base" pos="[^"]*"><freejoint/>\s*<inertial[^>]*? mass=")([^"]*)',
-                         lambda m: m[1] + repr(float(m[2]) * 1.2), mjcf)
+    heavier = P.sub_once(
+        r'(<body name="base" pos="[^"]*"><freejoint/>\s*<inertial[^>]*? mass=")([^"]*)',
+        lambda m: m[1] + repr(float(m[2]) * 1.2),
+        mjcf,
+    )
     result = run(tmp_path, urdf, heavier)
     named = [f for f in result.findings if f.severity != "info" and "base" in f.subject]
     assert named and named[0].kind in ("mass_difference", "base_inertial_difference"), kinds(result)
@@ -107,10 +110,13 @@ def test_a_urdf_root_link_without_a_joint_floats_beside_a_free_joint(tmp_path):
 
 def test_another_base_body_frame_is_one_warning_and_compared_after_it(tmp_path):
     urdf, mjcf = floating_arm3()
-    wrapped = P.sub_once(r'<body name="base" pos="[^"]*"><freejoint/>',
-                         '<body name="float_root" pos="0 0 0.3"><freejoint/>'
-                         '<inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>'
-                         f'<body name="base" pos="0.1 0 0.12" quat="{math.cos(0.3)!r} {math.sin(0.3)!r} 0 0">', mjcf)
+    wrapped = P.sub_once(
+        r'<body name="base" pos="[^"]*"><freejoint/>',
+        '<body name="float_root" pos="0 0 0.3"><freejoint/>'
+        '<inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>'
+        f'<body name="base" pos="0.1 0 0.12" quat="{math.cos(0.3)!r} {math.sin(0.3)!r} 0 0">',
+        mjcf,
+    )
     end = wrapped.rindex("</worldbody>")
     result = run(tmp_path, urdf, wrapped[:end] + "</body>" + wrapped[end:])
     offset = [f for f in result.findings if f.kind == "base_frame_offset"]
@@ -139,13 +145,22 @@ def test_the_conjugated_base_and_its_derivative(t6, b6):
         assert np.allclose(d[0], numeric, atol=1e-5 / math.cos(pitch) ** 2)
 
 
-@pytest.mark.parametrize("text, kind", [
-    ('<robot name="r"><link name="world"/><joint name="j" type="fixed"><parent link="world"/><child link="b"/></joint>'
-     '<link name="b"/></robot>', "fixed"),
-    ('<robot name="r"><link name="b"/></robot>', "unstated"),
-    ('<robot name="r"><link name="w"/><joint name="f" type="floating"><parent link="w"/><child link="b"/></joint>'
-     '<link name="b"/></robot>', "floating"),
-])
+@pytest.mark.parametrize(
+    "text, kind",
+    [
+        (
+            '<robot name="r"><link name="world"/><joint name="j" type="fixed"><parent link="world"/><child link="b"/></joint>'
+            '<link name="b"/></robot>',
+            "fixed",
+        ),
+        ('<robot name="r"><link name="b"/></robot>', "unstated"),
+        (
+            '<robot name="r"><link name="w"/><joint name="f" type="floating"><parent link="w"/><child link="b"/></joint>'
+            '<link name="b"/></robot>',
+            "floating",
+        ),
+    ],
+)
 def test_how_a_urdf_holds_its_root(text, kind):
     assert urdf_base(text).kind == kind
     assert re.search(r"\w", urdf_base(text).link)

@@ -18,8 +18,13 @@ from kinverify.run import VerifyOptions
 import tests.filemode.pairs as P
 from tests.filemode.pairs import generated_pair, ignored_by_drake, sub_once, write_pair
 
-FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12},
-                     suites=["kinematics", "limits", "inertia"])
+FAST = VerifyOptions(
+    samples=8,
+    fd_samples=4,
+    backends=["pinocchio-urdf", "mujoco"],
+    extra={"dynamics_samples": 12},
+    suites=["kinematics", "limits", "inertia"],
+)
 
 
 def serious(result) -> list:
@@ -45,13 +50,39 @@ def test_joint_names_carrying_two_numbers_are_matched_by_the_last(tmp_path):
 
 def hand() -> dict:
     """A wrist and a palm carrying two fingers and a thumb, two joints each (a tree)."""
+
     def finger(name, xyz, axis):
-        return [{"name": f"{name}_base", "type": "revolute", "parent": "palm", "xyz": xyz, "axis": axis,
-                 "limits": {"lower": -1.0, "upper": 1.0, "unit": "rad"}, "link": {"name": f"{name}_1", "mass": 0.02}},
-                {"name": f"{name}_tip", "type": "revolute", "parent": f"{name}_1", "xyz": [0.0, 0.0, 0.04], "axis": axis,
-                 "limits": {"lower": 0.0, "upper": 1.5, "unit": "rad"}, "link": {"name": f"{name}_2", "mass": 0.01}}]
-    joints = [{"name": "wrist", "type": "revolute", "xyz": [0.0, 0.0, 0.1], "axis": [0.0, 0.0, 1.0],
-               "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"}, "link": {"name": "palm", "mass": 0.3}}]
+        return [
+            {
+                "name": f"{name}_base",
+                "type": "revolute",
+                "parent": "palm",
+                "xyz": xyz,
+                "axis": axis,
+                "limits": {"lower": -1.0, "upper": 1.0, "unit": "rad"},
+                "link": {"name": f"{name}_1", "mass": 0.02},
+            },
+            {
+                "name": f"{name}_tip",
+                "type": "revolute",
+                "parent": f"{name}_1",
+                "xyz": [0.0, 0.0, 0.04],
+                "axis": axis,
+                "limits": {"lower": 0.0, "upper": 1.5, "unit": "rad"},
+                "link": {"name": f"{name}_2", "mass": 0.01},
+            },
+        ]
+
+    joints = [
+        {
+            "name": "wrist",
+            "type": "revolute",
+            "xyz": [0.0, 0.0, 0.1],
+            "axis": [0.0, 0.0, 1.0],
+            "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"},
+            "link": {"name": "palm", "mass": 0.3},
+        }
+    ]
     joints += finger("index", [0.03, 0.02, 0.05], [1.0, 0.0, 0.0]) + finger("ring", [0.03, -0.02, 0.05], [1.0, 0.0, 0.0])
     joints += finger("thumb", [-0.02, 0.01, 0.03], [0.0, 1.0, 1.0])
     return {"name": "hand", "base": {"link": {"name": "base"}}, "joints": joints}
@@ -76,8 +107,12 @@ def test_a_site_named_like_a_link_elsewhere_is_no_twin_to_blame(tmp_path):
     it on the same body: the names are alike once the prefix the URDF puts on every name is dropped,
     the places are not. No error: a name alike across kinds is no proof of one frame."""
     urdf, mjcf = generated_pair("panda")
-    urdf = sub_once(r"</robot>", '<link name="panda_head"/><joint name="panda_head_fixed" type="fixed">'
-                    '<parent link="panda_link7"/><child link="panda_head"/><origin xyz="0 0 0.1"/></joint></robot>', urdf)
+    urdf = sub_once(
+        r"</robot>",
+        '<link name="panda_head"/><joint name="panda_head_fixed" type="fixed">'
+        '<parent link="panda_link7"/><child link="panda_head"/><origin xyz="0 0 0.1"/></joint></robot>',
+        urdf,
+    )
     mjcf = sub_once(r'(<body name="panda_link7"[^>]*>)', lambda m: m[1] + '<site name="head" pos="0 0 0.6" size="0.01"/>', mjcf)
     result = verify_files(*write_pair(tmp_path, urdf, mjcf), FAST)
     assert result.passed, serious(result)
@@ -102,28 +137,67 @@ def test_a_joint_renamed_under_a_joint_one_file_adds_is_matched_by_how_it_lies(t
 
 def fingers() -> dict:
     """A wrist and two fingers of two joints each, on either side of the palm."""
+
     def finger(name, y):
-        return [{"name": f"{name}_base", "type": "revolute", "parent": "palm", "xyz": [0.03, y, 0.05], "axis": [1.0, 0.0, 0.0],
-                 "limits": {"lower": -1.0, "upper": 1.0, "unit": "rad"}, "link": {"name": f"{name}_1", "mass": 0.02}},
-                {"name": f"{name}_tip", "type": "revolute", "parent": f"{name}_1", "xyz": [0.0, 0.0, 0.04],
-                 "axis": [1.0, 0.0, 0.0], "limits": {"lower": 0.0, "upper": 1.5, "unit": "rad"},
-                 "link": {"name": f"{name}_2", "mass": 0.01}}]
-    joints = [{"name": "wrist", "type": "revolute", "xyz": [0.0, 0.0, 0.1], "axis": [0.0, 0.0, 1.0],
-               "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"}, "link": {"name": "palm", "mass": 0.3}}]
-    return {"name": "fingers", "base": {"link": {"name": "base"}},
-            "joints": joints + finger("index", 0.02) + finger("ring", -0.03)}
+        return [
+            {
+                "name": f"{name}_base",
+                "type": "revolute",
+                "parent": "palm",
+                "xyz": [0.03, y, 0.05],
+                "axis": [1.0, 0.0, 0.0],
+                "limits": {"lower": -1.0, "upper": 1.0, "unit": "rad"},
+                "link": {"name": f"{name}_1", "mass": 0.02},
+            },
+            {
+                "name": f"{name}_tip",
+                "type": "revolute",
+                "parent": f"{name}_1",
+                "xyz": [0.0, 0.0, 0.04],
+                "axis": [1.0, 0.0, 0.0],
+                "limits": {"lower": 0.0, "upper": 1.5, "unit": "rad"},
+                "link": {"name": f"{name}_2", "mass": 0.01},
+            },
+        ]
+
+    joints = [
+        {
+            "name": "wrist",
+            "type": "revolute",
+            "xyz": [0.0, 0.0, 0.1],
+            "axis": [0.0, 0.0, 1.0],
+            "limits": {"lower": -3.0, "upper": 3.0, "unit": "rad"},
+            "link": {"name": "palm", "mass": 0.3},
+        }
+    ]
+    return {
+        "name": "fingers",
+        "base": {"link": {"name": "base"}},
+        "joints": joints + finger("index", 0.02) + finger("ring", -0.03),
+    }
 
 
 def test_a_number_two_urdf_joints_share_pairs_neither_with_the_one_mjcf_joint_carrying_it():
     """URDF finger1_joint1 and finger2_joint1 both end in 1, and only the MJCF's index_joint1 does:
     the number says nothing (two URDF joints share it), so each finger is paired by its place."""
     spec = spec_from_dict(fingers())
-    urdf = renamed(generate_urdf(spec), {"index_base": "finger1_joint1", "index_tip": "finger1_joint2",
-                                         "ring_base": "finger2_joint1", "ring_tip": "finger2_joint2"})
+    urdf = renamed(
+        generate_urdf(spec),
+        {
+            "index_base": "finger1_joint1",
+            "index_tip": "finger1_joint2",
+            "ring_base": "finger2_joint1",
+            "ring_tip": "finger2_joint2",
+        },
+    )
     mjcf = renamed(generate_mjcf(spec), {"index_base": "index_joint1", "index_tip": "index_joint2"})
     pairs, free_u, free_m = match_joints(describe_urdf(urdf), describe_mjcf(mjcf))
-    assert {a: b for a, b, _ in pairs} == {"wrist": "wrist", "finger1_joint1": "index_joint1",
-                                           "finger1_joint2": "index_joint2", "finger2_joint1": "ring_base",
-                                           "finger2_joint2": "ring_tip"}
+    assert {a: b for a, b, _ in pairs} == {
+        "wrist": "wrist",
+        "finger1_joint1": "index_joint1",
+        "finger1_joint2": "index_joint2",
+        "finger2_joint1": "ring_base",
+        "finger2_joint2": "ring_tip",
+    }
     assert (free_u, free_m) == ([], [])
     assert {a: how for a, _, how in pairs}["finger2_joint1"] != "number in the name"

@@ -29,8 +29,11 @@ def run(tmp_path, urdf, mjcf, options=FAST):
 
 
 def moved_com(mjcf: str, body: str, dx: float) -> str:
-    return P.sub_once(rf'(<body name="{body}".*?<inertial pos=")([^"]*)(")', lambda m: m[1] + P.nums(
-        lambda v: [v[0] + dx, v[1], v[2]])(m[2]) + m[3], mjcf)
+    return P.sub_once(
+        rf'(<body name="{body}".*?<inertial pos=")([^"]*)(")',
+        lambda m: m[1] + P.nums(lambda v: [v[0] + dx, v[1], v[2]])(m[2]) + m[3],
+        mjcf,
+    )
 
 
 def test_link_frames_turned_and_an_axis_upstream_moved_leave_each_centre_of_mass_its_own(tmp_path):
@@ -51,10 +54,12 @@ def test_a_part_a_joint_in_one_file_only_moves_is_said_once(tmp_path):
     """The URDF carries a small propeller on a joint the MJCF does not have, on panda_link7: one
     extra_parts finding with its mass, and panda_link7 itself agrees."""
     urdf, mjcf = P.generated_pair("panda")
-    prop = ('<link name="prop"><inertial><origin xyz="0 0 0.01"/><mass value="0.004"/>'
-            '<inertia ixx="1e-7" iyy="1e-7" izz="1e-7" ixy="0" ixz="0" iyz="0"/></inertial></link>'
-            '<joint name="prop_joint" type="continuous"><parent link="panda_link7"/><child link="prop"/>'
-            '<origin xyz="0 0 0.05"/><axis xyz="0 0 1"/></joint></robot>')
+    prop = (
+        '<link name="prop"><inertial><origin xyz="0 0 0.01"/><mass value="0.004"/>'
+        '<inertia ixx="1e-7" iyy="1e-7" izz="1e-7" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+        '<joint name="prop_joint" type="continuous"><parent link="panda_link7"/><child link="prop"/>'
+        '<origin xyz="0 0 0.05"/><axis xyz="0 0 1"/></joint></robot>'
+    )
     result = run(tmp_path, P.sub_once(r"</robot>", prop, urdf), mjcf)
     assert serious(result) == [("extra_parts", "prop_joint")]
     (extra,) = [f for f in result.findings if f.kind == "extra_parts"]
@@ -65,8 +70,11 @@ def link4_from_absent_mesh(mjcf: str, mass: str = "") -> str:
     """panda_link4 with no <inertial>, its geom an absent mesh (stating ``mass`` when given), and
     MuJoCo's default that a body without <inertial> weighs its geoms."""
     mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<inertial [^>]*/>', lambda m: m[1], mjcf)
-    mjcf = P.sub_once(r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
-                      lambda m: m[1] + f'<geom name="panda_link4_mesh" type="mesh" mesh="link4"{mass}/>', mjcf)
+    mjcf = P.sub_once(
+        r'(<body name="panda_link4"[^>]*>.*?)<geom name="panda_link4_geom"[^>]*/>',
+        lambda m: m[1] + f'<geom name="panda_link4_mesh" type="mesh" mesh="link4"{mass}/>',
+        mjcf,
+    )
     mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link4" file="absent/link4.stl"/></asset><worldbody>', mjcf)
     return mjcf.replace(' inertiafromgeom="false"', "")
 
@@ -84,8 +92,12 @@ def test_an_inertial_one_file_leaves_unset_is_a_warning(tmp_path):
     """The URDF's panda_link6 states no <inertial> (massless by default); the MJCF states one."""
     urdf, mjcf = P.generated_pair("panda")
     urdf = P.sub_once(r'(<link name="panda_link6">.*?)<inertial>.*?</inertial>', lambda m: m[1], urdf)
-    result = run(tmp_path, urdf, mjcf, VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
-                                                     suites=["kinematics", "inertia"]))
+    result = run(
+        tmp_path,
+        urdf,
+        mjcf,
+        VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics", "inertia"]),
+    )
     (unset,) = [f for f in result.findings if f.kind == "inertial_unset"]
     assert unset.severity == "warning" and unset.values["unset_in"] == "URDF" and unset.subject == "panda_link6"
     assert serious(result) == [("inertial_unset", "panda_link6")] and result.passed
@@ -99,12 +111,20 @@ def test_a_base_whose_mass_sits_on_a_fixed_child_link_is_one_body(tmp_path):
     urdf = generate_urdf(spec_from_dict(spec))
     inertial = P.re.search(r'<link name="trunk">\s*(<inertial>.*?</inertial>)', urdf, P.re.S)[1]
     urdf = urdf.replace(inertial, "", 1)
-    urdf = P.sub_once(r"</robot>", f'<link name="trunk_inertia">{inertial}</link><joint name="trunk_inertia_fixed" '
-                      'type="fixed"><parent link="trunk"/><child link="trunk_inertia"/></joint></robot>', urdf)
+    urdf = P.sub_once(
+        r"</robot>",
+        f'<link name="trunk_inertia">{inertial}</link><joint name="trunk_inertia_fixed" '
+        'type="fixed"><parent link="trunk"/><child link="trunk_inertia"/></joint></robot>',
+        urdf,
+    )
     spec["base"]["link"]["mass"] = 7.2
     mjcf = generate_mjcf(spec_from_dict(spec))
-    result = run(tmp_path, urdf, mjcf, VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
-                                                     suites=["kinematics", "inertia"]))
+    result = run(
+        tmp_path,
+        urdf,
+        mjcf,
+        VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics", "inertia"]),
+    )
     assert serious(result) == [("mass_difference", "trunk")]
     (f,) = [f for f in result.findings if f.kind == "mass_difference"]
     assert (f.values["urdf"]["mass"], f.values["mjcf"]["mass"]) == pytest.approx((6.0, 7.2))
@@ -115,8 +135,12 @@ def test_a_mesh_that_states_its_mass_keeps_the_mass_compared(tmp_path):
     mass is known (and differs from the URDF's 3.59 kg), its centre of mass and inertia are not."""
     urdf, mjcf = P.generated_pair("panda")
     mjcf = link4_from_absent_mesh(mjcf, ' mass="4"')
-    result = run(tmp_path, urdf, mjcf, VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
-                                                     suites=["kinematics", "inertia"]))
+    result = run(
+        tmp_path,
+        urdf,
+        mjcf,
+        VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics", "inertia"]),
+    )
     assert serious(result) == [("mass_difference", "panda_link4")]
     (f,) = [f for f in result.findings if f.kind == "mass_difference"]
     assert f.values["mjcf"]["mass"] == pytest.approx(4.0) and "not compared" in f.message

@@ -24,8 +24,11 @@ def test_a_coupling_only_the_mjcf_states_is_given_to_yourdfpy_too(tmp_path):
     value like every other library, so it reads the URDF as Pinocchio does, inside and outside
     the limits."""
     urdf, mjcf = P.generated_pair("gripper")
-    mjcf = P.sub_once(r"</mujoco>", '<equality><joint joint1="finger_right" joint2="finger_left" polycoef="0 1 0 0 0"/>'
-                      "</equality></mujoco>", mjcf)
+    mjcf = P.sub_once(
+        r"</mujoco>",
+        '<equality><joint joint1="finger_right" joint2="finger_left" polycoef="0 1 0 0 0"/></equality></mujoco>',
+        mjcf,
+    )
     result = read_alike(tmp_path, urdf, mjcf)
     assert [f.kind for f in result.findings if f.kind.startswith("coupling")] == ["coupling_one_file"]
 
@@ -35,9 +38,15 @@ def test_a_coupling_group_is_driven_through_the_joint_the_urdf_leaves_free(tmp_p
     coupling: yourdfpy takes only the URDF's free joints as inputs, so the group is driven through
     finger_right, and yourdfpy reads the URDF as Pinocchio does."""
     urdf, mjcf = P.generated_pair("gripper")
-    urdf = P.sub_once(r'(<joint name="finger_left" type="prismatic">)',
-                      lambda m: m[1] + '<mimic joint="finger_right" multiplier="1" offset="0"/>', urdf)
-    mjcf = P.sub_once(r"</mujoco>", '<equality><joint joint1="finger_left" joint2="finger_right" polycoef="0 1 0 0 0"/>'
-                      "</equality></mujoco>", mjcf)
+    urdf = P.sub_once(
+        r'(<joint name="finger_left" type="prismatic">)',
+        lambda m: m[1] + '<mimic joint="finger_right" multiplier="1" offset="0"/>',
+        urdf,
+    )
+    mjcf = P.sub_once(
+        r"</mujoco>",
+        '<equality><joint joint1="finger_left" joint2="finger_right" polycoef="0 1 0 0 0"/></equality></mujoco>',
+        mjcf,
+    )
     result = read_alike(tmp_path, urdf, mjcf)
     assert not [f for f in result.findings if f.kind.startswith("coupling")]

@@ -15,8 +15,13 @@ from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import spec_from_dict
 from kinverify.run import VerifyOptions
 
-FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12},
-                     suites=["kinematics", "limits", "inertia"])
+FAST = VerifyOptions(
+    samples=8,
+    fd_samples=4,
+    backends=["pinocchio-urdf", "mujoco"],
+    extra={"dynamics_samples": 12},
+    suites=["kinematics", "limits", "inertia"],
+)
 
 
 def run(tmp_path, urdf, mjcf):
@@ -73,14 +78,38 @@ def quadruped(dx: float = 0.0) -> dict:
     joints = []
     for leg, (x, y) in {"FL": (0.2, 0.05), "FR": (0.2, -0.05), "RL": (-0.2, 0.05), "RR": (-0.2, -0.05)}.items():
         x += math.copysign(dx, x)
-        joints += [{"name": f"{leg}_hip", "parent": "trunk", "xyz": [x, y, 0.0], "axis": [1.0, 0.0, 0.0],
-                    "limits": {"lower": -0.8, "upper": 0.8, "unit": "rad"}, "link": {"name": f"{leg}_hip_link", "mass": 0.5}},
-                   {"name": f"{leg}_thigh", "parent": f"{leg}_hip_link", "xyz": [0.0, math.copysign(0.08, y), 0.0],
-                    "axis": [0.0, 1.0, 0.0], "limits": {"lower": -1.5, "upper": 3.4, "unit": "rad"},
-                    "link": {"name": f"{leg}_thigh_link", "inertial": {"mass": 1.0, "com": [0.0, 0.0, -0.1], "inertia": [0.004, 0.004, 0.001, 0.0, 0.0, 0.0]}}},
-                   {"name": f"{leg}_knee", "parent": f"{leg}_thigh_link", "xyz": [0.0, 0.0, -0.2], "axis": [0.0, 1.0, 0.0],
-                    "limits": {"lower": -2.7, "upper": -0.9, "unit": "rad"},
-                    "link": {"name": f"{leg}_calf_link", "inertial": {"mass": 0.2, "com": [0.0, 0.0, -0.1], "inertia": [0.001, 0.001, 0.0002, 0.0, 0.0, 0.0]}}}]
+        joints += [
+            {
+                "name": f"{leg}_hip",
+                "parent": "trunk",
+                "xyz": [x, y, 0.0],
+                "axis": [1.0, 0.0, 0.0],
+                "limits": {"lower": -0.8, "upper": 0.8, "unit": "rad"},
+                "link": {"name": f"{leg}_hip_link", "mass": 0.5},
+            },
+            {
+                "name": f"{leg}_thigh",
+                "parent": f"{leg}_hip_link",
+                "xyz": [0.0, math.copysign(0.08, y), 0.0],
+                "axis": [0.0, 1.0, 0.0],
+                "limits": {"lower": -1.5, "upper": 3.4, "unit": "rad"},
+                "link": {
+                    "name": f"{leg}_thigh_link",
+                    "inertial": {"mass": 1.0, "com": [0.0, 0.0, -0.1], "inertia": [0.004, 0.004, 0.001, 0.0, 0.0, 0.0]},
+                },
+            },
+            {
+                "name": f"{leg}_knee",
+                "parent": f"{leg}_thigh_link",
+                "xyz": [0.0, 0.0, -0.2],
+                "axis": [0.0, 1.0, 0.0],
+                "limits": {"lower": -2.7, "upper": -0.9, "unit": "rad"},
+                "link": {
+                    "name": f"{leg}_calf_link",
+                    "inertial": {"mass": 0.2, "com": [0.0, 0.0, -0.1], "inertia": [0.001, 0.001, 0.0002, 0.0, 0.0, 0.0]},
+                },
+            },
+        ]
     return {"name": "dog", "base": {"floating": True, "link": {"name": "trunk", "mass": 6.0}}, "joints": joints}
 
 
@@ -108,9 +137,10 @@ def test_an_orientation_rounded_upstream_is_a_rounding_note_not_a_zero_offset(tm
     urdf, mjcf = P.generated_pair("panda")
     mjcf = P.body_attr(mjcf, "panda_link2", "quat", lambda s: "0.707107 -0.70711 0 0")
     mjcf = P.body_attr(mjcf, "panda_link5", "pos", lambda s: "-0.0825 0.384 0")
-    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf),
-                          VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"],
-                                        extra={"dynamics_samples": 12}))
+    result = verify_files(
+        *P.write_pair(tmp_path, urdf, mjcf),
+        VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12}),
+    )
     assert serious(result) == [] and result.passed
     rounding = [f for f in result.findings if f.kind == "rounding" and f.subject == "panda_link2"]
     assert len(rounding) == 1 and "0.70711" in rounding[0].message

@@ -23,8 +23,11 @@ def coupled(urdf: str, mjcf: str, mimics: dict, equalities: list) -> tuple[str, 
     """``mimics``: URDF follower -> (leader, multiplier, offset); ``equalities``: MJCF (joint1,
     joint2, multiplier, offset) meaning joint1 = offset + multiplier·joint2."""
     for follower, (leader, k, c) in mimics.items():
-        urdf = P.sub_once(rf'(<joint name="{follower}" type="revolute">)',
-                          lambda m, leader=leader, k=k, c=c: m[1] + f'<mimic joint="{leader}" multiplier="{k}" offset="{c}"/>', urdf)
+        urdf = P.sub_once(
+            rf'(<joint name="{follower}" type="revolute">)',
+            lambda m, leader=leader, k=k, c=c: m[1] + f'<mimic joint="{leader}" multiplier="{k}" offset="{c}"/>',
+            urdf,
+        )
     eq = "".join(f'<joint joint1="{a}" joint2="{b}" polycoef="{c} {k} 0 0 0"/>' for a, b, k, c in equalities)
     return urdf, P.sub_once(r"</mujoco>", f"<equality>{eq}</equality></mujoco>", mjcf)
 
@@ -33,9 +36,12 @@ def test_a_chain_of_couplings_is_the_coupling_it_makes(tmp_path):
     """URDF: ring_base = −1·index_tip, index_tip = 1·index_base (a chain); MJCF: ring_base =
     −1·index_base and index_base = 1·index_tip (stated the other way round). One coupling, no finding."""
     spec = spec_from_dict(hand())
-    urdf, mjcf = coupled(generate_urdf(spec), generate_mjcf(spec),
-                         {"index_tip": ("index_base", 1.0, 0.0), "ring_base": ("index_tip", -1.0, 0.0)},
-                         [("ring_base", "index_base", -1.0, 0.0), ("index_base", "index_tip", 1.0, 0.0)])
+    urdf, mjcf = coupled(
+        generate_urdf(spec),
+        generate_mjcf(spec),
+        {"index_tip": ("index_base", 1.0, 0.0), "ring_base": ("index_tip", -1.0, 0.0)},
+        [("ring_base", "index_base", -1.0, 0.0), ("index_base", "index_tip", 1.0, 0.0)],
+    )
     result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
     assert not [f for f in result.findings if f.kind.startswith("coupling")], [f.message for f in result.findings]
     assert result.passed
@@ -43,8 +49,9 @@ def test_a_chain_of_couplings_is_the_coupling_it_makes(tmp_path):
 
 def test_a_coupling_with_another_offset_is_a_difference(tmp_path):
     spec = spec_from_dict(hand())
-    urdf, mjcf = coupled(generate_urdf(spec), generate_mjcf(spec), {"index_tip": ("index_base", 1.0, 0.1)},
-                         [("index_tip", "index_base", 1.0, 0.2)])
+    urdf, mjcf = coupled(
+        generate_urdf(spec), generate_mjcf(spec), {"index_tip": ("index_base", 1.0, 0.1)}, [("index_tip", "index_base", 1.0, 0.2)]
+    )
     result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
     (f,) = [f for f in result.findings if f.kind.startswith("coupling")]
     assert f.kind == "coupling_difference" and f.values == {"urdf": [1.0, 0.1], "mjcf": [1.0, 0.2]}
@@ -80,16 +87,18 @@ def test_a_followers_fitted_zero_offset_is_taken_off_its_coupling():
     index_tip = index_base + 0.4 in its own coordinates is the URDF's index_tip = index_base + 0.1
     (0.4 − 0.3); the same 0.1 written in the MJCF is 0.3 away. The leader has no offset."""
     order = ["index_base", "index_tip"]
-    u = SimpleNamespace(couplings=[Coupling("index_tip", "index_base", 1.0, 0.1, "<mimic>")],
-                        joint=lambda name: SimpleNamespace(type="revolute"))
+    u = SimpleNamespace(
+        couplings=[Coupling("index_tip", "index_base", 1.0, 0.1, "<mimic>")], joint=lambda name: SimpleNamespace(type="revolute")
+    )
     matching = SimpleNamespace(joints=[(n, n, "name") for n in order])
-    alignment = SimpleNamespace(joints=[SimpleNamespace(urdf="index_base", sign=1, offset=0.0),
-                                        SimpleNamespace(urdf="index_tip", sign=1, offset=0.3)])
+    alignment = SimpleNamespace(
+        joints=[SimpleNamespace(urdf="index_base", sign=1, offset=0.0), SimpleNamespace(urdf="index_tip", sign=1, offset=0.3)]
+    )
 
     def findings(c: float) -> list:
         m = SimpleNamespace(couplings=[Coupling("index_tip", "index_base", 1.0, c, "<equality joint>")])
         return [(f.kind, f.subject, f.values["mjcf"]) for f in coupling_findings(u, m, matching, alignment)]
 
     assert findings(0.4) == []
-    (kind, subject, (k, c)), = findings(0.1)
+    ((kind, subject, (k, c)),) = findings(0.1)
     assert (kind, subject, k) == ("coupling_difference", "index_tip", 1.0) and c == pytest.approx(-0.2, abs=1e-12)

@@ -19,8 +19,11 @@ def test_a_world_turned_half_about_x_plus_z_is_reported_with_an_rpy_that_makes_i
     mjcf = mjcf.replace('<body name="world_mount">', f'<body name="world_mount" quat="0 {s!r} 0 {s!r}">', 1)
     (tmp_path / "arm.urdf").write_text(urdf)
     (tmp_path / "arm.xml").write_text(mjcf)
-    result = verify_files(str(tmp_path / "arm.urdf"), str(tmp_path / "arm.xml"),
-                          VerifyOptions(samples=8, fd_samples=2, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics"]))
+    result = verify_files(
+        str(tmp_path / "arm.urdf"),
+        str(tmp_path / "arm.xml"),
+        VerifyOptions(samples=8, fd_samples=2, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics"]),
+    )
     [world] = [f for f in result.findings if f.kind == "base_transform"]
     turn = axis_angle_to_matrix(np.array([1.0, 0.0, 1.0]) / math.sqrt(2), math.pi)
     rpy = world.values["rpy"]

@@ -13,8 +13,21 @@ from kinverify.filemode.findings.rounding import _label, _quat, nice_constant, r
 HALF_PI = (math.pi / 2, "π/2")
 
 
-@pytest.mark.parametrize("k, label", [(1, "π/12"), (-1, "-π/12"), (3, "π/4"), (6, "π/2"), (-6, "-π/2"), (8, "2π/3"),
-                                      (12, "π"), (-12, "-π"), (24, "2π"), (-24, "-2π")])
+@pytest.mark.parametrize(
+    "k, label",
+    [
+        (1, "π/12"),
+        (-1, "-π/12"),
+        (3, "π/4"),
+        (6, "π/2"),
+        (-6, "-π/2"),
+        (8, "2π/3"),
+        (12, "π"),
+        (-12, "-π"),
+        (24, "2π"),
+        (-24, "-2π"),
+    ],
+)
 def test_label_of_a_multiple_of_fifteen_degrees(k, label):
     assert _label(k) == label
 
@@ -30,43 +43,71 @@ def test_rounded_from_names_the_exact_value_and_the_decimals_either_way():
     assert rounded_from(1.23456, 1.236) is None  # not the rounding of each other
 
 
-@pytest.mark.parametrize("text, expected", [
-    ("1.571", (HALF_PI, 3)), ("1.5708", (HALF_PI, 4)), ("1.57080", (HALF_PI, 5)),
-    ("-1.5708", ((-math.pi / 2, "-π/2"), 4)), ("3.14159265", ((math.pi, "π"), 8)),
-    ("2.96706", ((math.radians(170), "170°"), 5)), ("6.26573", ((math.radians(359), "359°"), 5)),
-    ("0.01745", ((math.radians(1), "1°"), 5)), ("-2.96706", ((math.radians(-170), "-170°"), 5)),
-])
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("1.571", (HALF_PI, 3)),
+        ("1.5708", (HALF_PI, 4)),
+        ("1.57080", (HALF_PI, 5)),
+        ("-1.5708", ((-math.pi / 2, "-π/2"), 4)),
+        ("3.14159265", ((math.pi, "π"), 8)),
+        ("2.96706", ((math.radians(170), "170°"), 5)),
+        ("6.26573", ((math.radians(359), "359°"), 5)),
+        ("0.01745", ((math.radians(1), "1°"), 5)),
+        ("-2.96706", ((math.radians(-170), "-170°"), 5)),
+    ],
+)
 def test_nice_constant_found(text, expected):
     assert nice_constant(float(text), text) == expected
 
 
-@pytest.mark.parametrize("text", [
-    "1.57",  # 2 decimals: too few to tell
-    "1.570796327",  # 9 decimals: written exactly enough
-    "0.000", "1.5708e0", "1.5708E0", "157.08e-2", "157.08E-2", "15708",  # zero, an exponent, no decimals
-    "6.30064", "-6.30064",  # 361°: beyond a whole turn
-    "1.5709",  # not π/2 at 4 decimals
-])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "1.57",  # 2 decimals: too few to tell
+        "1.570796327",  # 9 decimals: written exactly enough
+        "0.000",
+        "1.5708e0",
+        "1.5708E0",
+        "157.08e-2",
+        "157.08E-2",
+        "15708",  # zero, an exponent, no decimals
+        "6.30064",
+        "-6.30064",  # 361°: beyond a whole turn
+        "1.5709",  # not π/2 at 4 decimals
+    ],
+)
 def test_nice_constant_none(text):
     assert nice_constant(float(text), text) is None
 
 
-@pytest.mark.parametrize("text, expected", [
-    ("0.70711 0 0 0.70710", (HALF_PI, 5)), ("-0.70711 0 0 0.70710", (HALF_PI, 5)),
-    ("0.70711 0 0 0.70709", (HALF_PI, 5)),  # 2.8e-5 off π/2: within 4 units of the last decimal
-    ("0.70710678 0 0 0.70710677", (HALF_PI, 8)),
-    ("0.70711 0 0.70710 0", (HALF_PI, 5)), ("0.707 0 0 0.708", (HALF_PI, 3)),
-])
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("0.70711 0 0 0.70710", (HALF_PI, 5)),
+        ("-0.70711 0 0 0.70710", (HALF_PI, 5)),
+        ("0.70711 0 0 0.70709", (HALF_PI, 5)),  # 2.8e-5 off π/2: within 4 units of the last decimal
+        ("0.70710678 0 0 0.70710677", (HALF_PI, 8)),
+        ("0.70711 0 0.70710 0", (HALF_PI, 5)),
+        ("0.707 0 0 0.708", (HALF_PI, 3)),
+    ],
+)
 def test_quaternion_rounded_from_a_nice_angle(text, expected):
     assert _quat(text) == expected
 
 
-@pytest.mark.parametrize("text", [
-    "0.70711 0 0 0.70708",  # 4.2e-5 off π/2: more than 4 units of the last decimal
-    "0.71 0 0 0.71", "0.707106781 0 0 0.707106780",  # 2 and 9 decimals
-    "0.500 0.500 0.500 0.500",  # exactly 2π/3: not rounded
-    "1 0 0", "a b c d", "",
-])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "0.70711 0 0 0.70708",  # 4.2e-5 off π/2: more than 4 units of the last decimal
+        "0.71 0 0 0.71",
+        "0.707106781 0 0 0.707106780",  # 2 and 9 decimals
+        "0.500 0.500 0.500 0.500",  # exactly 2π/3: not rounded
+        "1 0 0",
+        "a b c d",
+        "",
+    ],
+)
 def test_quaternion_not_rounded(text):
     assert _quat(text) is None
 

@@ -22,8 +22,11 @@ def run(tmp_path, urdf, mjcf):
 
 def kinds(result) -> list:
     """Findings above information, but the armature arm3's MJCF gives and a URDF cannot express."""
-    return sorted((f.kind, f.severity) for f in result.findings
-                  if f.severity != "info" and not P.ignored_by_drake(f) and f.kind != "inexpressible")
+    return sorted(
+        (f.kind, f.severity)
+        for f in result.findings
+        if f.severity != "info" and not P.ignored_by_drake(f) and f.kind != "inexpressible"
+    )
 
 
 def without_dynamics(urdf: str) -> str:
@@ -71,8 +74,9 @@ def test_limits_the_mjcf_leaves_unset_are_a_warning(tmp_path):
 
 def test_a_servo_without_a_force_bound_is_an_unset_effort(tmp_path):
     urdf, mjcf = P.generated_pair("arm3")
-    mjcf = P.re.sub(r'<motor name="(\w+)_motor" joint="(\w+)" ctrlrange="[^"]*"/>',
-                    r'<position name="\1_servo" joint="\2" kp="10"/>', mjcf)
+    mjcf = P.re.sub(
+        r'<motor name="(\w+)_motor" joint="(\w+)" ctrlrange="[^"]*"/>', r'<position name="\1_servo" joint="\2" kp="10"/>', mjcf
+    )
     result = run(tmp_path, urdf, mjcf)
     (f,) = [f for f in result.findings if f.kind == "effort_unset"]
     assert f.severity == "warning" and f.values["unset_in"] == "MJCF" and f.magnitude == math.inf
@@ -83,8 +87,7 @@ def test_unset_findings_take_part_in_the_accepted_differences(tmp_path):
     urdf, mjcf = P.generated_pair("arm3")
     result = run(tmp_path, without_dynamics(urdf), mjcf_damping(mjcf, 1.0))
     (f,) = [f for f in result.findings if f.kind == "damping_unset"]
-    (accepted,) = [x for x in apply([f], [Entry(f.kind, f.subject, f.magnitude, f.unit, "simulation damping")],
-                                    lambda _: 1e-9)]
+    (accepted,) = [x for x in apply([f], [Entry(f.kind, f.subject, f.magnitude, f.unit, "simulation damping")], lambda _: 1e-9)]
     assert accepted.accepted and accepted.severity == "warning"
     assert accepted.magnitude == pytest.approx(1.0)
 
@@ -111,8 +114,11 @@ def test_a_continuous_urdf_joint_states_no_limits_so_an_mjcf_range_on_it_is_an_e
     """``continuous`` says the joint has no position limits (stated, not left unset): the MJCF's
     ±π on joint1 is a limit difference (an error), not a limit the URDF leaves unset."""
     urdf, mjcf = P.generated_pair("arm3")
-    urdf = P.sub_once(r'<joint name="joint1" type="revolute">(.*?)<limit lower="[^"]*" upper="[^"]*"',
-                      lambda m: f'<joint name="joint1" type="continuous">{m[1]}<limit', urdf)
+    urdf = P.sub_once(
+        r'<joint name="joint1" type="revolute">(.*?)<limit lower="[^"]*" upper="[^"]*"',
+        lambda m: f'<joint name="joint1" type="continuous">{m[1]}<limit',
+        urdf,
+    )
     result = run(tmp_path, urdf, mjcf)
     assert kinds(result) == [("limit_difference", "error")] and result.verdict == "fail"
     (f,) = [f for f in result.findings if f.kind == "limit_difference"]

@@ -40,7 +40,10 @@ def damped(sdf: str, joint_index: int, value: float) -> str:
 def test_damping_and_armature_are_read_as_the_sdf_states_them(arm3):
     desc = describe_sdf(damped(arm3[1], 1, 0.3))
     assert [(j.name, j.damping, j.armature, j.friction) for j in desc.joints] == [
-        ("joint1", 0.1, 0.01, None), ("joint2", 0.3, 0.01, None), ("joint3", 0.1, 0.01, None)]
+        ("joint1", 0.1, 0.01, None),
+        ("joint2", 0.3, 0.01, None),
+        ("joint3", 0.1, 0.01, None),
+    ]
 
 
 def test_a_joint_axis_is_taken_to_the_world_by_its_frame_rotation():
@@ -68,7 +71,8 @@ def test_an_sdf_damping_other_than_the_urdfs_fails_naming_the_joint_and_the_size
     result = verify_files(str(tmp_path / "arm3.urdf"), str(tmp_path / "arm3.sdf"), FAST, kinds=("urdf", "sdf"))
     failing = [f for f in result.findings if f.fails]
     assert result.verdict == "fail" and [(f.kind, f.subject, f.severity) for f in failing] == [
-        ("damping_difference", "joint2", "error")]
+        ("damping_difference", "joint2", "error")
+    ]
     assert failing[0].magnitude == pytest.approx(0.2, abs=1e-12) and failing[0].unit == "N·m·s/rad"
     assert "0.1 in the URDF, 0.3 in the SDF" in failing[0].message
 

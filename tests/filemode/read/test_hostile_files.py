@@ -64,15 +64,34 @@ def test_a_joint_named_like_a_link_is_looked_up_as_the_link(tmp_path, capsys):
     q = np.array([[0.3, -0.7, 1.1]])
     assert np.allclose(pin.poses(q), ydf.poses(q), atol=1e-9)  # the link frame, not the joint frame
     u, m = write_pair(tmp_path, urdf, mjcf)
-    assert main(["verify", "--urdf", u, "--mjcf", m, "--samples", "5", "--quiet", "--json", f"{tmp_path}/r.json",
-                 "--report", f"{tmp_path}/r.html"]) == 0
+    assert (
+        main(
+            [
+                "verify",
+                "--urdf",
+                u,
+                "--mjcf",
+                m,
+                "--samples",
+                "5",
+                "--quiet",
+                "--json",
+                f"{tmp_path}/r.json",
+                "--report",
+                f"{tmp_path}/r.html",
+            ]
+        )
+        == 0
+    )
     assert "Traceback" not in capsys.readouterr().err
 
 
 def _chain_urdf(n: int) -> str:
     link = '<link name="l{i}"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>'
-    joint = ('<joint name="j{i}" type="revolute"><parent link="l{p}"/><child link="l{i}"/><origin xyz="0 0 0.1"/>'
-             '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>')
+    joint = (
+        '<joint name="j{i}" type="revolute"><parent link="l{p}"/><child link="l{i}"/><origin xyz="0 0 0.1"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+    )
     body = "\n".join(link.format(i=i) + joint.format(i=i, p=i - 1) for i in range(1, n))
     return f'<?xml version="1.0"?>\n<robot name="chain">\n<link name="l0"/>\n{body}\n</robot>\n'
 
@@ -99,37 +118,47 @@ def test_too_many_links_or_joints_are_refused_after_a_linear_parse(tmp_path, cap
     with pytest.raises(InputError, match=f"has {MAX_JOINTS + 1} movable joints, above the {MAX_JOINTS}"):
         load_urdf(str(joints))
     replicated = tmp_path / "replicated.xml"
-    replicated.write_text('<mujoco><worldbody><replicate count="100000" offset="0 0 1"><body name="b"><joint/>'
-                          '<geom size="0.1"/></body></replicate></worldbody></mujoco>')
+    replicated.write_text(
+        '<mujoco><worldbody><replicate count="100000" offset="0 0 1"><body name="b"><joint/>'
+        '<geom size="0.1"/></body></replicate></worldbody></mujoco>'
+    )
     with pytest.raises(InputError, match="has 100000 bodies"):
         load_mjcf(str(replicated))
     flex = tmp_path / "flex.xml"
-    flex.write_text('<mujoco><worldbody><flexcomp name="f" type="grid" count="100 100 100" spacing="0.1 0.1 0.1" dim="3"/>'
-                    '</worldbody></mujoco>')
+    flex.write_text(
+        '<mujoco><worldbody><flexcomp name="f" type="grid" count="100 100 100" spacing="0.1 0.1 0.1" dim="3"/>'
+        "</worldbody></mujoco>"
+    )
     with pytest.raises(InputError, match="has 1000000 bodies"):
         load_mjcf(str(flex))
 
 
-@pytest.mark.parametrize("mass, inertia, problem", [
-    (-1.0, np.eye(3), "mass -1 kg is negative"),
-    (float("nan"), None, "mass nan is not finite"),
-    (0.0, np.eye(3), "mass is zero but the inertia is not"),
-    (1.0, np.diag([1.0, 1.0, -0.5]), "not positive semi-definite"),
-    (1.0, np.diag([1.0, 1.0, 2.5]), "break the triangle inequality"),
-    (1.0, np.array([[1.0, 2.0, 0], [2.0, 1.0, 0], [0, 0, 1.0]]), "not positive semi-definite"),
-    (1.0, np.diag([1.0, 1.0, float("inf")]), "non-finite"),
-])
+@pytest.mark.parametrize(
+    "mass, inertia, problem",
+    [
+        (-1.0, np.eye(3), "mass -1 kg is negative"),
+        (float("nan"), None, "mass nan is not finite"),
+        (0.0, np.eye(3), "mass is zero but the inertia is not"),
+        (1.0, np.diag([1.0, 1.0, -0.5]), "not positive semi-definite"),
+        (1.0, np.diag([1.0, 1.0, 2.5]), "break the triangle inequality"),
+        (1.0, np.array([[1.0, 2.0, 0], [2.0, 1.0, 0], [0, 0, 1.0]]), "not positive semi-definite"),
+        (1.0, np.diag([1.0, 1.0, float("inf")]), "non-finite"),
+    ],
+)
 def test_non_physical_inertials_are_named(mass, inertia, problem):
     assert problem in inertial_problem(mass, inertia)
 
 
-@pytest.mark.parametrize("mass, inertia", [
-    (1.0, np.zeros((3, 3))),  # a point mass
-    (1.0, np.diag([0.0, 0.5, 0.5])),  # a thin rod
-    (1.0, np.diag([1.0, 1.0, 2.0])),  # a thin disk: A + B = C
-    (0.0, np.zeros((3, 3))),  # a massless link
-    (2.0, None),
-])
+@pytest.mark.parametrize(
+    "mass, inertia",
+    [
+        (1.0, np.zeros((3, 3))),  # a point mass
+        (1.0, np.diag([0.0, 0.5, 0.5])),  # a thin rod
+        (1.0, np.diag([1.0, 1.0, 2.0])),  # a thin disk: A + B = C
+        (0.0, np.zeros((3, 3))),  # a massless link
+        (2.0, None),
+    ],
+)
 def test_physical_limits_are_accepted(mass, inertia):
     assert inertial_problem(mass, inertia) is None
 
@@ -140,8 +169,25 @@ def test_a_urdf_link_with_negative_mass_fails_file_mode(tmp_path, capsys):
     urdf = head + '<link name="link2">' + re.sub(r'<mass value="[^"]*"/>', '<mass value="-1"/>', link2, count=1)
     assert '<mass value="-1"/>' in urdf
     u, m = write_pair(tmp_path, urdf, mjcf)
-    assert main(["verify", "--urdf", u, "--mjcf", m, "--samples", "5", "--quiet", "--json", f"{tmp_path}/r.json",
-                 "--report", f"{tmp_path}/r.html"]) == 1
+    assert (
+        main(
+            [
+                "verify",
+                "--urdf",
+                u,
+                "--mjcf",
+                m,
+                "--samples",
+                "5",
+                "--quiet",
+                "--json",
+                f"{tmp_path}/r.json",
+                "--report",
+                f"{tmp_path}/r.html",
+            ]
+        )
+        == 1
+    )
     capsys.readouterr()
     found = [f for f in validate_inertials(load_urdf(u), load_mjcf(m))]
     assert [(f.kind, f.severity, f.subject, f.subject_type) for f in found] == [("nonphysical_inertia", "error", "link2", "link")]
@@ -162,7 +208,9 @@ def test_an_mjcf_lacking_one_of_the_urdf_joints_fails(tmp_path):
 def test_mujoco_writes_no_log_file_into_the_current_folder(tmp_path, monkeypatch, capfd):
     monkeypatch.chdir(tmp_path)
     urdf, mjcf = generated_pair("arm3")
-    u, m = write_pair(tmp_path, urdf, mjcf.replace('<body name="link1" pos="0.0 0.0 0.1">', '<body name="link1" pos="nan 0.0 0.1">'))
+    u, m = write_pair(
+        tmp_path, urdf, mjcf.replace('<body name="link1" pos="0.0 0.0 0.1">', '<body name="link1" pos="nan 0.0 0.1">')
+    )
     assert 'pos="nan' in Path(m).read_text()
     assert main(["diff", m, m, "--samples", "2", "--report", str(tmp_path / "d.html")]) in (0, 1, 2)
     out, err = capfd.readouterr()

@@ -23,8 +23,20 @@ FAST = VerifyOptions(samples=20, fd_samples=5)
 def cube_stl(path: Path, half: float = 0.02) -> None:
     """A binary STL cube (12 triangles, outward normals): the format MuJoCo reads."""
     v = np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
-    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
-             (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    faces = [
+        (0, 1, 3),
+        (0, 3, 2),
+        (4, 6, 7),
+        (4, 7, 5),
+        (0, 4, 5),
+        (0, 5, 1),
+        (2, 3, 7),
+        (2, 7, 6),
+        (0, 2, 6),
+        (0, 6, 4),
+        (1, 5, 7),
+        (1, 7, 3),
+    ]
     data = bytearray(b"kinverify test cube".ljust(80, b" ") + struct.pack("<I", len(faces)))
     for a, b, c in faces:
         n = np.cross(v[b] - v[a], v[c] - v[a])
@@ -46,7 +58,11 @@ def ros_style_pair(tmp: Path) -> tuple[Path, Path]:
         visual = f'<visual><geometry><mesh filename="package://mypkg/meshes/{name}"/></geometry></visual>'
         urdf = re.sub(rf'(<link name="{link}">)', rf"\1{visual}", urdf, count=1)
     mjcf = generate_mjcf(spec).replace('<compiler angle="radian"', '<compiler meshdir="../meshes" angle="radian"')
-    mjcf = mjcf.replace("  <worldbody>", '  <asset><mesh name="cube" file="cube.stl"/><mesh name="gone" file="missing.stl"/></asset>\n  <worldbody>', 1)
+    mjcf = mjcf.replace(
+        "  <worldbody>",
+        '  <asset><mesh name="cube" file="cube.stl"/><mesh name="gone" file="missing.stl"/></asset>\n  <worldbody>',
+        1,
+    )
     mjcf = re.sub(r'(<body name="link1"[^>]*>\n\s*<joint[^>]*/>)', r'\1<geom name="c1" type="mesh" mesh="cube"/>', mjcf, count=1)
     mjcf = re.sub(r'(<body name="link2"[^>]*>\n\s*<joint[^>]*/>)', r'\1<geom name="c2" type="mesh" mesh="gone"/>', mjcf, count=1)
     (tmp / "mypkg" / "urdf").mkdir(parents=True)
@@ -150,10 +166,15 @@ def test_primitives_fitted_to_absent_meshes_are_dropped_like_mesh_geoms(tmp_path
     (tmp_path / "two.xml").write_text(FITTED_MJCF)
     loaded = load_mjcf(str(tmp_path / "two.xml"))
     assert 'mesh="' not in loaded.text and "<mesh " not in loaded.text and 'type="box"' in loaded.text
-    assert loaded.warnings[0] == ("MJCF: 2 mesh geoms (2 of them primitives fitted to a mesh, whose size came from it) "
-                                  "and their assets skipped, their files are absent")
+    assert loaded.warnings[0] == (
+        "MJCF: 2 mesh geoms (2 of them primitives fitted to a mesh, whose size came from it) "
+        "and their assets skipped, their files are absent"
+    )
     mujoco.MjModel.from_xml_string(loaded.text)
-    result = verify_files(str(tmp_path / "two.urdf"), str(tmp_path / "two.xml"),
-                          VerifyOptions(samples=8, fd_samples=2, backends=["pinocchio-urdf", "mujoco"]))
+    result = verify_files(
+        str(tmp_path / "two.urdf"),
+        str(tmp_path / "two.xml"),
+        VerifyOptions(samples=8, fd_samples=2, backends=["pinocchio-urdf", "mujoco"]),
+    )
     assert result.verdict == "pass", [(f.kind, f.message) for f in result.findings if f.severity == "error"]
     assert loaded.warnings[0] in result.notes

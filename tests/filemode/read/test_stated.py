@@ -7,8 +7,15 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from kinverify.filemode.read.stated import (attribute, class_defaults, default_chain, mjcf_joint_values, unset,
-                                            urdf_joint_values, urdf_links_without_inertial)
+from kinverify.filemode.read.stated import (
+    attribute,
+    class_defaults,
+    default_chain,
+    mjcf_joint_values,
+    unset,
+    urdf_joint_values,
+    urdf_links_without_inertial,
+)
 
 MJCF = """<mujoco>
   <default>
@@ -71,8 +78,10 @@ def test_attribute_own_else_nearest_class():
     assert attribute(j["j0"], "armature", parents, defaults) == "2"
     assert attribute(j["j1"], "armature", parents, defaults) is None  # hand does not inherit arm
     assert attribute(j["j1"], "frictionloss", parents, defaults) == "3"
-    root = ET.fromstring('<mujoco><default><joint damping="1"/><default class="a"><joint damping="2"/>'
-                         '</default></default><worldbody><body><joint name="x" class="a"/></body></worldbody></mujoco>')
+    root = ET.fromstring(
+        '<mujoco><default><joint damping="1"/><default class="a"><joint damping="2"/>'
+        '</default></default><worldbody><body><joint name="x" class="a"/></body></worldbody></mujoco>'
+    )
     _, parents, j = parsed(ET.tostring(root, encoding="unicode"))
     assert attribute(j["x"], "damping", parents, class_defaults(root, "joint")) == "2"  # nearest class first
 

@@ -22,8 +22,10 @@ def test_bodies_inside_a_frame_are_read_at_their_written_precision(tmp_path):
     assert "<frame " in written and 'range="-3.14159 3.14159"' in written
     described = mjcf_precision(written).describe()
     assert "joint limits to 5 decimals" in described and "exact" not in described, described
-    result = verify_files(str(tmp_path / "arm.urdf"), str(tmp_path / "arm.xml"),
-                          VerifyOptions(samples=4, fd_samples=1, backends=["pinocchio-urdf", "mujoco"],
-                                        suites=["kinematics", "limits", "inertia"]))
+    result = verify_files(
+        str(tmp_path / "arm.urdf"),
+        str(tmp_path / "arm.xml"),
+        VerifyOptions(samples=4, fd_samples=1, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics", "limits", "inertia"]),
+    )
     assert result.verdict == "pass", [(f.kind, f.subject, f.message) for f in result.findings if f.severity == "error"]
     assert sorted({f.kind for f in result.findings if f.kind == "rounding"}) == ["rounding"]

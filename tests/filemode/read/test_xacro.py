@@ -24,8 +24,11 @@ def _joints(urdf: str) -> dict[str, dict]:
     out = {}
     for j in ET.fromstring(urdf).iter("joint"):
         limit, origin = j.find("limit"), j.find("origin")
-        out[j.get("name")] = {"type": j.get("type"), "origin": origin.get("xyz") if origin is not None else None,
-                              "limits": None if limit is None else (float(limit.get("lower")), float(limit.get("upper")))}
+        out[j.get("name")] = {
+            "type": j.get("type"),
+            "origin": origin.get("xyz") if origin is not None else None,
+            "limits": None if limit is None else (float(limit.get("lower")), float(limit.get("upper"))),
+        }
     return out
 
 
@@ -47,11 +50,17 @@ def test_arguments_and_walking_up_to_the_package():
     assert base.find("origin").get("xyz") == "0.0 0.0 0.5"
 
 
-@pytest.mark.parametrize("body, words", [
-    ('<xacro:nope a="1"/>', "unknown macro name: xacro:nope"),
-    ('<xacro:include filename="$(find nowhere_pkg)/x.xacro"/>', "xacro package 'nowhere_pkg' not found (give it with --package"),
-    ('<link name="${undefined_thing}"/>', "name 'undefined_thing' is not defined"),
-])
+@pytest.mark.parametrize(
+    "body, words",
+    [
+        ('<xacro:nope a="1"/>', "unknown macro name: xacro:nope"),
+        (
+            '<xacro:include filename="$(find nowhere_pkg)/x.xacro"/>',
+            "xacro package 'nowhere_pkg' not found (give it with --package",
+        ),
+        ('<link name="${undefined_thing}"/>', "name 'undefined_thing' is not defined"),
+    ],
+)
 def test_what_xacro_cannot_resolve_is_one_line_naming_the_file(tmp_path, body, words):
     path = tmp_path / "r.urdf.xacro"
     path.write_text(f'<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">{body}</robot>')
@@ -76,6 +85,7 @@ def test_options_and_detection():
 
 # --- wired in: verify (file mode and one-file audit) and ik read xacro -------------------------
 
+
 def _verify(tmp_path, capsys, *argv) -> tuple[int, dict, str]:
     out = tmp_path / "out.json"
     code = main(["verify", *argv, "--samples", "20", "--quiet", "--json", str(out), "--report", str(tmp_path / "out.html")])
@@ -86,8 +96,9 @@ def _verify(tmp_path, capsys, *argv) -> tuple[int, dict, str]:
 def test_the_example_verifies_against_the_mjcf_kinverify_generates_for_arm3(tmp_path, capsys):
     mjcf = tmp_path / "arm3.xml"
     mjcf.write_text(generate_mjcf(load_spec(MODELS / "arm3.toml")))
-    code, data, _ = _verify(tmp_path, capsys, "--urdf", str(XACRO), "--mjcf", str(mjcf),
-                            "--package", f"my_arm_description={PACKAGE}")
+    code, data, _ = _verify(
+        tmp_path, capsys, "--urdf", str(XACRO), "--mjcf", str(mjcf), "--package", f"my_arm_description={PACKAGE}"
+    )
     assert code == 0 and data["verdict"] == "pass" and not [f for f in data["findings"] if f["severity"] == "error"]
     assert any("compiled from xacro" in n for n in data["notes"])
 
@@ -99,10 +110,13 @@ def test_the_example_audited_alone_with_an_argument(tmp_path, capsys):
     assert base.find("origin").get("xyz") == "0.0 0.0 0.5"  # the argument reached the compiled URDF
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["--package", "my_arm_description=/no/such/folder"], "--package my_arm_description=/no/such/folder: not a folder"),
-    (["--package", "oops"], "--package: expected NAME=VALUE"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--package", "my_arm_description=/no/such/folder"], "--package my_arm_description=/no/such/folder: not a folder"),
+        (["--package", "oops"], "--package: expected NAME=VALUE"),
+    ],
+)
 def test_bad_packages_are_one_line_exit_2(tmp_path, capsys, argv, words):
     code, data, err = _verify(tmp_path, capsys, "--urdf", str(XACRO), *argv)
     assert code == 2 and words in err and "\n" not in err and not data
@@ -110,8 +124,10 @@ def test_bad_packages_are_one_line_exit_2(tmp_path, capsys, argv, words):
 
 def test_an_unresolved_package_or_macro_is_one_line_naming_the_file(tmp_path, capsys):
     path = tmp_path / "r.urdf.xacro"
-    path.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
-                    '<xacro:include filename="$(find nowhere_pkg)/x.xacro"/></robot>')
+    path.write_text(
+        '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="$(find nowhere_pkg)/x.xacro"/></robot>'
+    )
     code, _, err = _verify(tmp_path, capsys, "--urdf", str(path))
     assert code == 2 and str(path) in err and "'nowhere_pkg' not found" in err and "\n" not in err
     plain = tmp_path / "plain.urdf"
@@ -121,7 +137,9 @@ def test_an_unresolved_package_or_macro_is_one_line_naming_the_file(tmp_path, ca
 
 
 def test_ik_solves_on_the_compiled_chain(capsys):
-    code = main(["ik", "--urdf", str(XACRO), "--tip", "link3", "--target", "0.1", "0.1", "0.9", "--xacro-arg", "table_height=0.5"])
+    code = main(
+        ["ik", "--urdf", str(XACRO), "--tip", "link3", "--target", "0.1", "0.1", "0.9", "--xacro-arg", "table_height=0.5"]
+    )
     out = capsys.readouterr().out
     assert code in (0, 1) and "root -> link3" in out and "3 joints" in out
 
