@@ -19,6 +19,8 @@ from typing import Any
 # C0 and C1 controls, DEL, bidirectional embeddings/overrides/isolates, lone surrogates (bytes
 # that were not UTF-8, as Python decodes file names and arguments)
 _UNSAFE = re.compile("[\x00-\x1f\x7f-\x9f\u202a-\u202e\u2066-\u2069\ud800-\udfff]")
+_TRAILING_BACKSLASHES = re.compile(r"\\*$")
+_BACKSLASH_BEFORE_TEXT_BRACKET = re.compile(r"\\(?=\[(?![a-z#/@][^[]*?\]))")  # before a "[" rich would not take for a tag
 _TOML_ESCAPES = {'"': '\\"', "\\": "\\\\", "\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}
 
 
@@ -34,10 +36,17 @@ def shown(text: Any) -> str:
 
 
 def markup(text: Any) -> str:
-    """``text`` inside a rich markup string: :func:`shown`, with rich's tags escaped (``\\[/]``)."""
+    """``text`` inside a rich markup string: :func:`shown`, with rich's tags escaped (``\\[/]``).
+
+    rich reads a backslash before a ``[`` in plain text as escaping it, and halves the backslashes
+    before a tag (ours may follow the text): a backslash before a ``[`` that is no tag is doubled,
+    and a run of backslashes at the end is doubled, so the name is shown with every backslash."""
     from rich.markup import escape  # rich is imported by the commands that print with it, not by the CLI's start
 
-    return escape(shown(text))
+    plain = shown(text)
+    run = _TRAILING_BACKSLASHES.search(plain).group()  # type: ignore[union-attr]  # matches the empty run too
+    body = plain[: len(plain) - len(run)]
+    return escape(_BACKSLASH_BEFORE_TEXT_BRACKET.sub(r"\\\\", body)) + run * 2
 
 
 def literal(text: Any) -> str:
