@@ -242,6 +242,17 @@ def compared(result: VerifyResult) -> str:
     )
 
 
+FORMAT_LABELS = {"urdf": "URDF", "mjcf": "MJCF", "sdf": "SDF", "usd": "USD"}
+
+
+def side_labels(result: VerifyResult) -> tuple[str, str]:
+    """The formats of file mode's two sides as the findings table heads them (a spec: URDF, MJCF)."""
+    kinds = list((result.model_info or {}).get("files") or {})
+    if len(kinds) == 2 and all(k in FORMAT_LABELS for k in kinds):
+        return FORMAT_LABELS[kinds[0]], FORMAT_LABELS[kinds[1]]
+    return "URDF", "MJCF"
+
+
 def render_html(result: VerifyResult) -> str:
     groups = matrix.groups(result)
     marks = fail_view.marked_subjects(result)
@@ -260,6 +271,7 @@ def render_html(result: VerifyResult) -> str:
             finding_groups=finding_groups,
             top_findings=top,
             other_findings=others,
+            side_labels=side_labels(result),
             groups=groups,
             legend=matrix.legend(bool(result.explained)),
             suites=suites_view(result, groups),

@@ -247,3 +247,13 @@ def test_checks_a_finding_explains_are_not_called_missed_goals(tmp_path):
         case for suite in JUnitXml.fromfile(str(out["xml"])) for case in suite if case.result and case.result[0]._tag == "skipped"
     ]
     assert skipped and all("explained by a finding" in case.result[0].message for case in skipped)
+
+
+def test_the_findings_table_heads_each_side_with_its_format():
+    from types import SimpleNamespace
+
+    from kinverify.report.html import side_labels
+
+    assert side_labels(SimpleNamespace(model_info={"files": {"urdf": "a.urdf", "usd": "a.usda"}})) == ("URDF", "USD")
+    assert side_labels(SimpleNamespace(model_info={"files": {"sdf": "a.sdf", "mjcf": "a.xml"}})) == ("SDF", "MJCF")
+    assert side_labels(SimpleNamespace(model_info={})) == ("URDF", "MJCF")  # a spec: its generated URDF and MJCF
