@@ -14,3 +14,21 @@ def count(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {value}")
     return value
+
+
+def add_xacro_options(p: argparse.ArgumentParser) -> None:
+    """``--package`` and ``--xacro-arg`` of a command that reads URDFs given as .xacro."""
+    p.add_argument(
+        "--package",
+        action="append",
+        default=[],
+        metavar="NAME=PATH",
+        help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)",
+    )
+    p.add_argument(
+        "--xacro-arg",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="for .xacro URDFs: a <xacro:arg> value (repeatable)",
+    )

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import argparse
 
+from kinverify.commands import add_xacro_options
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser(
@@ -24,20 +26,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--samples", type=int, default=None, help="uniform configurations after the edges (default 200)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--report", help="HTML report path (default reports/diff-<old>-<new>.html; .json for JSON)")
-    p.add_argument(
-        "--package",
-        action="append",
-        default=[],
-        metavar="NAME=PATH",
-        help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)",
-    )
-    p.add_argument(
-        "--xacro-arg",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="for .xacro URDFs: a <xacro:arg> value (repeatable)",
-    )
+    add_xacro_options(p)
     return p
 
 

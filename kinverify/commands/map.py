@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import argparse
 
+from kinverify.commands import add_xacro_options
+
 
 def _positive(text: str) -> float:
     try:
@@ -59,20 +61,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "friction (default 1e-3; default positions agree within 1e-4 rad or m)",
     )
     p.add_argument("--json", metavar="OUT", help="write the orders, maps, values and findings as JSON")
-    p.add_argument(
-        "--package",
-        action="append",
-        default=[],
-        metavar="NAME=PATH",
-        help="for .xacro URDFs (compiled first): where ROS package NAME is (repeatable)",
-    )
-    p.add_argument(
-        "--xacro-arg",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="for .xacro URDFs: a <xacro:arg> value (repeatable)",
-    )
+    add_xacro_options(p)
     return p
 
 
