@@ -52,6 +52,8 @@ from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE, base_limit
 from kinverify.pipeline.sampling import sample_configurations
 from kinverify.results import VerifyResult
 from kinverify.run import VerifyOptions, verify
+from kinverify.suites.base import tolerance
+from kinverify.suites.registry import get_property
 from kinverify.versions import library_versions
 
 FILE_SUITES = ("kinematics", "limits", "inertia", "dynamics", "pictures")  # pictures: both files drawn, aligned
@@ -100,6 +102,8 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     al = info.alignment
 
     tol = info.tol
+    limits = get_property("limits.position")  # the limits suite's tolerance: a range the zero offset explains
+    limit_tol = max(tolerance(options, limits), info.floor(limits.name, info.floors.limit))
     twins, new_pairs = _guarded(internal, "frames with no same-named twin", lambda: frame_twins(info, tol), ([], []))
     matching.frames += new_pairs
     add_frames(al, new_pairs)
@@ -112,7 +116,7 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     frame_kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
     units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
     info.inertials_explained_by = units[0].kind if units else ""
-    aligned = units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol), [])
+    aligned = units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol, limit_tol), [])
     moved = {fr for f in aligned if f.severity == "error" for fr in f.values.get("frames", [])}  # said there already
     findings += units or base_findings(aligned, base) + _guarded(
         internal, "frame conventions", lambda: convention_findings(al, frame_kinds, tol, moved), []

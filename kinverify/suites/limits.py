@@ -13,17 +13,22 @@
 
 In file mode each difference above tolerance is also one finding, grouped by cause (limits read
 in degrees, one file unlimited, actuators without a force bound, the same pair of values), and
-limits rounded at the written precision are one ``rounding`` finding per file.
+limits rounded at the written precision are one ``rounding`` finding per file. A range that
+differs only by the joint's zero offset (written alike in each file's own zero: a frame turned
+about its joint's axis with the range left as written) is no limit finding: the ``zero_offset``
+finding says it (:mod:`kinverify.filemode.findings.own_zero`); a range that differs beyond it is a
+``limit_difference`` of the part the offset does not explain.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, cast
+from typing import Any
 
 from kinverify.filemode.compare.context import file_view
 from kinverify.filemode.compare.inertials import rounded_side
+from kinverify.filemode.findings.own_zero import bound_error, bounds
 from kinverify.filemode.findings.table import finding
 from kinverify.suites.base import Finding, Property, Section, Suite, SuiteResult, VerifyContext, tolerance, within
 
@@ -37,20 +42,6 @@ def _unit(revolute: bool, prop: str) -> str:
         "limits.velocity": "rad/s" if revolute else "m/s",
         "limits.effort": "N·m" if revolute else "N",
     }[prop]
-
-
-def mapped_bounds(lower: float, upper: float, sign: int, offset: float) -> tuple[float, float]:
-    """URDF bounds in the MJCF's coordinates (q_mjcf = sign · q + offset)."""
-    lo, up = (lower, upper) if sign > 0 else (-upper, -lower)
-    return lo + offset, up + offset
-
-
-def _error(x: float | None, y: float | None) -> float | None:
-    if x is None or y is None:
-        return None
-    if x == y:
-        return 0.0
-    return math.inf if not (math.isfinite(x) and math.isfinite(y)) else abs(x - y)
 
 
 def _actuated(effort: float | None, joint) -> tuple[float | None, list[tuple[float, str]], int]:
@@ -180,13 +171,9 @@ class LimitsSuite(Suite):
         rows = []
         for jm in info.alignment.joints:
             ju, jmj = info.u.joint(jm.urdf), info.m.joint(jm.mjcf)
-            lo, up = mapped_bounds(ju.lower, ju.upper, jm.sign, jm.offset)
-            if ju.type == "revolute" and jm.offset:  # a zero offset is a turn, known up to whole turns: the one that fits
-                lo, up = min(
-                    ((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)),
-                    key=lambda b: max(_error(b[0], jmj.lower) or 0.0, _error(b[1], jmj.upper) or 0.0),
-                )
-            pos = cast(list[float], [_error(lo, jmj.lower), _error(up, jmj.upper)])  # floats: both bounds are (±inf when none)
+            # a zero offset is a turn, known up to whole turns: the one that fits
+            b = bounds(ju.lower, ju.upper, jmj.lower, jmj.upper, jm.sign, jm.offset, ju.type == "revolute")
+            lo, up = b.lower, b.upper
             effort, others, alike = _actuated(ju.effort, jmj)
             row = {
                 "joint": jm.urdf,
@@ -200,8 +187,10 @@ class LimitsSuite(Suite):
                 "effort_how": jmj.effort_how,
                 "effort_others": others,
                 "effort_alike": alike,
-                "limits.position": max(pos),
-                "limits.effort": _error(ju.effort, effort),
+                "limits.position": b.error,
+                "bounds": b,
+                "offset": jm.offset,
+                "limits.effort": bound_error(ju.effort, effort),
                 "limits.velocity": None,
                 "velocity_urdf": ju.velocity,
                 "unset": {v: "URDF" if _silent(ju, v) else "MJCF" if _silent(jmj, v) else "" for v in ("range", "effort")},
@@ -221,6 +210,8 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
         err = r["limits.position"]
         if err is None or err == 0:
             continue
+        if r.get("bounds") is not None and r["bounds"].offset_explains(tol):
+            continue  # the range written alike in each file's own zero: the zero offset finding says so
         pairs = [r["lower"], r["upper"]]
         if math.isinf(err):
             side = "URDF" if any(math.isinf(x) and not math.isinf(y) for x, y in pairs) else "MJCF"
@@ -236,18 +227,27 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
             other.append(r)
     unit = lambda r: "rad" if r["revolute"] else "m"  # noqa: E731
     for r in other:
+        size, beyond = r["limits.position"], ""
+        b = r.get("bounds")
+        if b is not None and b.beyond_offset(tol) != size:  # read in each file's own zero, the offset explains the rest
+            size = b.beyond_offset(tol)
+            beyond = (
+                f" of {r['offset']:.6g} {unit(r)} (each file's range read in its own zero; "
+                f"{r['limits.position']:.4g} {unit(r)} with the offset carried)"
+            )
         out.append(
             finding(
                 "limit_difference",
                 f"joint {r['label']}: limits [{r['lower'][0]:.6g}, {r['upper'][0]:.6g}] in the URDF, "
-                f"[{r['lower'][1]:.6g}, {r['upper'][1]:.6g}] in the MJCF (MJCF coordinates): {r['limits.position']:.4g} "
-                f"{unit(r)} apart",
+                f"[{r['lower'][1]:.6g}, {r['upper'][1]:.6g}] in the MJCF (MJCF coordinates): {size:.4g} "
+                f"{unit(r)} apart" + (f" beyond the zero offset{beyond}" if beyond else ""),
                 {
                     "urdf": [r["lower"][0], r["upper"][0]],
                     "mjcf": [r["lower"][1], r["upper"][1]],
+                    "beyond_zero_offset": bool(beyond),
                     "checks": [["limits.position", "joints"]],
                 },
-                magnitude=r["limits.position"],
+                magnitude=size,
                 unit=unit(r),
                 prop="limits.position",
                 joint=r["joint"],
