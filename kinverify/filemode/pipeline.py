@@ -116,7 +116,9 @@ def diagnose_files(urdf: str, mjcf: str, options=None, frames=(), joints=(), kin
     frame_kinds = {a: m.frame_kind.get(b, "link") for a, b, _ in matching.frames}
     units = _guarded(internal, "length units", lambda: length_units(u, m, matching, compared), [])
     info.inertials_explained_by = units[0].kind if units else ""
-    aligned = units or _guarded(internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol, limit_tol), [])
+    aligned = units or _guarded(
+        internal, "alignment findings", lambda: alignment_findings(u, m, matching, al, compared, tol, limit_tol), []
+    )
     moved = {fr for f in aligned if f.severity == "error" for fr in f.values.get("frames", [])}  # said there already
     findings += units or base_findings(aligned, base) + _guarded(
         internal, "frame conventions", lambda: convention_findings(al, frame_kinds, tol, moved), []

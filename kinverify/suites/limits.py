@@ -28,7 +28,7 @@ from typing import Any
 
 from kinverify.filemode.compare.context import file_view
 from kinverify.filemode.compare.inertials import rounded_side
-from kinverify.filemode.findings.own_zero import bound_error, bounds
+from kinverify.filemode.findings.own_zero import bound_error, bounds, mapped_bounds
 from kinverify.filemode.findings.table import finding
 from kinverify.suites.base import Finding, Property, Section, Suite, SuiteResult, VerifyContext, tolerance, within
 
@@ -190,6 +190,10 @@ class LimitsSuite(Suite):
                 "limits.position": b.error,
                 "bounds": b,
                 "offset": jm.offset,
+                # the URDF's bounds in each file's own zero (the sign carried, the offset not)
+                "own": list(zip(mapped_bounds(ju.lower, ju.upper, jm.sign, 0.0), (jmj.lower, jmj.upper), strict=True))
+                if jm.offset
+                else None,
                 "limits.effort": bound_error(ju.effort, effort),
                 "limits.velocity": None,
                 "velocity_urdf": ju.velocity,
@@ -199,6 +203,15 @@ class LimitsSuite(Suite):
                 row["limits.velocity"] = abs(spec_joints[jm.urdf].limits.velocity - ju.velocity)
             rows.append(row)
         return rows
+
+
+def _in_degrees(pairs) -> bool:
+    """(URDF bound, MJCF bound) pairs, each alike or one the other times 180/π (the same way for all)."""
+    if pairs is None:
+        return False
+    return all(y == x or (x != 0 and abs(abs(y / x) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs) or all(
+        y == x or (y != 0 and abs(abs(x / y) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs
+    )
 
 
 def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
@@ -219,9 +232,7 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
         elif err <= tol:
             if err > 1e-9:
                 rounded.append(r)
-        elif all(y == x or (x != 0 and abs(abs(y / x) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs) or all(
-            y == x or (y != 0 and abs(abs(x / y) / DEGREE - 1) < UNIT_RATIO) for x, y in pairs
-        ):
+        elif any(_in_degrees(p) for p in (pairs, r.get("own"))):  # read through the zero offset, or in each file's own zero
             degrees.append(r)
         else:
             other.append(r)

@@ -13,7 +13,10 @@ its size in SI units, as file mode reports it: a turn or tilt in rad (the angle)
 (the vector's length), a mass in kg, a centre of mass in m (how far the rigid body's moved: a
 body and those welded to it are one), a principal moment in kg·m², a range end in rad (m for a
 slide), damping in N·m·s/rad (N·s/m). An axis flip reverses the range with it (the same physical
-limits), and its size is the flip itself (π). :mod:`kinverify.testing.rewrites`
+limits), and its size is the flip itself (π). ``frame_twist`` turns a hinge's body about the
+joint's own axis (where a jointed body hangs below it: on a last link the turn may change nothing)
+and ``slide_offset_along`` moves a slide's body along its axis, the range and any coupling left as
+written: each is the joint's zero offset, of that size. :mod:`kinverify.testing.rewrites`
 draws rewrites of the same robot that must give no error.
 """
 
@@ -35,13 +38,24 @@ KINDS = (
     "frame_offset_across",
     "frame_turn",
     "frame_turn_twist",
+    "frame_twist",
+    "slide_offset_along",
     "mass",
     "com",
     "inertia",
     "range",
     "damping",
 )
-FRAME_KINDS = ("axis_flip", "axis_tilt", "frame_offset_along", "frame_offset_across", "frame_turn", "frame_turn_twist")
+FRAME_KINDS = (
+    "axis_flip",
+    "axis_tilt",
+    "frame_offset_along",
+    "frame_offset_across",
+    "frame_turn",
+    "frame_turn_twist",
+    "frame_twist",
+    "slide_offset_along",
+)
 JOINT_KINDS = FRAME_KINDS + ("range", "damping")  # planted on a joint (and the body holding it); the rest on a body
 DEG = math.pi / 180
 
@@ -104,6 +118,7 @@ class _Site:
     joint: ET.Element | None
     parent: "_Site | None"
     rigid: ET.Element | None = None  # the moving body this one is welded to, when it has no joint
+    holds_joint: bool = False  # a body with a hinge or slide hangs below it
 
 
 def _bodies(parent: ET.Element) -> list[ET.Element]:
@@ -137,6 +152,9 @@ def _sites(root: ET.Element) -> list[_Site]:
     assert worldbody is not None, "an MJCF MuJoCo wrote has a <worldbody>"
     for body in _bodies(worldbody):
         walk(body, False, None, None)
+    for site in out:
+        if site.parent is not None and site.joint is not None:
+            site.parent.holds_joint = True
     return out
 
 
@@ -156,7 +174,12 @@ def _applicable(kind: str, site: _Site) -> bool:
             return joint.get("range") is not None and joint.get("limited", "auto") != "false"
         if kind == "damping":
             return float(joint.get("damping", "0")) > 0  # the URDF states it (else the change is a value one file leaves unset)
-        return not (kind.startswith("frame_turn") and joint.get("type") == "slide")
+        slide = joint.get("type") == "slide"
+        if kind == "slide_offset_along":
+            return slide
+        if kind == "frame_twist":  # on a last link, a turn about its axis may change nothing (an inertial symmetric about it)
+            return not slide and site.holds_joint
+        return not ((kind.startswith("frame_turn") or kind == "frame_twist") and slide)
     inertial = _inertial(site.body)
     if inertial is None or site.rigid is not None:  # a body welded to another is one rigid body with it: its own
         return False  # centre of mass and mass are not what is compared
@@ -201,11 +224,15 @@ def _plant(draw, kind: str, site: _Site) -> Planted:
             angle = draw(st.floats(1.0, 5.0)) * DEG
             _put(joint, "axis", _rotation(_perpendicular(axis, draw(st.floats(0, 2 * math.pi))), angle) @ axis)
             return Planted(kind, jname, None, angle, "rad")
-        if kind.startswith("frame_offset"):
+        if kind.startswith("frame_offset") or kind == "slide_offset_along":
             length = draw(st.floats(0.5, 20.0)) * 1e-3 * draw(st.sampled_from([1, -1]))
             local = axis * length if kind.endswith("along") else _perpendicular(axis, draw(st.floats(0, 2 * math.pi))) * length
             _put(body, "pos", _vec(body, "pos", [0, 0, 0]) + _body_rotation(body) @ local)
             return Planted(kind, jname, bname, abs(length), "m")
+        if kind == "frame_twist":  # about the joint's own axis, its range and couplings left as written: a zero offset
+            angle = draw(st.floats(1.0, 10.0)) * DEG * draw(st.sampled_from([1, -1]))
+            _put(body, "quat", matrix_to_quat(_body_rotation(body) @ _rotation(axis, angle)))
+            return Planted(kind, jname, bname, abs(angle), "rad")
         if kind.startswith("frame_turn"):
             angle = draw(st.floats(1.0, 10.0)) * DEG * draw(st.sampled_from([1, -1]))
             about = _perpendicular(axis, draw(st.floats(0, 2 * math.pi)))

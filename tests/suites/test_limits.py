@@ -3,6 +3,9 @@ compared without a whole turn nobody took."""
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import pytest
 
 import tests.filemode.pairs as P
@@ -107,3 +110,56 @@ def test_a_joint_the_mjcf_couples_to_a_joint_the_urdf_lacks_is_driven_through_it
     assert not [f for f in result.findings if f.kind in ("effort_unset", "effort_difference")], [
         f.message for f in result.findings if f.kind.startswith("effort")
     ]
+
+
+def twisted(mjcf: str, body: str, angle: float) -> str:
+    """The generated MJCF with ``body``'s frame turned by ``angle`` about its joint's axis (its own
+    z), all it holds turned with it: the joint's zero moved, its range left as written."""
+    turn = [math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)]
+    return P.body_attr(mjcf, body, "quat", P.nums(lambda q: list(P._quat_mul(np.array(q), np.array(turn)))))
+
+
+def test_a_range_written_alike_in_each_files_own_zero_is_the_zero_offsets_finding(tmp_path):
+    """panda_link4 turned by 0.1 rad about joint 4's axis, its range left as written: physically the
+    range sits 0.1 rad apart at both ends, which is the zero offset, said once (its finding names
+    the range and explains the limits check); no limit_difference of 0.1 beside it."""
+    urdf, mjcf = P.generated_pair("panda")
+    result = verify_files(*P.write_pair(tmp_path, urdf, twisted(mjcf, "panda_link4", 0.1)), FAST)
+    (f,) = above_info(result)
+    assert (f.kind, f.severity, f.subject) == ("zero_offset", "error", "panda_joint4")
+    assert f.magnitude == pytest.approx(0.1, abs=1e-6) and f.values["range_written_alike"]
+    assert "written alike in each file's own zero" in f.message
+    (check,) = [c for c in result.checks if c.property == "limits.position"]
+    assert not check.passed and check.kind == "explained" and result.verdict == "fail"
+
+
+def test_a_range_end_changed_besides_a_zero_offset_differs_by_the_change(tmp_path):
+    """The same turn, and the MJCF's upper end of joint 4 moved by 0.2 rad: a limit_difference of
+    0.2 (the lower end agrees as each file writes it), not the 0.3 the carried reading leaves at the
+    upper end; and the zero offset of 0.1, which no longer claims the range."""
+    urdf, mjcf = P.generated_pair("panda")
+    mjcf = P.joint_attr(twisted(mjcf, "panda_link4", 0.1), "panda_joint4", "range", P.nums(lambda v: [v[0], v[1] + 0.2]))
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    found = {f.kind: f for f in above_info(result)}
+    assert sorted(found) == ["limit_difference", "zero_offset"] and found["limit_difference"].subject == "panda_joint4"
+    assert found["limit_difference"].magnitude == pytest.approx(0.2, abs=1e-6)
+    assert found["limit_difference"].values["beyond_zero_offset"]
+    assert (
+        found["zero_offset"].magnitude == pytest.approx(0.1, abs=1e-6)
+        and "range_written_alike" not in found["zero_offset"].values
+    )
+
+
+def test_ranges_read_in_degrees_are_one_units_finding_beside_a_zero_offset(tmp_path):
+    """The MJCF drops <compiler angle="radian"> (MuJoCo reads every range in degrees) and gives
+    panda_joint4 a zero offset of 20° (ref, read in degrees too), its range left as the URDF writes
+    it: joint 4's range is the URDF's times π/180 in its own zero, so it is one of the joints the
+    units finding names, not a limit_difference of its own (carried through the offset, its bounds
+    are no multiple of the URDF's)."""
+    urdf, mjcf = P.degrees_mjcf(*P.generated_pair("panda"))
+    mjcf = P.re.sub(r'(<joint name="panda_joint4" )', lambda m: m[1] + 'ref="20" ', mjcf, count=1)
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), FAST)
+    found = {f.kind: f for f in above_info(result)}
+    assert "limit_difference" not in found, found["limit_difference"].message
+    assert "panda_joint4" in found["limit_units"].subject.split(", ") and len(found["limit_units"].subject.split(", ")) == 7
+    assert found["zero_offset"].subject == "panda_joint4" and found["zero_offset"].magnitude == pytest.approx(math.radians(20))

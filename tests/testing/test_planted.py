@@ -21,6 +21,8 @@ from tests.paths import MODELS
 
 URDF = kst.mesh_free_urdf(generate_urdf(load_spec(MODELS / "arm3.toml")))
 MJCF = kst.mujoco_mjcf(URDF)
+# the same arm with its last joint a slide (a gripper's finger): where slide_offset_along is planted
+SLIDE_MJCF = kst.mujoco_mjcf('type="prismatic"'.join(URDF.rpartition('type="revolute"')[::2]))
 
 
 def compiled(text: str, qpos=None) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -53,6 +55,8 @@ def test_the_mujoco_written_mjcf_is_the_urdfs_robot_with_every_link_a_body():
         "frame_offset_across",
         "frame_turn",
         "frame_turn_twist",
+        "frame_twist",
+        "slide_offset_along",
         "mass",
         "com",
         "inertia",
@@ -61,11 +65,20 @@ def test_the_mujoco_written_mjcf_is_the_urdfs_robot_with_every_link_a_body():
     )
 
 
+def test_every_kind_can_be_planted_on_the_arm_or_its_slide_variant():
+    assert set(kst.plantable_kinds(MJCF)) | set(kst.plantable_kinds(SLIDE_MJCF)) == set(kst.PLANTED_KINDS)
+    assert "slide_offset_along" not in kst.plantable_kinds(MJCF) and "frame_twist" in kst.plantable_kinds(MJCF)
+
+
 @settings(max_examples=40, deadline=None)
-@given(st.sampled_from(kst.PLANTED_KINDS).flatmap(lambda kind: kst.planted_changes(MJCF, kinds=(kind,), max_changes=1)))
+@given(
+    st.sampled_from([(MJCF, k) for k in kst.plantable_kinds(MJCF)] + [(SLIDE_MJCF, "slide_offset_along")]).flatmap(
+        lambda mk: st.tuples(st.just(mk[0]), kst.planted_changes(mk[0], kinds=(mk[1],), max_changes=1))
+    )
+)
 def test_a_planted_change_is_what_mujoco_computes_differently_by_its_size(change):
-    text, (planted,) = change
-    (m0, d0), (m1, d1) = compiled(MJCF), compiled(text)
+    original, (text, (planted,)) = change
+    (m0, d0), (m1, d1) = compiled(original), compiled(text)
     kind, size = planted.kind, planted.size
     if kind in ("mass", "com", "inertia"):
         b = m0.body(planted.body).id
@@ -92,16 +105,20 @@ def test_a_planted_change_is_what_mujoco_computes_differently_by_its_size(change
     else:
         b = m0.body(planted.body).id
         axis = d0.xaxis[j]
-        if kind.startswith("frame_offset"):
+        if kind.startswith("frame_offset") or kind == "slide_offset_along":
             moved = d1.xpos[b] - d0.xpos[b]
             assert np.linalg.norm(moved) == pytest.approx(size, rel=1e-6)
             along = abs(np.dot(moved, axis)) / np.linalg.norm(moved)
             assert along == pytest.approx(1.0 if kind.endswith("along") else 0.0, abs=1e-6)
+            assert m1.jnt_type[j] == (mujoco.mjtJoint.mjJNT_SLIDE if kind == "slide_offset_along" else m0.jnt_type[j])
         else:
             turned, about = turn(d0.xmat[b], d1.xmat[b])
             assert turned == pytest.approx(size, rel=1e-6)
             twist = abs(np.dot(d0.xmat[b].reshape(3, 3) @ about, axis))
-            assert (0.4 < twist < 0.95) if kind.endswith("twist") else twist < 1e-6
+            if kind == "frame_twist":  # about the joint's own axis
+                assert twist == pytest.approx(1.0, abs=1e-6)
+            else:
+                assert (0.4 < twist < 0.95) if kind.endswith("twist") else twist < 1e-6
 
 
 @settings(max_examples=20, deadline=None)

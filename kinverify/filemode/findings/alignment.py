@@ -129,7 +129,9 @@ def _alike_axes(findings: list[Finding]) -> list[Finding]:
     return out
 
 
-def zero_offset_finding(u: ModelDesc, m: ModelDesc, j, frames: list[str], names: dict, limit_tol: float, coupled: dict) -> Finding:
+def zero_offset_finding(
+    u: ModelDesc, m: ModelDesc, j, frames: list[str], names: dict, limit_tol: float, coupled: dict
+) -> Finding:
     """Joint ``j``'s zero offset; and what each file writes alike in its own zero, which the offset
     therefore sets apart physically (:mod:`kinverify.filemode.findings.own_zero`): its range (the
     limits check it fails is this finding's), the couplings of it or on it (``coupled``: follower ->

@@ -90,9 +90,7 @@ def coupling_table(offsets: dict, urdf_coupling: Coupling, lower=-1.0, upper=1.0
     alignment's fitted zero ``offsets`` (joint -> offset, signs +1); ``urdf_coupling`` the URDF's.
     Returns a function of the MJCF's coupling giving (kind, subject, mjcf values, magnitude, unit)."""
     order = ["index_base", "index_tip"]
-    u = SimpleNamespace(
-        couplings=[urdf_coupling], joint=lambda name: SimpleNamespace(type="revolute", lower=lower, upper=upper)
-    )
+    u = SimpleNamespace(couplings=[urdf_coupling], joint=lambda name: SimpleNamespace(type="revolute", lower=lower, upper=upper))
     matching = SimpleNamespace(joints=[(n, n, "name") for n in order])
     alignment = SimpleNamespace(joints=[SimpleNamespace(urdf=n, sign=1, offset=offsets.get(n, 0.0)) for n in order])
 
@@ -110,7 +108,9 @@ def test_a_followers_fitted_zero_offset_is_taken_off_its_coupling():
     consequence, said by the zero offset finding: no coupling finding either. 0.2 written differs
     from both readings; by 0.1 beyond the offset (read in each file's own zero), not the 0.2 the
     offset-carried reading leaves (−0.1 against 0.1)."""
-    findings, (u, matching, alignment) = coupling_table({"index_tip": 0.3}, Coupling("index_tip", "index_base", 1.0, 0.1, "<mimic>"))
+    findings, (u, matching, alignment) = coupling_table(
+        {"index_tip": 0.3}, Coupling("index_tip", "index_base", 1.0, 0.1, "<mimic>")
+    )
     assert findings(1.0, 0.4) == []
     assert findings(1.0, 0.1) == []
     m = SimpleNamespace(couplings=[Coupling("index_tip", "index_base", 1.0, 0.1, "<equality joint>")])
@@ -124,7 +124,9 @@ def test_a_leaders_zero_offset_is_no_coupling_difference_when_each_file_writes_t
     """index_base's zero sits 0.2 rad further in the MJCF (its frame turned about its axis); both
     files write index_tip = 0.5·index_base. In the URDF's coordinates the MJCF's reads
     index_tip = 0.5·index_base + 0.1: the leader's offset carried, not a coupling that changed."""
-    findings, (u, matching, alignment) = coupling_table({"index_base": 0.2}, Coupling("index_tip", "index_base", 0.5, 0.0, "<mimic>"))
+    findings, (u, matching, alignment) = coupling_table(
+        {"index_base": 0.2}, Coupling("index_tip", "index_base", 0.5, 0.0, "<mimic>")
+    )
     assert findings(0.5, 0.0) == []
     m = SimpleNamespace(couplings=[Coupling("index_tip", "index_base", 0.5, 0.0, "<equality joint>")])
     assert written_alike(u, m, matching, alignment) == {"index_tip": "index_base"}
@@ -143,7 +145,6 @@ def test_a_coupling_difference_has_the_size_the_follower_sits_apart_over_the_lea
     assert findings(1.5, 0.1)[0][3] == float("inf")  # an unlimited leader: unbounded
 
 
-
 def twisted(mjcf: str, body: str, axis, angle: float) -> str:
     """The generated MJCF (bodies without a ``quat``) with ``body``'s frame turned by ``angle``
     about ``axis`` (its joint's axis, in its own frame), all it holds turned with it: the joint's
@@ -158,7 +159,9 @@ def test_a_twisted_mimic_leader_is_one_zero_offset_that_says_its_follower_follow
     coupling index_tip = 1·index_base left as written: one error, the zero offset of 0.1 rad on
     index_base, which says the range and the coupling carry it; no coupling or limit difference."""
     spec = spec_from_dict(hand())
-    urdf, mjcf = coupled(generate_urdf(spec), generate_mjcf(spec), {"index_tip": ("index_base", 1.0, 0.0)}, [("index_tip", "index_base", 1.0, 0.0)])
+    urdf, mjcf = coupled(
+        generate_urdf(spec), generate_mjcf(spec), {"index_tip": ("index_base", 1.0, 0.0)}, [("index_tip", "index_base", 1.0, 0.0)]
+    )
     result = verify_files(*P.write_pair(tmp_path, urdf, twisted(mjcf, "index_1", [1.0, 0.0, 0.0], 0.1)), LIMITS)
     errors = [f for f in result.findings if f.severity == "error"]
     assert [(f.kind, f.subject) for f in errors] == [("zero_offset", "index_base")], [f.message for f in errors]
