@@ -157,3 +157,27 @@ def test_a_named_tool_frame_placed_elsewhere_on_its_link_is_an_error(tmp_path):
     assert result.verdict == "fail"
     (f,) = [f for f in result.findings if f.kind == "frame_offset"]
     assert f.severity == "error" and f.fails and f.unit == "m" and f.magnitude == pytest.approx(0.01, abs=1e-9)
+
+
+def test_a_slide_moved_along_its_axis_is_one_zero_offset_carrying_its_range_and_follower(tmp_path):
+    """The gripper's right finger follows the left one (URDF <mimic>, MJCF <equality joint>); the
+    MJCF's left finger body sits 5 mm further along its slide, its range and the coupling left as
+    written. One error: finger_left's zero offset of 5 mm, which says its range and its follower
+    carry it (no limit_difference, no coupling_difference of 5 mm or of size 0 beside it)."""
+    urdf, mjcf = P.generated_pair("gripper")
+    urdf = P.sub_once(
+        r'(<joint name="finger_right" type="prismatic">)', r'\1<mimic joint="finger_left" multiplier="1" offset="0"/>', urdf
+    )
+    mjcf = P.sub_once(
+        r"</mujoco>",
+        '<equality><joint joint1="finger_right" joint2="finger_left" polycoef="0 1 0 0 0"/></equality></mujoco>',
+        mjcf,
+    )
+    mjcf = P.body_attr(mjcf, "finger_left_link", "pos", P.nums(lambda v: [v[0], v[1] + 5e-3, v[2]]))
+    result = run(tmp_path, urdf, mjcf)
+    errors = [f for f in result.findings if f.severity == "error"]
+    assert [(f.kind, f.subject) for f in errors] == [("zero_offset", "finger_left")], [f.message for f in errors]
+    (f,) = errors
+    assert f.magnitude == pytest.approx(5e-3, abs=1e-9) and f.unit == "m"
+    assert f.values["range_written_alike"] and f.values["couplings_written_alike"] == ["finger_right"]
+    assert "finger_right follows finger_left" in f.message and result.verdict == "fail"
