@@ -12,7 +12,7 @@ import numpy as np
 from kinverify.filemode.align.match import Matching
 from kinverify.filemode.align.result import Alignment
 from kinverify.filemode.findings.couplings import written_alike
-from kinverify.filemode.findings.own_zero import bounds
+from kinverify.filemode.findings.own_zero import zero_offset_finding
 from kinverify.filemode.findings.table import finding, fmt, unit_factor
 from kinverify.filemode.read.model import ModelDesc
 from kinverify.model.transforms import geodesic_distance, matrix_to_rpy
@@ -127,44 +127,6 @@ def _alike_axes(findings: list[Finding]) -> list[Finding]:
                 )
             )
     return out
-
-
-def zero_offset_finding(
-    u: ModelDesc, m: ModelDesc, j, frames: list[str], names: dict, limit_tol: float, coupled: dict
-) -> Finding:
-    """Joint ``j``'s zero offset; and what each file writes alike in its own zero, which the offset
-    therefore sets apart physically (:mod:`kinverify.filemode.findings.own_zero`): its range (the
-    limits check it fails is this finding's), the couplings of it or on it (``coupled``: follower ->
-    leader, :func:`~kinverify.filemode.findings.couplings.written_alike`)."""
-    unit = "rad" if j.type == "revolute" else "m"
-    deg = f" ({math.degrees(j.offset):.4g}°)" if j.type == "revolute" else ""
-    uj, mj = u.joint(j.urdf), m.joint(j.mjcf)
-    b = bounds(uj.lower, uj.upper, mj.lower, mj.upper, j.sign, j.offset, j.type == "revolute")
-    values: dict[str, Any] = {"offset": j.offset, "unit": unit, "moves": frames}
-    also = []
-    if b.offset_explains(limit_tol):
-        values |= {"range_written_alike": True, "checks": [["limits.position", "joints"]]}
-        also.append(
-            f"its range [{mj.lower:.6g}, {mj.upper:.6g}] is written alike in each file's own zero, so it too sits "
-            f"{b.error:.6g} {unit} apart physically"
-        )
-    ties = sorted(f for f, lead in coupled.items() if j.urdf in (f, lead))
-    if ties:
-        values["couplings_written_alike"] = ties
-        also.append(
-            " and ".join(f"{f} follows {coupled[f]}" for f in ties)
-            + " as each file writes it in its own coordinates, so the offset carries into the coupling too"
-        )
-    return finding(
-        "zero_offset",
-        f"joint {j.urdf}/{j.mjcf}: zero offset of {j.offset:.6g} {unit}{deg}: at the same q "
-        f"the MJCF's joint sits {j.offset:.6g} {unit} further (q_mjcf = {'−' if j.sign < 0 else ''}q_urdf "
-        f"{'+' if j.offset >= 0 else '−'} {abs(j.offset):.6g})" + "".join(f"; {x}" for x in also),
-        values,
-        magnitude=abs(j.offset),
-        unit=unit,
-        **names,
-    )
 
 
 def alignment_findings(

@@ -18,7 +18,6 @@ from kinverify.filemode.align.match import resolve_couplings
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.model import Coupling
 
-
 # a coupling's offset carried through fitted zero offsets is known to the fit's precision only
 FITTED_OFFSET_TOL = {"revolute": 1e-4, "prismatic": 1e-5}  # rad, m
 

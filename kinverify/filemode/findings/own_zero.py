@@ -8,13 +8,18 @@ a consequence of the zero offset, said in its finding, not a second difference. 
 beyond that is a difference of its own, of the size the offset does not explain.
 
 :func:`bounds` compares a joint's range both ways; the limits suite reports the part the offset
-does not explain, the zero offset finding the part it does.
+does not explain, :func:`zero_offset_finding` the part it does.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
+
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.model import ModelDesc
+from kinverify.suites.base import Finding
 
 
 def mapped_bounds(lower: float, upper: float, sign: int, offset: float) -> tuple[float, float]:
@@ -72,3 +77,41 @@ def bounds(lower: float, upper: float, m_lower: float, m_upper: float, sign: int
     if revolute and offset:
         lo, up = min(((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)), key=lambda b: max(ends(b)))
     return Bounds(lo, up, ends((lo, up)), ends(mapped_bounds(lower, upper, sign, 0.0)) if offset else None)
+
+
+def zero_offset_finding(
+    u: ModelDesc, m: ModelDesc, j, frames: list[str], names: dict, limit_tol: float, coupled: dict
+) -> Finding:
+    """Joint ``j``'s zero offset; and what each file writes alike in its own zero, which the offset
+    therefore sets apart physically (:mod:`kinverify.filemode.findings.own_zero`): its range (the
+    limits check it fails is this finding's), the couplings of it or on it (``coupled``: follower ->
+    leader, :func:`~kinverify.filemode.findings.couplings.written_alike`)."""
+    unit = "rad" if j.type == "revolute" else "m"
+    deg = f" ({math.degrees(j.offset):.4g}°)" if j.type == "revolute" else ""
+    uj, mj = u.joint(j.urdf), m.joint(j.mjcf)
+    b = bounds(uj.lower, uj.upper, mj.lower, mj.upper, j.sign, j.offset, j.type == "revolute")
+    values: dict[str, Any] = {"offset": j.offset, "unit": unit, "moves": frames}
+    also = []
+    if b.offset_explains(limit_tol):
+        values |= {"range_written_alike": True, "checks": [["limits.position", "joints"]]}
+        also.append(
+            f"its range [{mj.lower:.6g}, {mj.upper:.6g}] is written alike in each file's own zero, so it too sits "
+            f"{b.error:.6g} {unit} apart physically"
+        )
+    ties = sorted(f for f, lead in coupled.items() if j.urdf in (f, lead))
+    if ties:
+        values["couplings_written_alike"] = ties
+        also.append(
+            " and ".join(f"{f} follows {coupled[f]}" for f in ties)
+            + " as each file writes it in its own coordinates, so the offset carries into the coupling too"
+        )
+    return finding(
+        "zero_offset",
+        f"joint {j.urdf}/{j.mjcf}: zero offset of {j.offset:.6g} {unit}{deg}: at the same q "
+        f"the MJCF's joint sits {j.offset:.6g} {unit} further (q_mjcf = {'−' if j.sign < 0 else ''}q_urdf "
+        f"{'+' if j.offset >= 0 else '−'} {abs(j.offset):.6g})" + "".join(f"; {x}" for x in also),
+        values,
+        magnitude=abs(j.offset),
+        unit=unit,
+        **names,
+    )
