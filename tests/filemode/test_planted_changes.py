@@ -2,7 +2,10 @@
 mesh-free), the MJCF MuJoCo writes from each, and one or two changes planted in that MJCF as a person
 editing it would (:mod:`kinverify.testing.planted`). File mode must report each planted change
 once, naming its joint or body, with its size within 2 % (or the written precision), and nothing
-else as an error; rewrites that change nothing give no error at all.
+else as an error; rewrites that change nothing give no error at all. A hinge's frame turned about
+its own axis (``frame_twist``) and a slide's moved along it (``slide_offset_along``, panda's
+fingers, one following the other) are each the joint's zero offset alone: the range and coupling
+they leave as written are the offset's to say, not a limit or coupling difference beside it.
 
 Fixed bases: panda, iiwa14, ur5e, z1, leap_hand; floating (a free joint on the MJCF's root body):
 go2, a1, anymal_c. Each kind is planted alone on a robot drawn among all; two changes, on a joint
