@@ -16,8 +16,9 @@ in degrees, one file unlimited, actuators without a force bound, the same pair o
 limits rounded at the written precision are one ``rounding`` finding per file. A range that
 differs only by the joint's zero offset (written alike in each file's own zero: a frame turned
 about its joint's axis with the range left as written) is no limit finding: the ``zero_offset``
-finding says it (:mod:`kinverify.filemode.findings.own_zero`); a range that differs beyond it is a
-``limit_difference`` of the part the offset does not explain.
+finding says it (:mod:`kinverify.filemode.findings.own_zero`); likewise an asymmetric range left as
+written on a reversed axis (the ``axis_sign_flip`` finding says it). A range that differs beyond
+them is a ``limit_difference`` of the part the joint map does not explain.
 """
 
 from __future__ import annotations
@@ -240,22 +241,26 @@ def limit_findings(rows: list[dict], info, tolerances: dict) -> list[Finding]:
     for r in other:
         size, beyond = r["limits.position"], ""
         b = r.get("bounds")
-        if b is not None and b.beyond_offset(tol) != size:  # read in each file's own zero, the offset explains the rest
+        if b is not None and b.beyond_offset(tol) != size:  # read in each file's own coordinates, the joint map explains the rest
             size = b.beyond_offset(tol)
             beyond = (
-                f" of {r['offset']:.6g} {unit(r)} (each file's range read in its own zero; "
+                f" beyond the zero offset of {r['offset']:.6g} {unit(r)} (each file's range read in its own zero; "
                 f"{r['limits.position']:.4g} {unit(r)} with the offset carried)"
+                if r["offset"]
+                else f" beyond the reversed axis (each file's range read as written; {r['limits.position']:.4g} "
+                f"{unit(r)} with the axis carried)"
             )
         out.append(
             finding(
                 "limit_difference",
                 f"joint {r['label']}: limits [{r['lower'][0]:.6g}, {r['upper'][0]:.6g}] in the URDF, "
                 f"[{r['lower'][1]:.6g}, {r['upper'][1]:.6g}] in the MJCF (MJCF coordinates): {size:.4g} "
-                f"{unit(r)} apart" + (f" beyond the zero offset{beyond}" if beyond else ""),
+                f"{unit(r)} apart" + beyond,
                 {
                     "urdf": [r["lower"][0], r["upper"][0]],
                     "mjcf": [r["lower"][1], r["upper"][1]],
-                    "beyond_zero_offset": bool(beyond),
+                    "beyond_zero_offset": bool(beyond and r["offset"]),
+                    "beyond_reversed_axis": bool(beyond and not r["offset"]),
                     "checks": [["limits.position", "joints"]],
                 },
                 magnitude=size,

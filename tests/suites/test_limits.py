@@ -150,6 +150,43 @@ def test_a_range_end_changed_besides_a_zero_offset_differs_by_the_change(tmp_pat
     )
 
 
+def reversed_axis(mjcf: str, joint: str, rng=lambda v: v) -> str:
+    mjcf = P.joint_attr(mjcf, joint, "axis", P.nums(lambda v: [-x for x in v]))
+    return P.joint_attr(mjcf, joint, "range", P.nums(rng))
+
+
+def test_an_asymmetric_range_left_as_written_on_a_reversed_axis_is_the_sign_flips_finding(tmp_path):
+    """panda_joint4's axis reversed in the MJCF, its range [-3.0718, -0.0698] left as written: the
+    reversed axis mirrors it physically (3.1416 rad apart at each end); one axis_sign_flip finding
+    names the range and explains the limits check, no limit_difference beside it."""
+    urdf, mjcf = P.generated_pair("panda")
+    result = verify_files(*P.write_pair(tmp_path, urdf, reversed_axis(mjcf, "panda_joint4")), FAST)
+    (f,) = above_info(result)
+    assert (f.kind, f.severity, f.subject) == ("axis_sign_flip", "error", "panda_joint4")
+    assert f.values["range_written_alike"] and "reversed axis mirrors it" in f.message
+    assert "3.1416 rad apart" in f.message
+    (check,) = [c for c in result.checks if c.property == "limits.position"]
+    assert not check.passed and check.kind == "explained" and result.verdict == "fail"
+
+
+def test_a_range_mirrored_with_its_reversed_axis_agrees_and_an_end_changed_besides_differs_by_the_change(tmp_path):
+    """The reversed axis with the range mirrored as it should be ([0.0698, 3.0718]): the sign flip
+    alone, no range claimed. The same with the mirrored upper end moved by 0.2 rad: a limit_difference
+    of 0.2, named beyond the reversed axis (not the 3.0 the range as written would leave)."""
+    urdf, mjcf = P.generated_pair("panda")
+    mirrored = reversed_axis(mjcf, "panda_joint4", lambda v: [-v[1], -v[0]])
+    (f,) = above_info(verify_files(*P.write_pair(tmp_path, urdf, mirrored), FAST))
+    assert f.kind == "axis_sign_flip" and "range_written_alike" not in f.values
+    moved = reversed_axis(mjcf, "panda_joint4", lambda v: [-v[1], -v[0] + 0.2])
+    found = {f.kind: f for f in above_info(verify_files(*P.write_pair(tmp_path, urdf, moved), FAST))}
+    assert sorted(found) == ["axis_sign_flip", "limit_difference"], [f.message for f in found.values()]
+    assert found["limit_difference"].magnitude == pytest.approx(0.2, abs=1e-6)
+    assert (
+        not found["limit_difference"].values["beyond_reversed_axis"]
+        and "range_written_alike" not in found["axis_sign_flip"].values
+    )
+
+
 def test_ranges_read_in_degrees_are_one_units_finding_beside_a_zero_offset(tmp_path):
     """The MJCF drops <compiler angle="radian"> (MuJoCo reads every range in degrees) and gives
     panda_joint4 a zero offset of 20° (ref, read in degrees too), its range left as the URDF writes

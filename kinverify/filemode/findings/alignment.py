@@ -12,7 +12,7 @@ import numpy as np
 from kinverify.filemode.align.match import Matching
 from kinverify.filemode.align.result import Alignment
 from kinverify.filemode.findings.couplings import written_alike
-from kinverify.filemode.findings.own_zero import zero_offset_finding
+from kinverify.filemode.findings.own_zero import sign_flip_finding, zero_offset_finding
 from kinverify.filemode.findings.table import finding, fmt, unit_factor
 from kinverify.filemode.read.model import ModelDesc
 from kinverify.model.transforms import geodesic_distance, matrix_to_rpy
@@ -172,17 +172,7 @@ def alignment_findings(
         names: dict[str, Any] = {"joint": j.urdf, "mjcf_joint": j.mjcf}
         frames = [f for f in _downstream(u, j.urdf) if f in compared]
         if j.sign < 0:
-            out.append(
-                finding(
-                    "axis_sign_flip",
-                    f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
-                    "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else ""),
-                    {"sign": -1, "moves": frames},
-                    magnitude=1,
-                    unit="",
-                    **names,
-                )
-            )
+            out.append(sign_flip_finding(u, m, j, frames, names, limit_tol))
         att = al.attribution.get(j.urdf)
         if j.offset:
             out.append(zero_offset_finding(u, m, j, frames, names, limit_tol, coupled))

@@ -1,11 +1,13 @@
-"""Values each file writes in its own joint coordinates, and a zero offset between them.
+"""Values each file writes in its own joint coordinates, and a zero offset (or reversed axis) between them.
 
 A joint's zero offset (``q_mjcf = s·q_urdf + o``, fitted from the kinematics) moves everything a
 file states in that joint's coordinates: a range, a coupling. When the MJCF writes the same
 numbers as the URDF in its own coordinates (a frame turned about its joint's axis, or a slide's
 frame moved along it, with the range left as written), those values sit ``o`` apart physically:
-a consequence of the zero offset, said in its finding, not a second difference. What differs
-beyond that is a difference of its own, of the size the offset does not explain.
+a consequence of the zero offset, said in its finding, not a second difference. A reversed axis
+(``s = −1``) with an asymmetric range left as written mirrors it physically: said likewise by the
+``axis_sign_flip`` finding. What differs beyond that is a difference of its own, of the size the
+joint map does not explain.
 
 :func:`bounds` compares a joint's range both ways; the limits suite reports the part the offset
 does not explain, :func:`zero_offset_finding` the part it does.
@@ -42,7 +44,8 @@ class Bounds:
     """A joint's range compared: ``lower``/``upper`` the URDF's in the MJCF's coordinates (through
     the sign and the zero offset, up to the whole turn that fits), ``ends`` each bound's difference
     from the MJCF's and ``error`` the larger; ``written``: the two differences with the range read
-    in each file's own zero (the sign carried, the offset not), None without an offset."""
+    as each file writes it (the offset not carried; the sign carried or, on a reversed axis, not:
+    the closer), None when the joint map is the identity."""
 
     lower: float
     upper: float
@@ -54,7 +57,8 @@ class Bounds:
         return max(self.ends)
 
     def offset_explains(self, tol: float) -> bool:
-        """The ranges differ physically, and only by the zero offset: written alike in each file's own zero."""
+        """The ranges differ physically, and only by the joint map (a zero offset, a reversed axis):
+        written alike in each file's own coordinates."""
         return self.error > tol and self.written is not None and max(self.written) <= tol
 
     def beyond_offset(self, tol: float) -> float:
@@ -76,7 +80,9 @@ def bounds(lower: float, upper: float, m_lower: float, m_upper: float, sign: int
     lo, up = mapped_bounds(lower, upper, sign, offset)
     if revolute and offset:
         lo, up = min(((lo + k, up + k) for k in (0.0, -2 * math.pi, 2 * math.pi)), key=lambda b: max(ends(b)))
-    return Bounds(lo, up, ends((lo, up)), ends(mapped_bounds(lower, upper, sign, 0.0)) if offset else None)
+    # each file's own coordinates: the offset not carried (the sign carried, or neither when the axis is reversed)
+    own = [ends(mapped_bounds(lower, upper, s, 0.0)) for s in {sign, 1} if offset or s != sign]
+    return Bounds(lo, up, ends((lo, up)), min(own, key=max) if own else None)
 
 
 def zero_offset_finding(
@@ -113,5 +119,32 @@ def zero_offset_finding(
         values,
         magnitude=abs(j.offset),
         unit=unit,
+        **names,
+    )
+
+
+def sign_flip_finding(u: ModelDesc, m: ModelDesc, j, frames: list[str], names: dict, limit_tol: float) -> Finding:
+    """Joint ``j``'s reversed axis; without a zero offset beside it (whose finding says the range
+    then), an asymmetric range written alike in each file's own coordinates is mirrored by it
+    physically: said here (the limits check it fails is this finding's), not as a second difference."""
+    values: dict[str, Any] = {"sign": -1, "moves": frames}
+    also = ""
+    if not j.offset:
+        uj, mj = u.joint(j.urdf), m.joint(j.mjcf)
+        b = bounds(uj.lower, uj.upper, mj.lower, mj.upper, j.sign, 0.0, j.type == "revolute")
+        if b.offset_explains(limit_tol):
+            unit = "rad" if j.type == "revolute" else "m"
+            values |= {"range_written_alike": True, "checks": [["limits.position", "joints"]]}
+            also = (
+                f"; its range [{mj.lower:.6g}, {mj.upper:.6g}] is written alike in each file's own coordinates, so the "
+                f"reversed axis mirrors it: its ends sit {b.error:.6g} {unit} apart physically"
+            )
+    return finding(
+        "axis_sign_flip",
+        f"joint {j.urdf}/{j.mjcf}: the axis is reversed (the same q turns the other "
+        "way): q_mjcf = −q_urdf" + (f" + {j.offset:.6g}" if j.offset else "") + also,
+        values,
+        magnitude=1,
+        unit="",
         **names,
     )

@@ -47,11 +47,15 @@ def test_an_end_changed_on_a_range_carried_through_the_offset_is_its_own_size():
     assert b.beyond_offset(TOL) == pytest.approx(0.3)
 
 
-def test_the_sign_is_carried_in_both_readings():
-    """A reversed axis with the range reversed ([−2, 1] for the URDF's [−1, 2]) and an offset of
-    0.1 not applied: explained by the offset; the range left unreversed is not."""
+def test_a_reversed_axis_reads_the_range_as_written_with_or_without_the_sign():
+    """A reversed axis and an offset of 0.1: the range reversed with it ([−2, 1] for the URDF's
+    [−1, 2]) or left exactly as the URDF writes it is explained by the joint map; a range that is
+    neither is not, and the reversed axis alone (no offset) explains the range left as written."""
     assert bounds(-1.0, 2.0, -2.0, 1.0, -1, 0.1, revolute=True).offset_explains(TOL)
-    assert not bounds(-1.0, 2.0, -1.0, 2.0, -1, 0.1, revolute=True).offset_explains(TOL)
+    assert bounds(-1.0, 2.0, -1.0, 2.0, -1, 0.1, revolute=True).offset_explains(TOL)
+    assert not bounds(-1.0, 2.0, -1.0, 2.5, -1, 0.1, revolute=True).offset_explains(TOL)
+    assert bounds(-1.0, 2.0, -1.0, 2.0, -1, 0.0, revolute=True).offset_explains(TOL)
+    assert bounds(-1.0, 2.0, -1.0, 2.0, 1, 0.0, revolute=True).written is None
 
 
 def test_a_whole_turn_is_taken_where_it_fits():
