@@ -28,18 +28,41 @@ convention is not needed).
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import warnings
 
 import numpy as np
-import warp as wp
 
-wp.config.log_level = wp.LOG_WARNING  # set before Newton loads kernels: no "Module ... load" line per module
-import newton  # noqa: E402
+from kinverify.backends.base import BackendBase, Evaluation
+from kinverify.errors import BackendError, UnknownNameError
+from kinverify.model.floating import base_transforms, has_base, rate_matrices
+from kinverify.model.transforms import matrix_to_quat, quat_to_matrix
 
-from kinverify.backends.base import BackendBase, Evaluation  # noqa: E402
-from kinverify.errors import BackendError, UnknownNameError  # noqa: E402
-from kinverify.model.floating import base_transforms, has_base, rate_matrices  # noqa: E402
-from kinverify.model.transforms import matrix_to_quat, quat_to_matrix  # noqa: E402
+
+@contextlib.contextmanager
+def long_lived():
+    """Python's cyclic garbage collector paused while Newton defines its Warp kernels, and what they
+    made frozen after (``gc.freeze``): Warp parses every kernel's source when it is defined, so
+    ``import newton`` leaves about a thousand parsed functions alive for the life of the process, and
+    each full collection (dozens during the import, one more at exit) walked them all again: 2.5 s
+    of the import's 4 s of CPU (docs/performance.md). The objects live as long as the process
+    either way; only their repeated traversal is saved."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()
+
+
+with long_lived():
+    import warp as wp
+
+    wp.config.log_level = wp.LOG_WARNING  # set before Newton loads kernels: no "Module ... load" line per module
+    import newton
 
 COPIES = 64  # configurations per kernel launch (copies of the robot in one model)
 # About twice the largest difference measured (Newton 1.8.0, Warp 1.19.0) between Newton's float32
@@ -85,7 +108,8 @@ class NewtonBackend(BackendBase):
         self.floating = has_base(self.joint_names)
         robot = newton.ModelBuilder()
         try:
-            READERS[source](robot, text, self.floating)
+            with long_lived():  # add_mjcf imports Newton's MuJoCo solver (its kernels) the first time
+                READERS[source](robot, text, self.floating)
         except Exception as err:
             raise BackendError(name, f"cannot load the {source.upper()}: {type(err).__name__}: {err}") from None
         with warnings.catch_warnings(record=True) as caught:  # e.g. "Inertia validation corrected 5 bodies"
