@@ -2,7 +2,9 @@
 
 - ``joint_missing`` (error): joints one file has and the first lacks, or the other way round;
 - ``joint_order`` / ``actuator_order`` (error): the joints (actuators) both have, in another order
-  than the first file's (the first side with actuators'): the size is how many change place;
+  than the first file's (the first side with actuators'): the size is how many change place; two
+  control orders that are each their file's joint order (a USD's drives) differ only as the joints
+  do, which ``joint_order`` names;
 - ``<value>_difference`` (error) per value of :data:`kinverify.map.side.VALUES`: each side is
   compared with the first side that states the value; the joints a side gets wrong by one same
   ratio are one finding; a ratio of 180/π (or π/180) is ``<value>_units`` (per degree read as per
