@@ -51,6 +51,18 @@ def test_without_the_extra_newton_is_listed_unavailable_with_the_pip_line():
     assert proc.returncode == 0, proc.stderr[-2000:]
 
 
+@needs_newton
+def test_newton_is_imported_with_the_garbage_collector_paused_then_its_objects_frozen():
+    """backends/newton_.long_lived: Warp's parsed kernels are frozen (the collector no longer walks them),
+    and the collector runs again after the import."""
+    proc = run_python(
+        "import gc\n"
+        "import kinverify.backends.newton_\n"
+        "assert gc.isenabled() and gc.get_freeze_count() > 100_000, gc.get_freeze_count()\n"
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+
+
 def _errors(a, b):
     pos = np.linalg.norm(a.poses[..., :3, 3] - b.poses[..., :3, 3], axis=-1).max()
     rot = geodesic_distance(a.poses[..., :3, :3], b.poses[..., :3, :3]).max()
@@ -215,8 +227,10 @@ def test_verify_the_panda_passes_with_the_newton_backends(tmp_path):
         ]
     )
     result = json.loads(out.read_text())
-    newton_checks = [c for c in result["checks"] if {"newton-urdf", "newton-mjcf"} & set(c["backends"])]
+    newton_checks = [c for c in result["checks"] if {"newton-urdf", "newton-mjcf", "newton-usd"} & set(c["backends"])]
     assert code == 0 and result["verdict"] == "pass"
+    assert {"newton-urdf", "newton-mjcf"} <= set(result["backends"])
+    assert ("newton-usd" in result["backends"]) == backend_info("newton-usd").available  # the spec's generated USD
     assert {c["property"] for c in newton_checks} >= {"fk.position", "jacobian.angular", "jacobian.fd", "ik.cross_fk"}
     assert any(c["max_error"] > 1e-9 and c["passed"] for c in newton_checks)  # held to its floor, not to 1e-9
 
