@@ -4,7 +4,7 @@ an OpenUSD robot with, compared like Newton's URDF and MJCF readings (convention
 
 The stage is the one kinverify opens (:func:`kinverify.backends.usd_.load_robot`: every layer checked
 before pxr reads it). Newton refuses a stage with composition errors, and a robot whose meshes are
-absent has them (a reference to a missing mesh layer, as on every shared USD): it is then given the
+absent has them (a reference to a missing mesh layer, as in the shared Isaac Lab ANYmal C and Apollo): it is then given the
 stage flattened (``Usd.Stage.Flatten``: the same composed prims, the absent layers contributing
 nothing, as they do in the stage itself). Newton is asked for no visual shapes and no mesh
 approximation (kinematics only).

@@ -152,7 +152,8 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
     "newton-usd": [
         (
             "ModelBuilder.add_usd refuses a stage with composition errors (RuntimeError), and a robot whose mesh "
-            "layers are absent has them (every shared USD: ./Props/instanceable_meshes.usd, GeometryLibrary.usdc)",
+            "layers are absent has them (the shared ANYmal C Isaac Lab asset: ./Props/instanceable_meshes.usd; Apollo: "
+            "Payload/GeometryLibrary.usdc)",
             "the adapter gives Newton kinverify's stage flattened (Usd.Stage.Flatten: the same composed prims, the "
             "absent layers contributing nothing); measured on the ten shared USDs: Newton agrees with kinverify's "
             "own reading to 1.2e-6 m, 4.2e-7 rad and 2.4e-6 in either Jacobian block (float32)",
