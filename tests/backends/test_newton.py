@@ -285,9 +285,9 @@ USD_FILES = {
     "robot", [pytest.param(r, marks=() if r in ("anymal_c", "apollo") else pytest.mark.slow) for r in USD_FILES]
 )
 def test_newton_usd_reads_each_shared_usd_as_pxr_does_within_its_floor(robot):
-    """Every rigid body, site and plain Xform of each shared USD (on the two whose mesh layers are absent the stage
-    has composition errors, so Newton reads it flattened), at random joint values in range, floating base included: Newton's add_usd
-    against kinverify's own reading of the stage (the usd backend)."""
+    """Every rigid body, site and plain Xform of each shared USD (on the two whose mesh layers are absent the
+    stage has composition errors, so Newton reads it flattened), at random joint values in range, floating base
+    included: Newton's add_usd against kinverify's own reading of the stage (the usd backend)."""
     path = REAL_ROBOTS / robot / USD_FILES[robot]
     if not path.is_file():
         pytest.skip("the shared real robots are absent")
