@@ -47,8 +47,10 @@ def long_lived():
     made frozen after (``gc.freeze``): Warp parses every kernel's source when it is defined, so
     ``import newton`` leaves about a thousand parsed functions alive for the life of the process, and
     each full collection (dozens during the import, one more at exit) walked them all again: 2.5 s
-    of the import's 4 s of CPU (docs/performance.md). The objects live as long as the process
-    either way; only their repeated traversal is saved."""
+    of the import's 4 s of CPU (docs/performance.md). The kernels live as long as the process
+    either way; only their repeated traversal is saved. Everything else alive at that moment is
+    frozen too: should it later become cyclic garbage, it is not collected (a long process that
+    builds many Newton backends, a test session, keeps a little more memory)."""
     enabled = gc.isenabled()
     gc.disable()
     try:
