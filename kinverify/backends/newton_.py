@@ -111,13 +111,13 @@ class NewtonBackend(BackendBase):
         self.name, self.joint_names, self.frames = name, tuple(joint_names), tuple(frames)
         self.floating = has_base(self.joint_names)
         robot = newton.ModelBuilder()
-        try:
-            with long_lived():  # add_mjcf imports Newton's MuJoCo solver (its kernels) the first time
-                self.readers[source](robot, text, self.floating)
-        except Exception as err:
-            raise BackendError(name, f"cannot load the {source.upper()}: {type(err).__name__}: {err}") from None
         with warnings.catch_warnings(record=True) as caught:  # e.g. "Inertia validation corrected 5 bodies"
             warnings.simplefilter("always")
+            try:
+                with long_lived():  # add_mjcf imports Newton's MuJoCo solver (its kernels) the first time
+                    self.readers[source](robot, text, self.floating)
+            except Exception as err:
+                raise BackendError(name, f"cannot load the {source.upper()}: {type(err).__name__}: {err}") from None
             self.one = robot.finalize(device="cpu", requires_grad=False)
         self.parser_warnings = [str(w.message) for w in caught]  # kept, not printed
         m = self.one

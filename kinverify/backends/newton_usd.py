@@ -27,7 +27,7 @@ from kinverify.backends.newton_ import READERS, NewtonBackend, newton
 from kinverify.backends.usd_ import load_robot
 from kinverify.backends.usd_layers import quiet_stderr
 from kinverify.backends.usd_stage import UsdRobot
-from kinverify.errors import UnknownNameError
+from kinverify.errors import BackendError, UnknownNameError
 
 IDENTITY_FREE = np.array([0.0, 0, 0, 0, 0, 0, 1])  # a free joint's coordinates at the identity: p, quaternion xyzw
 
@@ -58,6 +58,13 @@ class NewtonUsdBackend(NewtonBackend):
 
     def __init__(self, robot: UsdRobot, name: str, joint_names, frames) -> None:
         self.robot = robot
+        if robot.meters != 1.0:  # quirks.py, newton-usd
+            stated = "USD's fallback, not authored" if not robot.stage.HasAuthoredMetadata("metersPerUnit") else "authored"
+            raise BackendError(
+                name,
+                f"Newton's add_usd reads lengths as metres and ignores the stage's metersPerUnit ({robot.meters:g}, {stated}): "
+                f"it would place every body {1 / robot.meters:g} times as far as the stage does; not compared",
+            )
         super().__init__(robot, "usd", name, joint_names, frames)  # type: ignore[arg-type]  # the importer takes the robot
         if not self.floating:  # a free root joint held at the identity, like the usd backend's floating root
             m = self.one

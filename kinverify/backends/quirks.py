@@ -151,6 +151,14 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
     ],
     "newton-usd": [
         (
+            "ModelBuilder.add_usd reads lengths as metres whatever the stage's metersPerUnit (result['linear_unit'] "
+            "reports it; nothing is scaled): a stage in centimetres (metersPerUnit 0.01, also USD's fallback when "
+            "unauthored) is read 100 times too large (a joint frame at 0.1 units: 0.1 m, where the stage means 0.001 m); "
+            "Newton warns 'USD stages with non-unit linear units are not supported' of an authored one only",
+            "newton-usd refuses a stage whose metersPerUnit is not 1, naming it (file mode: a parser_refused warning); "
+            "the shared USDs and every generated one state metersPerUnit 1",
+        ),
+        (
             "ModelBuilder.add_usd refuses a stage with composition errors (RuntimeError), and a robot whose mesh "
             "layers are absent has them (the shared ANYmal C Isaac Lab asset: ./Props/instanceable_meshes.usd; Apollo: "
             "Payload/GeometryLibrary.usdc)",

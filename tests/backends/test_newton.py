@@ -7,6 +7,7 @@ pays Warp's kernel compile when its cache is cold (about a minute: docs/performa
 from __future__ import annotations
 
 import json
+import warnings
 import xml.etree.ElementTree as ET
 
 import mujoco
@@ -326,3 +327,38 @@ def test_newton_mjcf_floats_only_the_files_free_body_and_leaves_a_static_top_lev
     pos, rot, lin, ang = _errors(newton_.evaluate(q), MujocoBackend.from_mjcf(text, names, frames).evaluate(q))
     for prop, err in (("fk.position", pos), ("fk.rotation", rot), ("jacobian.linear", lin), ("jacobian.angular", ang)):
         assert err <= pair_floor(prop, newton_), (prop, err)
+
+
+@needs_newton_usd
+@pytest.mark.parametrize("header", ["", "\n    metersPerUnit = 0.01"])
+def test_quirk_newton_usd_ignores_meters_per_unit_and_the_backend_says_so(tmp_path, header):
+    """backends/quirks.py, newton-usd: a joint frame at 0.1 stage units in a centimetre stage (authored, or USD's
+    fallback) is 0.001 m; Newton's add_usd puts it at 0.1 m, so newton-usd refuses such a stage, naming it."""
+    from kinverify.errors import BackendError
+
+    path = tmp_path / "cm.usda"
+    path.write_text(
+        f'#usda 1.0\n(\n    upAxis = "Z"{header}\n)\n'
+        'def Xform "r"\n{\n'
+        '    def Xform "b0" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI", "PhysicsArticulationRootAPI"])\n    {\n        float physics:mass = 1\n    }\n'
+        '    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n    {\n        float physics:mass = 1\n    }\n'
+        '    def PhysicsFixedJoint "root"\n    {\n        rel physics:body1 = </r/b0>\n    }\n'
+        '    def PhysicsRevoluteJoint "j1"\n    {\n        uniform token physics:axis = "Z"\n'
+        "        rel physics:body0 = </r/b0>\n        rel physics:body1 = </r/b1>\n"
+        "        point3f physics:localPos0 = (0, 0, 0.1)\n    }\n}\n"
+    )
+    usd = UsdBackend.from_usd(str(path), ["j1"], ["b1"])
+    assert usd.poses(np.zeros((1, 1)))[0, 0, 2, 3] == pytest.approx(0.001)
+    builder = newton_module().ModelBuilder()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        builder.add_usd(str(path))
+    said = any("non-unit linear units are not supported" in str(w.message) for w in caught)
+    assert said == bool(header)  # Newton warns of an authored metersPerUnit only, not of USD's fallback
+    assert builder.finalize(device="cpu").joint_X_p.numpy()[-1][2] == pytest.approx(0.1)  # Newton's own reading: metres
+    with pytest.raises(BackendError, match=r"ignores the stage's metersPerUnit \(0.01, .*100 times as far"):
+        backend_info("newton-usd").backend_class.from_usd(str(path), ["j1"], ["b1"])
+
+
+def newton_module():
+    return pytest.importorskip("newton")
