@@ -340,8 +340,10 @@ def test_quirk_newton_usd_ignores_meters_per_unit_and_the_backend_says_so(tmp_pa
     path.write_text(
         f'#usda 1.0\n(\n    upAxis = "Z"{header}\n)\n'
         'def Xform "r"\n{\n'
-        '    def Xform "b0" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI", "PhysicsArticulationRootAPI"])\n    {\n        float physics:mass = 1\n    }\n'
-        '    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n    {\n        float physics:mass = 1\n    }\n'
+        '    def Xform "b0" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI", "PhysicsArticulationRootAPI"])\n'
+        "    {\n        float physics:mass = 1\n    }\n"
+        '    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n'
+        "    {\n        float physics:mass = 1\n    }\n"
         '    def PhysicsFixedJoint "root"\n    {\n        rel physics:body1 = </r/b0>\n    }\n'
         '    def PhysicsRevoluteJoint "j1"\n    {\n        uniform token physics:axis = "Z"\n'
         "        rel physics:body0 = </r/b0>\n        rel physics:body1 = </r/b1>\n"
