@@ -77,9 +77,10 @@ _ENTRIES = (
     ("drake-mjcf", ".drake_", "DrakeBackend", "mjcf", "drake"),
     ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake"),
     ("usd", ".usd_", "UsdBackend", "usd", "usd"),
-    # Newton (float32, Warp on the CPU); "newton-usd" joins with a "usd" source (newton_.READERS)
+    # Newton (float32, Warp on the CPU)
     ("newton-urdf", ".newton_", "NewtonBackend", "urdf", "newton"),
     ("newton-mjcf", ".newton_", "NewtonBackend", "mjcf", "newton"),
+    ("newton-usd", ".newton_usd", "NewtonUsdBackend", "usd", "newton"),
 )
 PRIMARY = {
     "urdf": "pinocchio-urdf",

@@ -1,7 +1,7 @@
 """Newton (PyPI ``newton`` with ``warp-lang``, the optional extra ``kinverify[newton]``) on the
 URDF or the MJCF, through its own importers (``ModelBuilder.add_urdf`` / ``add_mjcf``): the reader
-Isaac Lab 3 loads MJCF into, on the CPU here. ``newton-usd`` (``add_usd``) is to come with a USD
-source: :data:`READERS` is the hook, one importer per source kind.
+Isaac Lab 3 loads MJCF into, on the CPU here. ``newton-usd`` (``add_usd``,
+:mod:`kinverify.backends.newton_usd`) adds its importer to :attr:`NewtonBackend.readers`.
 
 Native conventions: Newton computes in **float32** (Warp kernels); a pose is a ``transformf``
 ``(p, q)``, seven floats ``[px py pz, qx qy qz qw]``, the quaternion **xyzw**; ``joint_q`` holds
@@ -28,18 +28,44 @@ convention is not needed).
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import warnings
+from typing import Callable
 
 import numpy as np
-import warp as wp
 
-wp.config.log_level = wp.LOG_WARNING  # set before Newton loads kernels: no "Module ... load" line per module
-import newton  # noqa: E402
+from kinverify.backends.base import BackendBase, Evaluation
+from kinverify.errors import BackendError, UnknownNameError
+from kinverify.model.floating import base_transforms, has_base, rate_matrices
+from kinverify.model.transforms import matrix_to_quat, quat_to_matrix
 
-from kinverify.backends.base import BackendBase, Evaluation  # noqa: E402
-from kinverify.errors import BackendError, UnknownNameError  # noqa: E402
-from kinverify.model.floating import base_transforms, has_base, rate_matrices  # noqa: E402
-from kinverify.model.transforms import matrix_to_quat, quat_to_matrix  # noqa: E402
+
+@contextlib.contextmanager
+def long_lived():
+    """Python's cyclic garbage collector paused while Newton defines its Warp kernels, and what they
+    made frozen after (``gc.freeze``): Warp parses every kernel's source when it is defined, so
+    ``import newton`` leaves about a thousand parsed functions alive for the life of the process, and
+    each full collection (dozens during the import, one more at exit) walked them all again: 2.5 s
+    of the import's 4 s of CPU (docs/performance.md). The kernels live as long as the process
+    either way; only their repeated traversal is saved. Everything else alive at that moment is
+    frozen too: should it later become cyclic garbage, it is not collected (a long process that
+    builds many Newton backends, a test session, keeps a little more memory)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()
+
+
+with long_lived():
+    import warp as wp
+
+    wp.config.log_level = wp.LOG_WARNING  # set before Newton loads kernels: no "Module ... load" line per module
+    import newton
 
 COPIES = 64  # configurations per kernel launch (copies of the robot in one model)
 # About twice the largest difference measured (Newton 1.8.0, Warp 1.19.0) between Newton's float32
@@ -62,12 +88,12 @@ def _import_urdf(builder, text: str, floating: bool) -> None:
 
 
 def _import_mjcf(builder, text: str, floating: bool) -> None:
-    builder.add_mjcf(
-        text, floating=True if floating else None, parse_visuals=False, parse_meshes=False, ignore_inertial_definitions=False
-    )
+    # floating=None: the file's own free joint makes the floating base, as in MuJoCo (floating=True would give
+    # every top-level body one, a static one too: Apollo's world_link)
+    builder.add_mjcf(text, floating=None, parse_visuals=False, parse_meshes=False, ignore_inertial_definitions=False)
 
 
-# One importer per source kind; "usd" (ModelBuilder.add_usd) joins when kinverify reads USD.
+# One importer per source kind (a subclass's ``readers`` adds "usd": kinverify.backends.newton_usd).
 READERS = {"urdf": _import_urdf, "mjcf": _import_mjcf}
 
 
@@ -79,17 +105,19 @@ class NewtonBackend(BackendBase):
     library = "newton"
     agreement_floor = FLOOR
     fd_step = FD_STEP32
+    readers: dict[str, Callable[..., None]] = READERS  # source kind -> importer (a subclass adds its own: newton_usd)
 
     def __init__(self, text: str, source: str, name: str, joint_names, frames) -> None:
         self.name, self.joint_names, self.frames = name, tuple(joint_names), tuple(frames)
         self.floating = has_base(self.joint_names)
         robot = newton.ModelBuilder()
-        try:
-            READERS[source](robot, text, self.floating)
-        except Exception as err:
-            raise BackendError(name, f"cannot load the {source.upper()}: {type(err).__name__}: {err}") from None
         with warnings.catch_warnings(record=True) as caught:  # e.g. "Inertia validation corrected 5 bodies"
             warnings.simplefilter("always")
+            try:
+                with long_lived():  # add_mjcf imports Newton's MuJoCo solver (its kernels) the first time
+                    self.readers[source](robot, text, self.floating)
+            except Exception as err:
+                raise BackendError(name, f"cannot load the {source.upper()}: {type(err).__name__}: {err}") from None
             self.one = robot.finalize(device="cpu", requires_grad=False)
         self.parser_warnings = [str(w.message) for w in caught]  # kept, not printed
         m = self.one
@@ -97,12 +125,12 @@ class NewtonBackend(BackendBase):
         labels = list(m.joint_label)
         types, q_start, qd_start = m.joint_type.numpy(), m.joint_q_start.numpy(), m.joint_qd_start.numpy()
         self._free = None
+        free = [j for j in range(m.joint_count) if types[j] == int(newton.JointType.FREE) and m.joint_parent.numpy()[j] < 0]
         if self.floating:
-            free = [j for j in range(m.joint_count) if types[j] == int(newton.JointType.FREE) and m.joint_parent.numpy()[j] < 0]
             if len(free) != 1:
                 raise BackendError(name, f"the configuration has a floating base but the model has {len(free)} free root joints")
             self._free = (int(q_start[free[0]]), int(qd_start[free[0]]), int(m.joint_child.numpy()[free[0]]))
-        self._iq, self._iv = [], []
+        self._iq, self._iv, held = [], [], free[:1] if self.floating else []
         for joint in self.joint_names[6 if self.floating else 0 :]:
             j = _find(labels, joint)
             if j is None:
@@ -111,7 +139,9 @@ class NewtonBackend(BackendBase):
                 raise BackendError(name, f"joint {joint!r} is not a revolute or prismatic joint in Newton's reading")
             self._iq.append(int(q_start[j]))
             self._iv.append(int(qd_start[j]))
+            held.append(j)
         self._targets = self._frame_targets(m)  # (body index, 4×4 offset) per frame
+        self._articulation(m, held)
         self._q0 = m.joint_q.numpy().astype(np.float64)
         self._com = np.vstack([m.body_com.numpy().astype(np.float64), np.zeros(3)])  # body frame; the world's last
         builder = newton.ModelBuilder()
@@ -120,6 +150,17 @@ class NewtonBackend(BackendBase):
             warnings.simplefilter("ignore")
             self.model = builder.finalize(device="cpu", requires_grad=False)
         self.state = self.model.state()
+
+    def _articulation(self, m, held: list[int]) -> None:
+        """The articulation moved by the compared coordinates (joints ``held``), as eval_jacobian lays it out:
+        a row block per joint of it (its child body's twist), a column per DOF from its first. Bodies of
+        other articulations (a static body of its own, like Apollo's world_link in its MJCF) do not move."""
+        arts = m.joint_articulation.numpy()
+        self._art, self._n_art = int(arts[held[0]]) if held else 0, m.articulation_count
+        if self._art < 0 or any(arts[j] != self._art for j in held):
+            raise BackendError(self.name, "the compared joints are not all in one articulation in Newton's reading")
+        joints = np.flatnonzero(arts == self._art)
+        self._rows, self._col0 = m.joint_child.numpy()[joints], int(m.joint_qd_start.numpy()[joints[0]])
 
     @classmethod
     def from_urdf(cls, urdf_text: str, joint_names, frames, name: str = "newton-urdf") -> "NewtonBackend":
@@ -136,15 +177,19 @@ class NewtonBackend(BackendBase):
         out = []
         for frame in self.frames:
             b = _find(bodies, frame)
+            s = None if b is not None else _find(shapes, frame, sites)
             if b is not None:
                 out.append((b, np.eye(4)))
-                continue
-            s = _find(shapes, frame, sites)
-            if s is None:
-                raise UnknownNameError("frame", frame, [_short(x) for x in bodies] + [_short(shapes[i]) for i in sorted(sites)])
-            body = int(m.shape_body.numpy()[s])  # -1: a site of the world (MJCF <worldbody>), index n_body here
-            out.append((self.n_body if body < 0 else body, _matrices(m.shape_transform.numpy()[s : s + 1])[0]))
+            elif s is not None:
+                body = int(m.shape_body.numpy()[s])  # -1: a site of the world (MJCF <worldbody>), index n_body here
+                out.append((self.n_body if body < 0 else body, _matrices(m.shape_transform.numpy()[s : s + 1])[0]))
+            else:
+                out.append(self._other_frame(m, frame, [_short(x) for x in bodies] + [_short(shapes[i]) for i in sorted(sites)]))
         return out
+
+    def _other_frame(self, m, frame: str, known: list[str]) -> tuple[int, np.ndarray]:
+        """A frame that is neither a Newton body nor a site: unknown here (a reader may know more)."""
+        raise UnknownNameError("frame", frame, known)
 
     def _joint_q(self, q: np.ndarray) -> np.ndarray:
         """Newton's ``joint_q`` rows ``(N, n_q)`` for our configurations ``(N, n)``."""
@@ -177,8 +222,9 @@ class NewtonBackend(BackendBase):
             body_q = st.body_q.numpy().astype(np.float64).reshape(COPIES, self.n_body, 7)[:k]
             poses[start : start + k, : self.n_body] = _matrices(body_q)
             if jac is not None:
-                J = newton.eval_jacobian(m, st).numpy().astype(np.float64)[:k]  # (k, links·6, dofs)
-                jac[start : start + k, : self.n_body] = J[:, : self.n_body * 6, : self.n_qd].reshape(k, self.n_body, 6, self.n_qd)
+                J = newton.eval_jacobian(m, st).numpy().astype(np.float64)[self._art :: self._n_art][:k]  # (k, links·6, dofs)
+                cols = slice(self._col0, self._col0 + J.shape[2])
+                jac[start : start + k, self._rows, :, cols] = J[:, : len(self._rows) * 6].reshape(k, len(self._rows), 6, -1)
         return poses, jac
 
     def poses(self, q: np.ndarray) -> np.ndarray:
@@ -207,7 +253,7 @@ class NewtonBackend(BackendBase):
         return Evaluation(self.name, self.frames, poses, jac)
 
     def _base_columns(self, q: np.ndarray, body_poses: np.ndarray, poses: np.ndarray) -> np.ndarray:
-        """``(N, F, 6, 6)``: each frame's twist per base coordinate rate (the robot moved rigidly)."""
+        """``(N, F, 6, 6)``: each frame's twist per base coordinate rate (the robot's articulation moved rigidly)."""
         assert self._free is not None  # asked of a floating base only
         p_base = body_poses[:, self._free[2], :3, 3]
         r = poses[..., :3, 3] - p_base[:, None]  # (N, F, 3)
@@ -216,7 +262,8 @@ class NewtonBackend(BackendBase):
         out[..., :3, :3] = np.eye(3)
         out[..., :3, 3:] = -np.cross(r[..., :, None], e, axis=-2)  # ω × r = −r × ω
         out[..., 3:, 3:] = e
-        return out
+        moved = np.isin([b for b, _ in self._targets], self._rows)  # a frame on the world or a static body: still
+        return out * moved[:, None, None]
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """Joint-space inertia ``(N, n, n)`` (armature included) on the joints in ``joint_names``;
@@ -233,8 +280,9 @@ class NewtonBackend(BackendBase):
             buf[:k] = full[start : start + COPIES]
             m.joint_q.assign(buf.reshape(-1))
             newton.eval_fk(m, m.joint_q, m.joint_qd, st)
-            H = newton.eval_mass_matrix(m, st).numpy().astype(np.float64)[:k]
-            out[start : start + k] = H[:, self._iv][:, :, self._iv]
+            H = newton.eval_mass_matrix(m, st).numpy().astype(np.float64)[self._art :: self._n_art][:k]
+            iv = np.array(self._iv) - self._col0  # the articulation's own DOF indices
+            out[start : start + k] = H[:, iv][:, :, iv]
         return out
 
 

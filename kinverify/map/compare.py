@@ -2,7 +2,9 @@
 
 - ``joint_missing`` (error): joints one file has and the first lacks, or the other way round;
 - ``joint_order`` / ``actuator_order`` (error): the joints (actuators) both have, in another order
-  than the first file's (the first side with actuators'): the size is how many change place;
+  than the first file's (the first side with actuators'): the size is how many change place; two
+  control orders that are each their file's joint order (a USD's drives) differ only as the joints
+  do, which ``joint_order`` names;
 - ``<value>_difference`` (error) per value of :data:`kinverify.map.side.VALUES`: each side is
   compared with the first side that states the value; the joints a side gets wrong by one same
   ratio are one finding; a ratio of 180/π (or π/180) is ``<value>_units`` (per degree read as per
@@ -120,6 +122,8 @@ def _actuator_order(rows: Rows) -> list[Finding]:
         common = [k for k in ka if k and k in kb]
         by_b = sorted(common, key=kb.index)
         moved = [acts[ka.index(k)].name for k, q in zip(common, by_b, strict=True) if k != q]
+        if moved and _follow_joints(rows, having[0], common) and _follow_joints(rows, s, by_b):
+            continue  # both control orders are their files' joint orders (a USD's drives): joint_order names the cause
         if moved:
             out.append(
                 map_finding(
@@ -136,6 +140,15 @@ def _actuator_order(rows: Rows) -> list[Finding]:
                 )
             )
     return out
+
+
+def _follow_joints(rows: Rows, s: int, keys: list[tuple[int, ...]]) -> bool:
+    """Whether side ``s``'s actuators ``keys`` (single joints) come in its joint order."""
+    if any(len(k) != 1 for k in keys):
+        return False
+    names = rows.sides[s].names
+    at = [names.index(rows.name(k[0], s)) for k in keys]
+    return at == sorted(at)
 
 
 def _ratio_name(ratio: float) -> str | None:

@@ -18,9 +18,15 @@ controller, as an MJCF ``motor``'s: not compared), its ``maxForce`` as the effor
 drive or an ``MjcActuator`` prim (MuJoCo's USD schema, read in MuJoCo's units, per radian, as an
 MJCF actuator: kp = −biasPrm[1]·gear², kd = −biasPrm[2]·gear², ``forceRange`` the effort where the
 joint states none) is driven (when no joint has one, which joints are driven is left to the simulator's
-configuration, as a URDF without transmissions leaves it: not compared). Mimic followers: ``NewtonMimicAPI`` and ``PhysxMimicJointAPI``. USD states no
-actuator (control) order for PhysX: the drives act on the joints, in the joint order (the
-``MjcActuator`` prims' order is not read)."""
+configuration, as a URDF without transmissions leaves it: not compared). Mimic followers: ``NewtonMimicAPI`` and
+``PhysxMimicJointAPI``.
+
+Actuators (control order): the driven joints (a ``PhysicsDriveAPI`` or an ``MjcActuator`` on the joint), one
+actuator each, in the articulation's joint order: a drive acts on its joint, and PhysX's control vector (Isaac
+Lab's joint targets) follows its joint order. Newton's own order is not read: its ``add_usd`` orders joints
+depth-first by default (``joint_ordering="dfs"``), siblings in its own joint list's order, which is not the
+prims' (measured: a depth-first walk in prim order is Newton's on the shared Go2 and ANYmal C USDs, not on
+Apollo's nor the LEAP hand's). The ``MjcActuator`` prims' own order (MuJoCo's) is not read."""
 
 from __future__ import annotations
 
@@ -28,7 +34,7 @@ import math
 
 from kinverify.backends.usd_stage import MOVABLE, read_robot
 from kinverify.filemode.read.describe_usd import describe_usd, joint_values
-from kinverify.map.side import Follows, MapJoint, Side
+from kinverify.map.side import Actuator, Follows, MapJoint, Side
 
 EXPRESSES = frozenset({"default", "stiffness", "damping", "effort", "velocity", "armature", "friction", "joint_damping"})
 ORDER = "breadth-first articulation order (PhysX's, per Isaac Lab; siblings in prim order)"
@@ -102,20 +108,20 @@ def read_usd(path: str, options) -> Side:
         if follower is not None:
             follower.follows = Follows(c.leader, c.multiplier, c.offset, c.source)
     notes = [f"layer {a} is absent" for a in robot.absent] + list(robot.notes)
-    if joints and not any(j.driven for j in joints):  # as a URDF without transmissions
+    # the actuators: the driven joints, in the articulation's order (a drive acts on its joint: PhysX's and
+    # Newton's control vectors follow their joint order)
+    actuators: list[Actuator] | None = [Actuator(j.name, (j.name,), j.mode or "drive") for j in joints if j.driven]
+    if joints and not actuators:  # as a URDF without transmissions
         for j in joints:
             j.driven = None
+        actuators = None
         notes.append(
             "no joint has a PhysicsDriveAPI: which joints are driven is the simulator's configuration "
             "(Isaac Lab's actuators), not compared"
         )
-    notes.append(
-        "no actuator (control) order is read: PhysX's drives act on the joints, in the joint order "
-        "(MjcActuator prims are read for their gains, not their order)"
-    )
     if robot.floating:
         notes.append("floating base: the root body's 6 coordinates come before the joints in the simulator's state")
-    return Side(path, path, "usd", ORDER, joints, None, EXPRESSES, desc, notes)
+    return Side(path, path, "usd", ORDER, joints, actuators, EXPRESSES, desc, notes)
 
 
 def _values(prim, name: str, size: int) -> list[float]:

@@ -7,6 +7,7 @@ pays Warp's kernel compile when its cache is cold (about a minute: docs/performa
 from __future__ import annotations
 
 import json
+import warnings
 import xml.etree.ElementTree as ET
 
 import mujoco
@@ -20,6 +21,8 @@ from kinverify.backends.base import pair_floor
 from kinverify.errors import UnknownNameError
 from kinverify.backends.mujoco_ import MujocoBackend
 from kinverify.backends.pinocchio_ import PinocchioBackend
+from kinverify.backends.usd_ import UsdBackend, load_robot
+from kinverify.model.floating import BASE_COORDINATES
 from kinverify.filemode.read.files import read_mjcf, read_urdf
 from kinverify.model.transforms import geodesic_distance
 from kinverify.pipeline.sampling import spec_samples
@@ -42,9 +45,21 @@ def test_without_the_extra_newton_is_listed_unavailable_with_the_pip_line():
         "import sys; sys.modules['newton'] = None\n"
         "from kinverify.backends import available_backends\n"
         "infos = available_backends()\n"
-        "for name in ('newton-urdf', 'newton-mjcf'):\n"
+        "for name in ('newton-urdf', 'newton-mjcf', 'newton-usd'):\n"
         "    assert not infos[name].available and \"pip install 'kinverify[newton]'\" in infos[name].reason, infos[name]\n"
         "assert all(i.available for n, i in infos.items() if not n.startswith(('newton', 'drake'))), infos\n"
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+@needs_newton
+def test_newton_is_imported_with_the_garbage_collector_paused_then_its_objects_frozen():
+    """backends/newton_.long_lived: Warp's parsed kernels are frozen (the collector no longer walks them),
+    and the collector runs again after the import."""
+    proc = run_python(
+        "import gc\n"
+        "import kinverify.backends.newton_\n"
+        "assert gc.isenabled() and gc.get_freeze_count() > 100_000, gc.get_freeze_count()\n"
     )
     assert proc.returncode == 0, proc.stderr[-2000:]
 
@@ -213,8 +228,10 @@ def test_verify_the_panda_passes_with_the_newton_backends(tmp_path):
         ]
     )
     result = json.loads(out.read_text())
-    newton_checks = [c for c in result["checks"] if {"newton-urdf", "newton-mjcf"} & set(c["backends"])]
+    newton_checks = [c for c in result["checks"] if {"newton-urdf", "newton-mjcf", "newton-usd"} & set(c["backends"])]
     assert code == 0 and result["verdict"] == "pass"
+    assert {"newton-urdf", "newton-mjcf"} <= set(result["backends"])
+    assert ("newton-usd" in result["backends"]) == backend_info("newton-usd").available  # the spec's generated USD
     assert {c["property"] for c in newton_checks} >= {"fk.position", "jacobian.angular", "jacobian.fd", "ik.cross_fk"}
     assert any(c["max_error"] > 1e-9 and c["passed"] for c in newton_checks)  # held to its floor, not to 1e-9
 
@@ -231,3 +248,119 @@ def test_quirk_newton_mjcf_makes_one_joint_of_two_in_one_body():
     with pytest.raises(UnknownNameError) as err:
         backend_info("newton-mjcf").backend_class.from_mjcf(two, ["extra"], ["flange"])
     assert "extra_panda_joint4" in err.value.available and "panda_joint4" not in err.value.available
+
+
+needs_newton_usd = pytest.mark.skipif(not backend_info("newton-usd").available, reason="the newton extra is not installed")
+
+
+@needs_newton_usd
+def test_newton_usd_reads_the_panda_specs_usd_as_pinocchio_reads_its_urdf_at_its_floor():
+    """The spec's generated USD (tools are plain Xforms: their pose in the link from the stage)."""
+    spec = load_spec("models/panda.toml")
+    sources = ModelSources.from_spec(spec)
+    q = spec_samples(spec, 40, seed=5)
+    newton_ = build_backend("newton-usd", sources)
+    assert "flange" in newton_.frames
+    for ref in ("usd", "pinocchio-urdf"):
+        pos, rot, lin, ang = _errors(newton_.evaluate(q), build_backend(ref, sources).evaluate(q))
+        for prop, err in (("fk.position", pos), ("fk.rotation", rot), ("jacobian.linear", lin), ("jacobian.angular", ang)):
+            assert err <= pair_floor(prop, newton_), (ref, prop, err)
+        assert pos > 1e-8, "float32"
+
+
+USD_FILES = {
+    "anymal_c": "anymal_c_isaaclab.usda",  # Isaac Lab's asset
+    "apollo": "apptronik_apollo.usda",  # structured layers, nested bodies, sites, a static world_link
+    "panda": "panda_urdf-usd-converter.usda",
+    "iiwa14": "iiwa14_urdf-usd-converter.usda",
+    "z1": "z1_urdf-usd-converter.usda",
+    "go2": "go2_urdf-usd-converter.usda",
+    "a1": "a1_urdf-usd-converter.usda",
+    "leap_hand": "leap_hand_urdf-usd-converter.usda",
+    "ur5e": "ur5e_urdf-usd-converter.usda",
+}
+
+
+@needs_newton_usd
+@pytest.mark.parametrize(
+    "robot", [pytest.param(r, marks=() if r in ("anymal_c", "apollo") else pytest.mark.slow) for r in USD_FILES]
+)
+def test_newton_usd_reads_each_shared_usd_as_pxr_does_within_its_floor(robot):
+    """Every rigid body, site and plain Xform of each shared USD (on the two whose mesh layers are absent the
+    stage has composition errors, so Newton reads it flattened), at random joint values in range, floating base
+    included: Newton's add_usd against kinverify's own reading of the stage (the usd backend)."""
+    path = REAL_ROBOTS / robot / USD_FILES[robot]
+    if not path.is_file():
+        pytest.skip("the shared real robots are absent")
+    usd = load_robot(str(path))
+    # Isaac Lab's ANYmal C and Apollo reference mesh layers that are absent: Newton is given the stage flattened
+    assert bool(usd.stage.GetCompositionErrors()) == (robot in ("anymal_c", "apollo")), robot
+    joints = [j.name for j in usd.joints if j.kind in ("revolute", "prismatic")]
+    frames = [usd.names[b] for b in usd.bodies] + sorted(usd.sites)
+    ranges = np.array([[max(usd.joint(j).lower, -np.pi), min(usd.joint(j).upper, np.pi)] for j in joints])
+    q = np.random.default_rng(0).uniform(ranges[:, 0], ranges[:, 1], (12, len(joints)))
+    base = [list(BASE_COORDINATES)] if usd.floating else []
+    for names in [joints] + [b + joints for b in base]:
+        qq = q if names is joints else np.hstack([np.random.default_rng(1).uniform(-1, 1, (12, 6)), q])
+        newton_ = backend_info("newton-usd").backend_class.from_usd(str(path), names, frames)
+        pos, rot, lin, ang = _errors(newton_.evaluate(qq), UsdBackend.from_usd(str(path), names, frames).evaluate(qq))
+        for prop, err in (("fk.position", pos), ("fk.rotation", rot), ("jacobian.linear", lin), ("jacobian.angular", ang)):
+            assert err <= pair_floor(prop, newton_), (robot, len(names), prop, err)
+
+
+@needs_newton
+def test_newton_mjcf_floats_only_the_files_free_body_and_leaves_a_static_top_level_body_out():
+    """Apollo's MJCF: a free base_link and a static world_link, both top-level. Newton honours the file's free
+    joint (world_link stays welded: an articulation of its own, which does not move) and agrees with MuJoCo."""
+    path = REAL_ROBOTS / "apollo" / "apollo_menagerie.xml"
+    if not path.is_file():
+        pytest.skip("the shared real robots are absent")
+    mjcf = read_mjcf(str(path), [])[1]  # meshes removed, and the free joint (file mode holds a free base at the origin)
+    text = mjcf.replace('<body name="base_link">', '<body name="base_link"><freejoint/>', 1)
+    assert text != mjcf and '<body name="world_link"' in text
+    joints, frames, ranges = _mjcf_names(text)
+    names = list(BASE_COORDINATES) + joints
+    newton_ = backend_info("newton-mjcf").backend_class.from_mjcf(text, names, frames)
+    assert newton_.one.articulation_count == 2
+    rng = np.random.default_rng(3)
+    q = np.hstack([rng.uniform(-1, 1, (8, 6)), rng.uniform(ranges[:, 0], ranges[:, 1], (8, len(joints)))])
+    pos, rot, lin, ang = _errors(newton_.evaluate(q), MujocoBackend.from_mjcf(text, names, frames).evaluate(q))
+    for prop, err in (("fk.position", pos), ("fk.rotation", rot), ("jacobian.linear", lin), ("jacobian.angular", ang)):
+        assert err <= pair_floor(prop, newton_), (prop, err)
+
+
+@needs_newton_usd
+@pytest.mark.parametrize("header", ["", "\n    metersPerUnit = 0.01"])
+def test_quirk_newton_usd_ignores_meters_per_unit_and_the_backend_says_so(tmp_path, header):
+    """backends/quirks.py, newton-usd: a joint frame at 0.1 stage units in a centimetre stage (authored, or USD's
+    fallback) is 0.001 m; Newton's add_usd puts it at 0.1 m, so newton-usd refuses such a stage, naming it."""
+    from kinverify.errors import BackendError
+
+    path = tmp_path / "cm.usda"
+    path.write_text(
+        f'#usda 1.0\n(\n    upAxis = "Z"{header}\n)\n'
+        'def Xform "r"\n{\n'
+        '    def Xform "b0" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI", "PhysicsArticulationRootAPI"])\n'
+        "    {\n        float physics:mass = 1\n    }\n"
+        '    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])\n'
+        "    {\n        float physics:mass = 1\n    }\n"
+        '    def PhysicsFixedJoint "root"\n    {\n        rel physics:body1 = </r/b0>\n    }\n'
+        '    def PhysicsRevoluteJoint "j1"\n    {\n        uniform token physics:axis = "Z"\n'
+        "        rel physics:body0 = </r/b0>\n        rel physics:body1 = </r/b1>\n"
+        "        point3f physics:localPos0 = (0, 0, 0.1)\n    }\n}\n"
+    )
+    usd = UsdBackend.from_usd(str(path), ["j1"], ["b1"])
+    assert usd.poses(np.zeros((1, 1)))[0, 0, 2, 3] == pytest.approx(0.001)
+    builder = newton_module().ModelBuilder()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        builder.add_usd(str(path))
+    said = any("non-unit linear units are not supported" in str(w.message) for w in caught)
+    assert said == bool(header)  # Newton warns of an authored metersPerUnit only, not of USD's fallback
+    assert builder.finalize(device="cpu").joint_X_p.numpy()[-1][2] == pytest.approx(0.1)  # Newton's own reading: metres
+    with pytest.raises(BackendError, match=r"ignores the stage's metersPerUnit \(0.01, .*100 times as far"):
+        backend_info("newton-usd").backend_class.from_usd(str(path), ["j1"], ["b1"])
+
+
+def newton_module():
+    return pytest.importorskip("newton")

@@ -209,7 +209,7 @@ def test_model_sources_carry_the_usd_and_the_registry_names_its_backend():
     spec = load_spec("models/arm3.toml")
     sources = ModelSources.from_spec(spec)
     assert sources.usd == generate_usd(spec) and sources.usd_joint_names is None and sources.usd_frames is None
-    assert names_reading("usd") == ("usd",)
+    assert names_reading("usd") == ("usd", "newton-usd")  # Newton's with the newton extra
     info = backend_info("usd")
     assert (info.source, info.extra, info.cls) == ("usd", "usd", "UsdBackend")
     # the adapter module may be absent: the registry then treats it as an extra not installed

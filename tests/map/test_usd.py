@@ -171,3 +171,57 @@ def test_mjc_actuator_prims_of_a_converted_mjcf_give_its_gains():
     usd = result.sides[1]
     assert all(j.driven and j.stiffness > 0 for j in usd.joints) and len(usd.joints) == 32
     assert usd.joint("torso_roll").stiffness == pytest.approx(result.sides[0].joint("torso_roll").stiffness)
+
+
+def _generated(tmp_path, name: str = "gripper"):
+    """A shipped spec's USD and MJCF (generated: every joint driven, a force drive and a motor)."""
+    from kinverify import load_spec
+    from kinverify.generate import generate_mjcf
+    from kinverify.generate.usd import generate_usd
+
+    spec = load_spec(Path("models") / f"{name}.toml")
+    usd, xml = tmp_path / f"{name}.usda", tmp_path / f"{name}.xml"
+    usd.write_text(generate_usd(spec))
+    xml.write_text(generate_mjcf(spec))
+    return usd, xml
+
+
+def test_a_generated_usd_states_its_driven_joints_as_actuators_in_articulation_order(tmp_path):
+    usd, xml = _generated(tmp_path)
+    result = map_files([str(usd), str(xml)], MapOptions())
+    side = result.sides[0]
+    assert [a.joints for a in side.actuators] == [(n,) for n in side.names] and len(side.names) == 6
+    assert {a.kind for a in side.actuators} == {"force drive (torque)"}
+    assert not serious(result)
+    maps = {(m["from"], m["to"]): m["index"] for m in result.maps["joints_to_actuators"]}
+    u, x = side.label, result.sides[1].label
+    assert maps[(u, u)] == maps[(u, x)] == list(range(6))
+    assert result.maps["actuators"][0]["index"] == list(range(6))
+
+
+def test_a_planted_actuator_permutation_against_a_generated_usd_is_one_finding(tmp_path):
+    usd, xml = _generated(tmp_path)
+    text = xml.read_text()
+    left, right = (next(line for line in text.splitlines() if f'name="finger_{s}_motor"' in line) for s in ("left", "right"))
+    xml.write_text(text.replace(left, "@@").replace(right, left).replace("@@", right))
+    result = map_files([str(usd), str(xml)], MapOptions())
+    assert [(f.kind, f.magnitude) for f in serious(result)] == [("actuator_order", 2)]
+    (to_ctrl,) = [
+        m for m in result.maps["joints_to_actuators"] if m["from"] == result.sides[0].label and m["to"].endswith(".xml")
+    ]
+    assert to_ctrl["index"] == [0, 1, 2, 3, 5, 4]  # data.ctrl[:] = action[index], the action in the USD's joint order
+
+
+def test_a_joint_without_a_drive_is_no_actuator_of_the_usd(tmp_path):
+    from pxr import Usd, UsdPhysics
+
+    usd, xml = _generated(tmp_path)
+    stage = Usd.Stage.Open(str(usd))
+    (prim,) = [p for p in stage.Traverse() if p.GetName() == "elbow"]
+    prim.RemoveAPI(UsdPhysics.DriveAPI, "angular")
+    stage.GetRootLayer().Save()
+    result = map_files([str(usd), str(xml)], MapOptions())
+    side = result.sides[0]
+    assert [a.name for a in side.actuators] == [n for n in side.names if n != "elbow"] and not side.joint("elbow").driven
+    (to_ctrl,) = [m for m in result.maps["actuators"] if m["from"] == side.label]
+    assert to_ctrl["index"] == [0, 1, None, 2, 3, 4]  # the MJCF's elbow motor has no USD control
