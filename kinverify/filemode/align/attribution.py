@@ -54,6 +54,7 @@ class Attribution:
     folded: float = 0.0  # the zero offset the fit took, part of its frame's turn (said there; the joint map's is then 0)
     tilt_twist: tuple[float, float] = (0.0, 0.0)  # of a turn: how far it tilts the joint's axis, and turns about it [rad]
     contents: int = 0  # what the body holds (centre of mass, inertia, named frames) that still differs after the carry
+    merged_base: str = ""  # a first joint's URDF parent link that the MJCF merges into its world
 
     @property
     def changed(self) -> bool:
@@ -167,6 +168,7 @@ def attribute(info) -> dict[str, Attribution]:
         ]
         body = _Body(info, a, b, pm, children)
         att = Attribution(a, inherited, parent_frame=u.joint(up).child if up is not None else "")
+        att.merged_base = _merged_base(u, m, ju, jm) if up is None else ""
         same_parent = ju.parent == up and (jm.parent == to_m[up] if up is not None else jm.parent is None)
         if same_parent:
             _frame_change(att, info, body, up, ju.child, pm[jm.child])
@@ -176,6 +178,14 @@ def attribute(info) -> dict[str, Attribution]:
         att.contents = body.differing(att.carry, body.own[1:])
         out[a] = att
     return out
+
+
+def _merged_base(u: ModelDesc, m: ModelDesc, ju, jm) -> str:
+    """The URDF link a first joint hangs from when the MJCF has no frame of its own for it (MuJoCo
+    merges a fixed base into its world, so both files place that joint's frame from the world),
+    else ""."""
+    link = ju.parent_frame
+    return link if link not in ("", "world") and link not in m.frames and jm.parent_frame in ("", "world") else ""
 
 
 def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child: str, pose_m: np.ndarray) -> None:
