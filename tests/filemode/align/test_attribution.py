@@ -112,3 +112,35 @@ def test_a_tilted_first_axis_is_that_axis_when_nothing_else_places_the_world(tmp
     diag, errors, bodies = diagnose(tmp_path, mjcf)
     assert errors == [("axis_direction", "panda_joint1")] and bodies == []
     assert finding(diag, "axis_direction").magnitude == pytest.approx(0.05, abs=1e-9)
+
+
+HAND = """<robot name="hand">
+  <link name="base_link"/>
+  <link name="link0"><inertial><origin xyz="0 0 0.05"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="link1"><inertial><origin xyz="0 0 0.1"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="palm"><inertial><origin xyz="0 0 0.02"/><mass value="0.5"/><inertia ixx="0.001" iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="finger"><inertial><origin xyz="0 0 0.02"/><mass value="0.1"/><inertia ixx="0.0001" iyy="0.0001" izz="0.00005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="joint0" type="revolute"><parent link="base_link"/><child link="link0"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
+  <joint name="joint1" type="revolute"><parent link="link0"/><child link="link1"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
+  <joint name="palm_joint" type="fixed"><parent link="link1"/><child link="palm"/><origin xyz="0 0 0.2" rpy="0 0 -0.785398163397"/></joint>
+  <joint name="finger_joint" type="prismatic"><parent link="palm"/><child link="finger"/><origin xyz="0 0 0.05"/><axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="10" velocity="1"/></joint>
+</robot>"""
+
+
+def test_a_frame_below_a_moved_one_turned_by_the_written_precision_only_is_not_turned(tmp_path):
+    """MuJoCo writes the fused palm as a <frame> whose quat (0.92388 0 0 -0.382683) is 6 digits:
+    the finger below it sits 1.2e-6 rad off the URDF's. Link 1 moved by 5 mm: one joint_origin_moved,
+    not a joint_origin_turned of 1.2e-6 rad on the finger's joint (the turn is the written precision)."""
+    urdf = tmp_path / "hand.urdf"
+    urdf.write_text(HAND)
+    mujoco.mj_saveLastXML(str(tmp_path / "hand.xml"), mujoco.MjModel.from_xml_path(str(urdf)))
+    written = (tmp_path / "hand.xml").read_text()
+    assert '<frame pos="0 0 0.2" quat="0.92388 0 0 -0.382683">' in written
+    (tmp_path / "moved.xml").write_text(
+        written.replace('<body name="link1" pos="0 0 0.1">', '<body name="link1" pos="0.003 -0.004 0.1">')
+    )
+    diag = diagnose_files(str(urdf), str(tmp_path / "moved.xml"), FAST)
+    errors = [(f.kind, f.subject, f.severity) for f in diag["findings"] if f.severity == "error"]
+    assert errors == [("joint_origin_moved", "joint1", "error")]
+    assert finding(diag, "joint_origin_moved").magnitude == pytest.approx(0.005, abs=1e-12)
+    assert diag["alignment"].attribution["finger_joint"].turn is None
