@@ -55,6 +55,7 @@ class Attribution:
     tilt_twist: tuple[float, float] = (0.0, 0.0)  # of a turn: how far it tilts the joint's axis, and turns about it [rad]
     contents: int = 0  # what the body holds (centre of mass, inertia, named frames) that still differs after the carry
     merged_base: str = ""  # a first joint's URDF parent link that the MJCF merges into its world
+    base_placed: bool = False  # that link sits away from the URDF's world (its root's fixed joints place it)
 
     @property
     def changed(self) -> bool:
@@ -169,6 +170,8 @@ def attribute(info) -> dict[str, Attribution]:
         body = _Body(info, a, b, pm, children)
         att = Attribution(a, inherited, parent_frame=u.joint(up).child if up is not None else "")
         att.merged_base = _merged_base(u, m, ju, jm) if up is None else ""
+        placed = info.poses_u.get(att.merged_base) if att.merged_base else None
+        att.base_placed = placed is not None and not np.allclose(placed, np.eye(4), rtol=0.0, atol=1e-12)
         same_parent = ju.parent == up and (jm.parent == to_m[up] if up is not None else jm.parent is None)
         if same_parent:
             _frame_change(att, info, body, up, ju.child, pm[jm.child])

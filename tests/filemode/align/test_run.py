@@ -68,3 +68,22 @@ def test_a_base_link_body_the_mjcf_places_elsewhere_is_the_world_transform(writt
     assert (f.kind, f.severity) == ("base_transform", "error")
     assert f.magnitude == pytest.approx(0.005, abs=1e-12)
     assert f.values["xyz"] == pytest.approx([0.003, -0.004, 0.0], abs=1e-12)
+
+
+def test_a_urdf_placing_the_merged_base_elsewhere_is_one_finding_that_says_both_readings(written, tmp_path):
+    """The URDF's world places base_link 0.5 m along x, the MJCF (written from the URDF without that
+    placement) merges base_link into its world: the first joint's frame moved, or equally the base
+    placed elsewhere; one finding that says both, never two."""
+    text, _ = written
+    placed = ARM.replace(
+        '<link name="base_link">',
+        '<link name="world"/><joint name="place" type="fixed"><parent link="world"/><child link="base_link"/>'
+        '<origin xyz="0.5 0 0"/></joint><link name="base_link">',
+    )
+    (tmp_path / "placed.urdf").write_text(placed)
+    (tmp_path / "arm.xml").write_text(text)
+    result = verify_files(str(tmp_path / "placed.urdf"), str(tmp_path / "arm.xml"), OPTIONS)
+    (f,) = [f for f in result.findings if f.severity == "error"]
+    assert (f.kind, f.subject, f.severity) == ("joint_origin_moved", "joint1", "error")
+    assert f.magnitude == pytest.approx(0.5, abs=1e-12)
+    assert "equally, where the URDF places that base link in its world" in f.message
