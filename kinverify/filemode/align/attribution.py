@@ -175,6 +175,8 @@ def attribute(info) -> dict[str, Attribution]:
         same_parent = ju.parent == up and (jm.parent == to_m[up] if up is not None else jm.parent is None)
         if same_parent:
             _frame_change(att, info, body, up, ju.child, pm[jm.child])
+        if up in out and out[up].changed and not att.changed:
+            _unneeded_offset(att, body, j)
         att.axis = tuple(body.errors(body.own[0], att.carry)[k] * (body.rtol, body.ptol)[k] for k in (0, 1))
         if not att.changed and (att.axis[0] > body.rtol or att.axis[1] > body.ptol):
             _seat(att, body)
@@ -224,6 +226,25 @@ def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child
         tilt = float(np.arctan2(np.linalg.norm(np.cross(axis, turn @ axis)), float(axis @ turn @ axis)))
         att.tilt_twist = (tilt, abs(2 * float(np.arctan2(float(q[1:] @ axis), q[0]))))
     att.carry = own
+
+
+def _unneeded_offset(att: Attribution, body: _Body, j) -> None:
+    """A zero offset the fit gave a joint below a moved or turned frame may stand only for that
+    frame's change (the fit knows zero offsets, not turned frames: a frame turned about another
+    axis is fitted as an offset about its joint's axis, and the joint below makes up the rest):
+    when what the joint moves agrees under its carry as well with the offset taken out, the offset
+    is no difference of its own and is dropped (``j``: its :class:`JointMap`)."""
+    if not j.offset or j.type != "revolute":
+        return
+    am, point = body.own[0][2]
+    undo = np.eye(4)  # the MJCF's body turned back about its own axis line by the offset
+    undo[:3, :3] = axis_angle_to_matrix(j.sign * am, np.array([-j.offset]))[0]
+    undo[:3, 3] = point - undo[:3, :3] @ point
+    trial = att.carry @ undo
+    features = body.own + body.next
+    if body.differing(trial, features) <= body.differing(att.carry, features):
+        att.carry = trial
+        j.offset = 0.0
 
 
 def _seat(att: Attribution, body: _Body) -> None:

@@ -9,6 +9,8 @@ tilted where nothing but the joints places the MJCF's world is that axis, not a 
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -16,9 +18,11 @@ import pytest
 
 import tests.filemode.pairs as P
 from kinverify.filemode.compare.inertials import analyse
-from kinverify.filemode.pipeline import diagnose_files
+from kinverify.filemode.pipeline import diagnose_files, verify_files
 from kinverify.model.transforms import axis_angle_to_matrix, matrix_to_quat, quat_to_matrix
 from kinverify.run import VerifyOptions
+from kinverify.testing.strategies import mesh_free_urdf, mujoco_mjcf
+from tests.paths import REAL_ROBOTS
 
 FAST = VerifyOptions(samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"])
 
@@ -144,3 +148,27 @@ def test_a_frame_below_a_moved_one_turned_by_the_written_precision_only_is_not_t
     assert errors == [("joint_origin_moved", "joint1", "error")]
     assert finding(diag, "joint_origin_moved").magnitude == pytest.approx(0.005, abs=1e-12)
     assert diag["alignment"].attribution["finger_joint"].turn is None
+
+
+A1 = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS)) / "a1" / "a1_unitree_ros.urdf"
+
+
+@pytest.mark.skipif(not A1.is_file(), reason="the shared a1 is absent")
+def test_a_zero_offset_that_only_stands_for_the_turned_frame_above_is_dropped(tmp_path):
+    """a1's MJCF (as MuJoCo writes it, with its free joint), the rear right thigh's frame turned by
+    0.0355 rad about a slanted axis (1.7° tilt, 1.1° twist): the fit takes the twist for the
+    thigh's zero offset and gives the calf 3.5e-6 rad to make up the rest; once the thigh's turn is
+    said whole, the calf's contents agree without it: one joint_origin_turned, no zero_offset (and
+    no limit_difference it would shift) on the calf."""
+    urdf = mesh_free_urdf(A1.read_text())
+    (tmp_path / "a1.urdf").write_text(urdf)
+    body = '<body name="RR_thigh" pos="0 -0.0838 0">'
+    mjcf = mujoco_mjcf(urdf, free=True)
+    assert body in mjcf
+    quat = "0.9998427488604547 -0.00017301469128384606 0.00965722177766459 0.014872312685774474"
+    (tmp_path / "a1.xml").write_text(mjcf.replace(body, body[:-1] + f' quat="{quat}">'))
+    options = VerifyOptions(samples=4, fd_samples=1, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics", "limits"])
+    result = verify_files(str(tmp_path / "a1.urdf"), str(tmp_path / "a1.xml"), options)
+    errors = [f for f in result.findings if f.severity == "error"]
+    assert [(f.kind, f.subject, f.severity) for f in errors] == [("joint_origin_turned", "RR_thigh_joint", "error")]
+    assert errors[0].magnitude == pytest.approx(0.0354689, abs=1e-6)
