@@ -140,3 +140,15 @@ def test_an_equivalent_rewrite_is_the_same_robot_in_every_configuration(rewrite,
         np.testing.assert_allclose(i1, i0, atol=1e-12, err_msg=what)
     turned = [b for b in range(1, m0.nbody) if turn(d0.xmat[b], d1.xmat[b])[0] > 1e-6]
     assert ("fullinertia" in what) == (not turned), what  # a turned frame is the only other rewrite
+
+
+def test_a_body_of_a_small_share_of_its_rigid_body_is_no_mass_site():
+    """A 1 g drive link welded to a 1 kg thigh: planting 5-30 % on its mass changes the rigid body's
+    by less than the files write it to (1 ± 0.0005 kg), so mass (like com) is planted only on a
+    body of at least a quarter of its rigid body's mass."""
+    arm = """<mujoco><worldbody><body name="drive"><joint name="j" axis="0 0 1"/>
+      <inertial pos="0 0 0" mass="{m}" diaginertia="1e-06 1e-06 1e-06"/>
+      <body name="thigh"><inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.001"/></body>
+    </body></worldbody></mujoco>"""
+    assert "mass" not in kst.plantable_kinds(arm.format(m="0.001"))
+    assert "mass" in kst.plantable_kinds(arm.format(m="0.5"))

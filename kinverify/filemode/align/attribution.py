@@ -54,6 +54,8 @@ class Attribution:
     folded: float = 0.0  # the zero offset the fit took, part of its frame's turn (said there; the joint map's is then 0)
     tilt_twist: tuple[float, float] = (0.0, 0.0)  # of a turn: how far it tilts the joint's axis, and turns about it [rad]
     contents: int = 0  # what the body holds (centre of mass, inertia, named frames) that still differs after the carry
+    merged_base: str = ""  # a first joint's URDF parent link that the MJCF merges into its world
+    base_placed: bool = False  # that link sits away from the URDF's world (its root's fixed joints place it)
 
     @property
     def changed(self) -> bool:
@@ -167,15 +169,28 @@ def attribute(info) -> dict[str, Attribution]:
         ]
         body = _Body(info, a, b, pm, children)
         att = Attribution(a, inherited, parent_frame=u.joint(up).child if up is not None else "")
+        att.merged_base = _merged_base(u, m, ju, jm) if up is None else ""
+        placed = info.poses_u.get(att.merged_base) if att.merged_base else None
+        att.base_placed = placed is not None and not np.allclose(placed, np.eye(4), rtol=0.0, atol=1e-12)
         same_parent = ju.parent == up and (jm.parent == to_m[up] if up is not None else jm.parent is None)
         if same_parent:
             _frame_change(att, info, body, up, ju.child, pm[jm.child])
+        if up in out and out[up].changed and not att.changed:
+            _unneeded_offset(att, body, j)
         att.axis = tuple(body.errors(body.own[0], att.carry)[k] * (body.rtol, body.ptol)[k] for k in (0, 1))
         if not att.changed and (att.axis[0] > body.rtol or att.axis[1] > body.ptol):
             _seat(att, body)
         att.contents = body.differing(att.carry, body.own[1:])
         out[a] = att
     return out
+
+
+def _merged_base(u: ModelDesc, m: ModelDesc, ju, jm) -> str:
+    """The URDF link a first joint hangs from when the MJCF has no frame of its own for it (MuJoCo
+    merges a fixed base into its world, so both files place that joint's frame from the world),
+    else ""."""
+    link = ju.parent_frame
+    return link if link not in ("", "world") and link not in m.frames and jm.parent_frame in ("", "world") else ""
 
 
 def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child: str, pose_m: np.ndarray) -> None:
@@ -211,6 +226,25 @@ def _frame_change(att: Attribution, info, body: _Body, parent: str | None, child
         tilt = float(np.arctan2(np.linalg.norm(np.cross(axis, turn @ axis)), float(axis @ turn @ axis)))
         att.tilt_twist = (tilt, abs(2 * float(np.arctan2(float(q[1:] @ axis), q[0]))))
     att.carry = own
+
+
+def _unneeded_offset(att: Attribution, body: _Body, j) -> None:
+    """A zero offset the fit gave a joint below a moved or turned frame may stand only for that
+    frame's change (the fit knows zero offsets, not turned frames: a frame turned about another
+    axis is fitted as an offset about its joint's axis, and the joint below makes up the rest):
+    when what the joint moves agrees under its carry as well with the offset taken out, the offset
+    is no difference of its own and is dropped (``j``: its :class:`JointMap`)."""
+    if not j.offset or j.type != "revolute":
+        return
+    am, point = body.own[0][2]
+    undo = np.eye(4)  # the MJCF's body turned back about its own axis line by the offset
+    undo[:3, :3] = axis_angle_to_matrix(j.sign * am, np.array([-j.offset]))[0]
+    undo[:3, 3] = point - undo[:3, :3] @ point
+    trial = att.carry @ undo
+    features = body.own + body.next
+    if body.differing(trial, features) <= body.differing(att.carry, features):
+        att.carry = trial
+        j.offset = 0.0
 
 
 def _seat(att: Attribution, body: _Body) -> None:

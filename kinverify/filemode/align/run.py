@@ -68,14 +68,28 @@ def unmoved_world(info, poses: PairPoses, samples: np.ndarray):
     with the worlds as they are (no world transform) when that leaves fewer differences to report:
     a fixed-base robot whose base the MJCF merges into its world has nothing but its joints to
     place that world by, and a fitted turn may only stand for the first joint's own change (its
-    axis tilted, its frame moved), which attribution then says once. Ties keep the fit."""
+    axis tilted, its frame moved), which attribution then says once.
+
+    Ties: where a frame that no joint moves is matched in both files (the base link has a body of
+    its own in each), the fit is kept: a file places the robot elsewhere. Where the base link has
+    no frame of its own in one file (merged into its world, as MuJoCo writes a fixed base), both
+    files state the first bodies' poses from the base link, that is the world: what differs is
+    those joints' frames, and the worlds as they are win."""
     t = info.alignment.T
     if float(np.abs(t[:3, 3]).max()) <= TOL and float(np.abs(t[:3, :3] - np.eye(3)).max()) <= TOL:
         return info
     alt = Aligner(poses, info.matching, info.floors, samples).solve(candidates=[("identity", np.eye(4))], refit=False)
     other = dataclasses.replace(info, alignment=alt, notes=list(info.notes))
     other.poses_u, other.poses_m = zero_poses(poses, alt)
-    return other if _count(other) < _count(info) else info
+    mine, fitted = _count(other), _count(info)
+    return other if mine < fitted or (mine == fitted and not base_in_both(info)) else info
+
+
+def base_in_both(info) -> bool:
+    """Whether a frame that no joint moves in either file (a fixed base's link, body or site) is
+    matched in both: the base has a frame of its own in each, to place the world by."""
+    u, m = info.u, info.m
+    return any(u.frame_owner.get(fu, "") is None and m.frame_owner.get(fm, "") is None for fu, fm, _ in info.matching.frames)
 
 
 def _count(info) -> int:

@@ -43,6 +43,11 @@ def origin_findings(att, frames: list[str], names: dict) -> list[Finding]:
     (axis and angle: the tilt of its axis and the twist about it together); what it carries moved with it."""
     out = []
     where = f" on {att.parent_frame}" if att.parent_frame else " in the world"
+    if att.merged_base:  # both files place the frame from the base: the URDF's link, the MJCF's world
+        where += f" (the URDF's on its base link {att.merged_base}, which the MJCF merges into its world"
+        # the URDF places that link in its world, the MJCF states no such placement: the placement
+        # differing is the same difference, said here rather than as a second finding
+        where += ("; equally, where the URDF places that base link in its world" if att.base_placed else "") + ")"
     carried = ": everything it carries moved with it" if len(frames) > 1 else ""
     if att.moved is not None:
         size = float(np.linalg.norm(att.moved))

@@ -9,6 +9,8 @@ tilted where nothing but the joints places the MJCF's world is that axis, not a 
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -16,9 +18,11 @@ import pytest
 
 import tests.filemode.pairs as P
 from kinverify.filemode.compare.inertials import analyse
-from kinverify.filemode.pipeline import diagnose_files
+from kinverify.filemode.pipeline import diagnose_files, verify_files
 from kinverify.model.transforms import axis_angle_to_matrix, matrix_to_quat, quat_to_matrix
 from kinverify.run import VerifyOptions
+from kinverify.testing.strategies import mesh_free_urdf, mujoco_mjcf
+from tests.paths import REAL_ROBOTS
 
 FAST = VerifyOptions(samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"])
 
@@ -112,3 +116,59 @@ def test_a_tilted_first_axis_is_that_axis_when_nothing_else_places_the_world(tmp
     diag, errors, bodies = diagnose(tmp_path, mjcf)
     assert errors == [("axis_direction", "panda_joint1")] and bodies == []
     assert finding(diag, "axis_direction").magnitude == pytest.approx(0.05, abs=1e-9)
+
+
+HAND = """<robot name="hand">
+  <link name="base_link"/>
+  <link name="link0"><inertial><origin xyz="0 0 0.05"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="link1"><inertial><origin xyz="0 0 0.1"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="palm"><inertial><origin xyz="0 0 0.02"/><mass value="0.5"/><inertia ixx="0.001" iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="finger"><inertial><origin xyz="0 0 0.02"/><mass value="0.1"/><inertia ixx="0.0001" iyy="0.0001" izz="0.00005" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="joint0" type="revolute"><parent link="base_link"/><child link="link0"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
+  <joint name="joint1" type="revolute"><parent link="link0"/><child link="link1"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
+  <joint name="palm_joint" type="fixed"><parent link="link1"/><child link="palm"/><origin xyz="0 0 0.2" rpy="0 0 -0.785398163397"/></joint>
+  <joint name="finger_joint" type="prismatic"><parent link="palm"/><child link="finger"/><origin xyz="0 0 0.05"/><axis xyz="0 1 0"/><limit lower="0" upper="0.04" effort="10" velocity="1"/></joint>
+</robot>"""
+
+
+def test_a_frame_below_a_moved_one_turned_by_the_written_precision_only_is_not_turned(tmp_path):
+    """MuJoCo writes the fused palm as a <frame> whose quat (0.92388 0 0 -0.382683) is 6 digits:
+    the finger below it sits 1.2e-6 rad off the URDF's. Link 1 moved by 5 mm: one joint_origin_moved,
+    not a joint_origin_turned of 1.2e-6 rad on the finger's joint (the turn is the written precision)."""
+    urdf = tmp_path / "hand.urdf"
+    urdf.write_text(HAND)
+    mujoco.mj_saveLastXML(str(tmp_path / "hand.xml"), mujoco.MjModel.from_xml_path(str(urdf)))
+    written = (tmp_path / "hand.xml").read_text()
+    assert '<frame pos="0 0 0.2" quat="0.92388 0 0 -0.382683">' in written
+    (tmp_path / "moved.xml").write_text(
+        written.replace('<body name="link1" pos="0 0 0.1">', '<body name="link1" pos="0.003 -0.004 0.1">')
+    )
+    diag = diagnose_files(str(urdf), str(tmp_path / "moved.xml"), FAST)
+    errors = [(f.kind, f.subject, f.severity) for f in diag["findings"] if f.severity == "error"]
+    assert errors == [("joint_origin_moved", "joint1", "error")]
+    assert finding(diag, "joint_origin_moved").magnitude == pytest.approx(0.005, abs=1e-12)
+    assert diag["alignment"].attribution["finger_joint"].turn is None
+
+
+A1 = Path(os.environ.get("KINVERIFY_REAL_ROBOTS", REAL_ROBOTS)) / "a1" / "a1_unitree_ros.urdf"
+
+
+@pytest.mark.skipif(not A1.is_file(), reason="the shared a1 is absent")
+def test_a_zero_offset_that_only_stands_for_the_turned_frame_above_is_dropped(tmp_path):
+    """a1's MJCF (as MuJoCo writes it, with its free joint), the rear right thigh's frame turned by
+    0.0355 rad about a slanted axis (1.7° tilt, 1.1° twist): the fit takes the twist for the
+    thigh's zero offset and gives the calf 3.5e-6 rad to make up the rest; once the thigh's turn is
+    said whole, the calf's contents agree without it: one joint_origin_turned, no zero_offset (and
+    no limit_difference it would shift) on the calf."""
+    urdf = mesh_free_urdf(A1.read_text())
+    (tmp_path / "a1.urdf").write_text(urdf)
+    body = '<body name="RR_thigh" pos="0 -0.0838 0">'
+    mjcf = mujoco_mjcf(urdf, free=True)
+    assert body in mjcf
+    quat = "0.9998427488604547 -0.00017301469128384606 0.00965722177766459 0.014872312685774474"
+    (tmp_path / "a1.xml").write_text(mjcf.replace(body, body[:-1] + f' quat="{quat}">'))
+    options = VerifyOptions(samples=4, fd_samples=1, backends=["pinocchio-urdf", "mujoco"], suites=["kinematics", "limits"])
+    result = verify_files(str(tmp_path / "a1.urdf"), str(tmp_path / "a1.xml"), options)
+    errors = [f for f in result.findings if f.severity == "error"]
+    assert [(f.kind, f.subject, f.severity) for f in errors] == [("joint_origin_turned", "RR_thigh_joint", "error")]
+    assert errors[0].magnitude == pytest.approx(0.0354689, abs=1e-6)
