@@ -72,6 +72,8 @@ class PinocchioDynamics:
         other = copy.copy(self)
         m = other.model = self.model.copy()
         for name, (old, new) in changes.items():
+            if not m.existFrame(name, pin.FrameType.BODY):  # a body the URDF does not have: left as it is
+                continue
             frame = m.frames[m.getFrameId(name, pin.FrameType.BODY)]
             if frame.parentJoint == 0:  # fixed to the world: in no dynamics
                 continue
