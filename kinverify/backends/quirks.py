@@ -51,12 +51,14 @@ QUIRKS: dict[str, list[tuple[str, str]]] = {
         (
             "the compiler marks a body's inertial frame as aligned with the body (body_sameframe) when its "
             "principal axes are rotated by less than about 1e-6 rad, and drops that rotation at run time",
-            "the dynamics suite names such bodies in its notes (MujocoDynamics.snapped_inertia_frames)",
+            "the dynamics suite gives Pinocchio MuJoCo's inertial for them against MuJoCo and names them in its notes "
+            "(MujocoDynamics.run_inertials)",
         ),
         (
             "the same same-frame detection puts a centre of mass less than about 1e-6 m from its body origin "
             "at the origin at run time (xipos), while body_ipos keeps the stated position",
-            "file mode allows that distance between the files' centres of mass and gives Pinocchio MuJoCo's in its dynamics",
+            "file mode allows that distance between the files' centres of mass and gives Pinocchio MuJoCo's in its dynamics; "
+            "so does the dynamics suite on a spec (MujocoDynamics.moved_coms; a link 1e-6 m long moved M by 5e-7)",
         ),
     ],
     "drake-urdf": [

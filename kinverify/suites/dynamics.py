@@ -129,19 +129,21 @@ class DynamicsSuite(Suite):
         units = _units(sources.revolute)
         # with a floating base: the mass matrix and gravity in the base coordinates (tracking/models.py)
         compared = STATE_PROPERTIES[:2] if floating else STATE_PROPERTIES
+        # What MuJoCo's compiler aligns with a body's frame (principal axes, centre of mass) its run
+        # time uses so: Pinocchio gets the same inertials against MuJoCo (file mode substitutes its own).
+        run_inertials = mj.run_inertials() if isinstance(mj, MujocoDynamics) else {}
         stats, scales, breakdown = self.state_errors(
-            pin, mj, q, vmax, effort, opts.seed, compared, opts.on_progress, self.forward_scales_with_acceleration
+            pin.with_inertials(run_inertials) if run_inertials else pin,
+            mj,
+            q,
+            vmax,
+            effort,
+            opts.seed,
+            compared,
+            opts.on_progress,
+            self.forward_scales_with_acceleration,
         )
-        snapped = mj.snapped_inertia_frames()
-        quirk = (
-            (
-                "MuJoCo treats the principal inertia axes of "
-                + ", ".join(f"{b} (rotated {a:.2g} rad)" for b, a in snapped)
-                + " as aligned with the body frame (body_sameframe): differences of that order come from MuJoCo"
-            )
-            if snapped
-            else ""
-        )
+        quirk = _sameframe_note(mj.snapped_inertia_frames(), mj.moved_coms() if run_inertials else [], bool(run_inertials))
         checks = []
         for p in compared:
             check = self.check(ctx.options, p, "joints", PAIR, stats[p], quirk, units[p])
@@ -363,3 +365,21 @@ class DynamicsSuite(Suite):
                     )
                 )
         return checks
+
+
+def _sameframe_note(snapped: list, moved: list, substituted: bool) -> str:
+    """The note naming what MuJoCo's compiler aligned with a body's frame (``body_sameframe``)."""
+    parts = [f"the principal inertia axes of {b} (rotated {a:.2g} rad) as aligned with its frame" for b, a in snapped]
+    parts += [f"the centre of mass of {b} ({d:.2g} m from its origin) as at its origin" for b, d in moved]
+    if not parts:
+        return ""
+    return (
+        "MuJoCo's compiler treats "
+        + "; ".join(parts)
+        + " (body_sameframe: within 1e-6 m and about 1e-6 rad) and its run time uses them so: "
+        + (
+            "Pinocchio is given the same inertials for the comparison with MuJoCo (Drake keeps the stated ones)"
+            if substituted
+            else "differences of that order come from MuJoCo"
+        )
+    )

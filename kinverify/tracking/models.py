@@ -23,6 +23,8 @@ angular velocity). The velocity-dependent terms (bias, inverse and forward dynam
 
 from __future__ import annotations
 
+import copy
+
 import mujoco
 import numpy as np
 import pinocchio as pin
@@ -62,6 +64,25 @@ class PinocchioDynamics:
         self.friction = np.array(m.friction)[self.idx_v].copy()
         self.data = m.createData()
         self._perm = np.argsort(self.idx_v)  # model order -> ours
+
+    def with_inertials(self, changes: dict[str, tuple[tuple, tuple]]) -> PinocchioDynamics:
+        """A copy in which each named body (link) carries another inertial: ``changes`` maps the
+        name to (inertial it has, inertial it gets), each ``(mass, com, 3×3 inertia about the com)``
+        in the body frame (:meth:`MujocoDynamics.run_inertials`)."""
+        other = copy.copy(self)
+        m = other.model = self.model.copy()
+        for name, (old, new) in changes.items():
+            if not m.existFrame(name, pin.FrameType.BODY):  # a body the URDF does not have: left as it is
+                continue
+            frame = m.frames[m.getFrameId(name, pin.FrameType.BODY)]
+            if frame.parentJoint == 0:  # fixed to the world: in no dynamics
+                continue
+            # dynamic parameters (mass, first and second moments) are linear in the bodies summed
+            params = [frame.placement.act(pin.Inertia(*i)).toDynamicParameters() for i in (old, new)]
+            total = m.inertias[frame.parentJoint].toDynamicParameters() - params[0] + params[1]
+            m.inertias[frame.parentJoint] = pin.Inertia.FromDynamicParameters(total)
+        other.data = m.createData()
+        return other
 
     @staticmethod
     def build_model(urdf: str):
@@ -189,6 +210,35 @@ class MujocoDynamics:
             vec = float(np.linalg.norm(m.body_iquat[b][1:]))
             if int(m.body_sameframe[b]) in aligned and vec > 0:
                 out.append((m.body(b).name, 2.0 * float(np.arcsin(min(1.0, vec)))))
+        return out
+
+    def moved_coms(self) -> list[tuple[str, float]]:
+        """Bodies whose stated centre of mass (``body_ipos``, not zero) MuJoCo's run time puts at the
+        body origin, with that distance [m]: the compiler's same-frame test takes an inertial frame
+        whose every coordinate is within 1e-6 m of the body's, and whose quaternion is within 1e-6 of
+        the identity, for the body frame itself (``body_sameframe`` = BODY), and ``mj_kinematics``
+        then uses the body's origin as its centre of mass (``xipos``)."""
+        m, same = self.model, int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY)
+        return [
+            (m.body(b).name, float(np.linalg.norm(m.body_ipos[b])))
+            for b in range(1, m.nbody)
+            if int(m.body_sameframe[b]) == same and np.any(m.body_ipos[b])
+        ]
+
+    def run_inertials(self) -> dict[str, tuple[tuple, tuple]]:
+        """For each body :meth:`snapped_inertia_frames` or :meth:`moved_coms` names: its inertial as
+        the MJCF states it (compiled: ``body_ipos``, ``body_iquat``) and as MuJoCo's run time uses it
+        (at the body origin, along the body's axes); each ``(mass, com, 3×3 inertia about the com)``
+        in the body frame."""
+        m, out = self.model, {}
+        for name in dict(self.snapped_inertia_frames() + self.moved_coms()):
+            b = m.body(name).id
+            flat = np.zeros(9)
+            mujoco.mju_quat2Mat(flat, m.body_iquat[b])
+            rot, diag = flat.reshape(3, 3), np.diag(m.body_inertia[b])
+            mass, com = float(m.body_mass[b]), np.array(m.body_ipos[b])
+            same = int(m.body_sameframe[b]) == int(mujoco.mjtSameFrame.mjSAMEFRAME_BODY)
+            out[name] = ((mass, com, rot @ diag @ rot.T), (mass, np.zeros(3) if same else com, diag))
         return out
 
     def _set(self, q, v=None) -> None:

@@ -11,10 +11,17 @@ from pathlib import Path
 
 import numpy as np
 
+from kinverify.filemode.pipeline import FILE_SUITES
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
 from tests.paths import MODELS
 import mujoco
+
+# File mode's suites but the drawing of both files: the pictures suite renders in a child process
+# (a fresh interpreter, about 0.9 s of CPU per run) and makes no check and no finding; tests whose
+# assertions are about what file mode compares and finds leave it out (the drawing is tested in
+# tests/suites/test_pictures.py and tests/report/test_filemode_report.py).
+NO_PICTURES = [s for s in FILE_SUITES if s != "pictures"]
 
 
 def ignored_by_drake(finding) -> bool:

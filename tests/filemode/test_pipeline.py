@@ -20,8 +20,10 @@ from kinverify.run import VerifyOptions
 from tests.filemode.pairs import write_pair
 import kinverify.filemode.align.run as align_stage
 
-FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
-ALL = VerifyOptions(samples=8, fd_samples=4, extra={"dynamics_samples": 12})
+FAST = VerifyOptions(
+    samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12}, suites=P.NO_PICTURES
+)
+ALL = VerifyOptions(samples=8, fd_samples=4, extra={"dynamics_samples": 12}, suites=P.NO_PICTURES)
 
 
 def run(tmp_path, edit=None, model="panda", options=FAST, **kwargs):

@@ -17,6 +17,7 @@ import pytest
 
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
+from tests.filemode.pairs import NO_PICTURES
 from tests.paths import REAL_ROBOTS
 from kinverify.filemode.read.loading import given_packages
 
@@ -32,7 +33,7 @@ FILES = {
     "ur5e": ("ur5e_ur_description.urdf", "ur5e_menagerie.xml"),
 }
 SAME_WORLD = ("panda", "iiwa14", "z1", "go2", "a1")  # every library reads both files, whose worlds coincide
-OPTIONS = VerifyOptions(samples=12, fd_samples=4, extra={"dynamics_samples": 20})
+OPTIONS = VerifyOptions(samples=12, fd_samples=4, extra={"dynamics_samples": 20}, suites=NO_PICTURES)
 
 
 @lru_cache(maxsize=None)

@@ -26,7 +26,9 @@ import tests.filemode.pairs as P
 from tests.filemode.pairs import joint_attr, nums
 from kinverify.filemode.align.geometry import line_distance
 
-FAST = VerifyOptions(samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 8})
+FAST = VerifyOptions(
+    samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 8}, suites=P.NO_PICTURES
+)
 SETTINGS = settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 

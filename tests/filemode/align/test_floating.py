@@ -21,8 +21,10 @@ from kinverify.model.floating import BASE_COORDINATES, base_transforms
 from kinverify.run import VerifyOptions
 from tests.filemode.pairs import write_pair
 
-ALL = VerifyOptions(samples=10, fd_samples=4, extra={"dynamics_samples": 10})
-FAST = VerifyOptions(samples=10, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 10})
+ALL = VerifyOptions(samples=10, fd_samples=4, extra={"dynamics_samples": 10}, suites=P.NO_PICTURES)
+FAST = VerifyOptions(
+    samples=10, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 10}, suites=P.NO_PICTURES
+)
 
 
 def floating_arm3() -> tuple[str, str]:

@@ -17,7 +17,9 @@ from kinverify.model.specfile import spec_from_dict
 from kinverify.run import VerifyOptions
 from tests.filemode.findings.test_alignment import quadruped
 
-FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
+FAST = VerifyOptions(
+    samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12}, suites=P.NO_PICTURES
+)
 
 
 def serious(result) -> list:

@@ -7,7 +7,9 @@ import tests.filemode.pairs as P
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 
-OPTIONS = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
+OPTIONS = VerifyOptions(
+    samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12}, suites=P.NO_PICTURES
+)
 
 
 def test_gravity_compensation_is_named_and_left_out_of_the_rigid_body_comparison(tmp_path):

@@ -13,7 +13,9 @@ from kinverify.filemode.findings.accepted import apply, Entry
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 
-FAST = VerifyOptions(samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12})
+FAST = VerifyOptions(
+    samples=8, fd_samples=4, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 12}, suites=P.NO_PICTURES
+)
 
 
 def run(tmp_path, urdf, mjcf):

@@ -20,9 +20,9 @@ from kinverify.filemode.read.loading import load_mjcf, load_urdf
 from kinverify.filemode.read.validate import inertial_problem, validate_inertials
 from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
 from kinverify.run import VerifyOptions
-from tests.filemode.pairs import generated_pair, write_pair
+from tests.filemode.pairs import NO_PICTURES, generated_pair, write_pair
 
-FAST = VerifyOptions(samples=10, fd_samples=5)
+FAST = VerifyOptions(samples=10, fd_samples=5, suites=NO_PICTURES)
 
 
 def one_line_exit_2(capsys, argv) -> str:

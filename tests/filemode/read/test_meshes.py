@@ -15,9 +15,9 @@ from kinverify.filemode.pipeline import verify_files
 from kinverify.filemode.read.loading import load_mjcf, load_urdf, resolve_asset
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.run import VerifyOptions
-from tests.filemode.pairs import generated_pair, sub_once, write_pair
+from tests.filemode.pairs import NO_PICTURES, generated_pair, sub_once, write_pair
 
-FAST = VerifyOptions(samples=20, fd_samples=5)
+FAST = VerifyOptions(samples=20, fd_samples=5, suites=NO_PICTURES)
 
 
 def cube_stl(path: Path, half: float = 0.02) -> None:
