@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from kinverify import load_spec
 from kinverify.testing import strategies as kst
-from kinverify.backends import ModelSources
+from kinverify.backends import ModelSources, available_backends
 from kinverify.backends.mujoco_ import MujocoBackend
 from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.run import VerifyOptions, model_info, verify, verify_spec
@@ -24,7 +24,9 @@ def test_shipped_models_pass_below_1e9(path):
     assert result.verdict == "pass", [c for c in result.failed][:3]
     fk = [c for c in result.checks if c.property == "fk.position"]
     assert {c.backends[1] for c in fk} >= {"pinocchio-urdf", "pinocchio-mjcf", "mujoco", "yourdfpy"}
-    assert max(c.max_error for c in fk) < 1e-9
+    # the double-precision libraries agree below 1e-9 (the newton extra's float32 ones to their own floor)
+    float32 = {n for n, info in available_backends().items() if info.extra == "newton"}
+    assert max(c.max_error for c in fk if not set(c.backends) & float32) < 1e-9
     assert all(len(c.worst_q) == result.joint_names.__len__() for c in result.checks)
 
 
