@@ -7,6 +7,7 @@ Each entry names the model source it reads (the spec, the URDF, the MJCF, the SD
 from __future__ import annotations
 
 import importlib
+from importlib import metadata
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Callable
@@ -42,6 +43,7 @@ class BackendInfo:
     available: bool
     reason: str = ""  # why it is unavailable
     extra: str = ""  # the optional extra of kinverify that installs its library
+    library: str = ""  # the distribution of the library it runs (its version goes in every report)
 
     @property
     def backend_class(self) -> type[Any]:
@@ -62,25 +64,26 @@ _BUILDERS: dict[str, Callable] = {
     "usd": lambda cls, s, name: cls.from_usd(s.usd, s.usd_joint_names or s.joint_names, s.usd_frames or s.frames, name=name),
 }
 
-# name, module, class, source[, extra]: a backend is an adapter class reading one model source;
-# ``extra``: the optional extra of kinverify that installs its library. Per source, the first
-# listed is the one file mode takes as that file's primary reader.
+# name, module, class, source, library[, extra]: a backend is an adapter class reading one model
+# source with one library (its distribution's name: its version is read from the installed
+# metadata, without importing it); ``extra``: the optional extra of kinverify that installs that
+# library. Per source, the first listed is the one file mode takes as that file's primary reader.
 _ENTRIES = (
-    ("analytic", ".analytic", "AnalyticBackend", "spec"),
-    ("analytic-dh", ".analytic", "AnalyticDHBackend", "spec"),
-    ("pinocchio-urdf", ".pinocchio_", "PinocchioBackend", "urdf"),
-    ("pinocchio-mjcf", ".pinocchio_", "PinocchioBackend", "mjcf"),
-    ("mujoco", ".mujoco_", "MujocoBackend", "mjcf"),
-    ("yourdfpy", ".yourdfpy_", "YourdfpyBackend", "urdf"),
-    ("mujoco-urdf", ".mujoco_", "MujocoBackend", "urdf"),
-    ("drake-urdf", ".drake_", "DrakeBackend", "urdf", "drake"),
-    ("drake-mjcf", ".drake_", "DrakeBackend", "mjcf", "drake"),
-    ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake"),
-    ("usd", ".usd_", "UsdBackend", "usd", "usd"),
+    ("analytic", ".analytic", "AnalyticBackend", "spec", "numpy"),
+    ("analytic-dh", ".analytic", "AnalyticDHBackend", "spec", "numpy"),
+    ("pinocchio-urdf", ".pinocchio_", "PinocchioBackend", "urdf", "pin"),
+    ("pinocchio-mjcf", ".pinocchio_", "PinocchioBackend", "mjcf", "pin"),
+    ("mujoco", ".mujoco_", "MujocoBackend", "mjcf", "mujoco"),
+    ("yourdfpy", ".yourdfpy_", "YourdfpyBackend", "urdf", "yourdfpy"),
+    ("mujoco-urdf", ".mujoco_", "MujocoBackend", "urdf", "mujoco"),
+    ("drake-urdf", ".drake_", "DrakeBackend", "urdf", "drake", "drake"),
+    ("drake-mjcf", ".drake_", "DrakeBackend", "mjcf", "drake", "drake"),
+    ("drake-sdf", ".drake_", "DrakeBackend", "sdf", "drake", "drake"),
+    ("usd", ".usd_", "UsdBackend", "usd", "usd-core", "usd"),
     # Newton (float32, Warp on the CPU)
-    ("newton-urdf", ".newton_", "NewtonBackend", "urdf", "newton"),
-    ("newton-mjcf", ".newton_", "NewtonBackend", "mjcf", "newton"),
-    ("newton-usd", ".newton_usd", "NewtonUsdBackend", "usd", "newton"),
+    ("newton-urdf", ".newton_", "NewtonBackend", "urdf", "newton", "newton"),
+    ("newton-mjcf", ".newton_", "NewtonBackend", "mjcf", "newton", "newton"),
+    ("newton-usd", ".newton_usd", "NewtonUsdBackend", "usd", "newton", "newton"),
 )
 PRIMARY = {
     "urdf": "pinocchio-urdf",
@@ -96,13 +99,13 @@ def backend_info(name: str) -> BackendInfo:
     entry = next((e for e in _ENTRIES if e[0] == name), None)
     if entry is None:
         raise UnknownNameError("backend", name, [e[0] for e in _ENTRIES])
-    name, module, cls, source, extra = (*entry, "")[:5]
+    name, module, cls, source, library, extra = (*entry, "")[:6]
     try:
         importlib.import_module(module, __name__)
-        return BackendInfo(name, module, cls, source, True, extra=extra)
+        return BackendInfo(name, module, cls, source, True, extra=extra, library=library)
     except Exception as err:  # ImportError, or e.g. RuntimeError from mujoco for a bad MUJOCO_GL
         hint = f"; pip install 'kinverify[{extra}]' brings it" if extra and isinstance(err, ImportError) else ""
-        return BackendInfo(name, module, cls, source, False, f"cannot import: {err}{hint}", extra)
+        return BackendInfo(name, module, cls, source, False, f"cannot import: {err}{hint}", extra, library)
 
 
 def available_backends() -> dict[str, BackendInfo]:
@@ -118,8 +121,16 @@ def names_reading(source: str) -> tuple[str, ...]:
 
 
 def libraries() -> tuple[str, ...]:
-    """The distributions behind the registered backends that import, in registry order."""
-    return tuple(dict.fromkeys(info.backend_class.library for info in available_backends().values() if info.available))
+    """The distributions behind the registered backends that are installed, in registry order
+    (read from the installed metadata: nothing is imported)."""
+    out = []
+    for entry in _ENTRIES:
+        try:
+            metadata.version(entry[4])
+        except metadata.PackageNotFoundError:
+            continue
+        out.append(entry[4])
+    return tuple(dict.fromkeys(out))
 
 
 def build_backend(name: str, sources: ModelSources) -> Backend:

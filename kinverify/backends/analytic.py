@@ -19,7 +19,6 @@ class AnalyticBackend(BackendBase):
     kinverify's convention."""
 
     name = "analytic"
-    library = "numpy"
 
     def __init__(self, spec: ArmSpec) -> None:
         self.spec = spec

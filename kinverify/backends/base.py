@@ -70,11 +70,11 @@ def finite_difference_jacobians(poses_fn, q: np.ndarray, step: float = FD_STEP) 
 class BackendBase:
     """Shared behaviour; subclasses set the attributes and implement :meth:`poses`.
 
-    Capabilities are declared here, once per class: ``library`` (the distribution whose version
-    every report records), ``jacobian_method``, ``has_rotation`` and ``slow``."""
+    Capabilities are declared here, once per class: ``jacobian_method``, ``has_rotation`` and
+    ``slow``; the library each registered backend runs (the distribution whose version every report
+    records) is its line of the registry (:mod:`kinverify.backends`)."""
 
     name: str = "backend"
-    library: str = ""
     joint_names: tuple[str, ...] = ()
     frames: tuple[str, ...] = ()
     has_rotation: bool = True

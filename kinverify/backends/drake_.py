@@ -40,7 +40,6 @@ class DrakeBackend(EvaluatingBackend):
     """Frame FK and Jacobians from a finalized ``MultibodyPlant`` (conventions: module docstring).
     Joints of the model not in ``joint_names`` stay at Drake's default positions (0 for 1-DOF joints)."""
 
-    library = "drake"
     dynamics = DrakeDynamics  # Drake's dynamics model of a file (the dynamics suite's third library)
     load_plant = staticmethod(load_plant)  # Drake's reading of a file (file mode describes an SDFormat file with it)
     refused_elements = staticmethod(refused_elements)  # what its parser said it ignores, by element

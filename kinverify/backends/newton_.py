@@ -102,7 +102,6 @@ class NewtonBackend(BackendBase):
     (conventions: module docstring). Joints not in ``joint_names`` stay at Newton's ``joint_q``
     defaults."""
 
-    library = "newton"
     agreement_floor = FLOOR
     fd_step = FD_STEP32
     readers: dict[str, Callable[..., None]] = READERS  # source kind -> importer (a subclass adds its own: newton_usd)

@@ -46,7 +46,6 @@ def load_robot(usd_text_or_path: str) -> UsdRobot:
 class UsdBackend(BackendBase):
     """FK of a USD articulation (pxr reads it; the joint frames composed in numpy)."""
 
-    library = "usd-core"
     jacobian_method = "analytic"
     # UsdPhysics stores joint frames in single precision (point3f localPos, quatf localRot): each value
     # is off by up to 2^-24 of itself (6e-8), and a chain of 30 joints over 2 m adds up to about

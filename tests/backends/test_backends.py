@@ -149,17 +149,19 @@ def test_single_joint_arm(joint_type):
 
 
 def test_capabilities_are_declared_once_on_each_backend_class():
-    """Library, Jacobian method and cost come from the adapter class: the report's versions and
-    file mode's readers of each file are derived from the registry, not kept in side lists."""
+    """Jacobian method and cost come from the adapter class, the library from its registry line
+    (read from the installed metadata, importing nothing): the report's versions and file mode's
+    readers of each file are derived from the registry, not kept in side lists."""
     from kinverify.backends import available_backends, names_reading
     from kinverify.versions import library_versions
+    from importlib import metadata
 
     versions = library_versions()
     for name, info in available_backends().items():
         if not info.available:  # an optional library not installed (its reason names the extra)
             continue
         cls = info.backend_class
-        assert cls.library and cls.library in versions, name
+        assert info.library and versions[info.library] == metadata.version(info.library), name
         assert cls.jacobian_method in ("analytic", "finite-difference", None)
     assert [n for n, i in available_backends().items() if i.available and i.backend_class.slow] == ["yourdfpy"]
     assert names_reading("urdf") == ("pinocchio-urdf", "yourdfpy", "mujoco-urdf", "drake-urdf", "newton-urdf")
