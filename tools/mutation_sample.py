@@ -23,6 +23,7 @@ equivalent" in docs/testing.md. Exit 0 when it ran, whatever the score; 2 on bad
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import math
 import random
@@ -48,13 +49,20 @@ def own_tests(module: str) -> str | None:
     return str(test) if (ROOT / test).is_file() else None
 
 
-def population(package: str) -> list[tuple[str, str]]:
-    """(module, mutant name) of every mutant mutmut makes in ``package``, modules in path order."""
+def population(package: str, cache: Path) -> list[tuple[str, str]]:
+    """(module, mutant name) of every mutant mutmut makes in ``package``, modules in path order;
+    kept in ``cache`` for sources unchanged (making them takes minutes for a large package)."""
+    paths = sorted((ROOT / package).rglob("*.py"))
+    digest = hashlib.sha256(b"".join(p.read_bytes() + str(p).encode() for p in paths)).hexdigest()
+    if cache.is_file() and (kept := json.loads(cache.read_text()))["sources"] == digest:
+        return [tuple(pair) for pair in kept["mutants"]]
     out = []
-    for path in sorted((ROOT / package).rglob("*.py")):
+    for path in paths:
         module = str(path.relative_to(ROOT))
         names = mutate_file_contents(module, path.read_text(), None, None).mutant_names
         out += [(module, get_mutant_name(Path(module), name)) for name in names]
+    cache.parent.mkdir(parents=True, exist_ok=True)
+    cache.write_text(json.dumps({"sources": digest, "mutants": out}, ensure_ascii=False))
     return out
 
 
@@ -131,9 +139,10 @@ def main(argv: list[str]) -> int:
     if not (ROOT / package / "__init__.py").is_file() or args.size < 1:
         print(f"mutation_sample: {package} is not a package of the project (or --size < 1)", file=sys.stderr)
         return 2
-    everything = population(package)
+    kept = ROOT / ".mutation" / "sample"
+    everything = population(package, kept / f"{package.replace('/', '.')}-mutants.json")
     drawn = random.Random(args.seed).sample(everything, min(args.size, len(everything)))
-    store = ROOT / ".mutation" / "sample" / f"{package.replace('/', '.')}-{args.seed}-{args.size}.json"
+    store = kept / f"{package.replace('/', '.')}-{args.seed}-{args.size}.json"
     sample: dict[str, dict[str, str]] = json.loads(store.read_text()) if store.is_file() else {}
     sample = {name: sample.get(name, {"module": module, "status": "not checked"}) for module, name in drawn}
     if not args.report:
