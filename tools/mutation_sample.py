@@ -12,7 +12,8 @@ scratch copy (``.mutation/<module>/``, as ``tools/mutation.py`` makes it, kept f
 ``mutmut run --max-children 1 NAME...``. A module without its own test module has its sampled
 mutants counted as not killed ("no test module"), as are mutants whose function its tests never
 call ("no tests"). Results are kept in ``.mutation/sample/<package>-<seed>-<size>.json``;
-``--only MODULE`` runs that module's share of the sample again (after writing tests) and
+A run left unfinished is resumed by the same command (modules whose test module is smallest go
+first); ``--only MODULE`` runs that module's share of the sample again (after writing tests) and
 ``--report`` prints the figures without running anything.
 
 The score is (killed + timeout) / (sample - equivalent), with its 95 % Wilson interval; the
@@ -146,10 +147,14 @@ def main(argv: list[str]) -> int:
     sample: dict[str, dict[str, str]] = json.loads(store.read_text()) if store.is_file() else {}
     sample = {name: sample.get(name, {"module": module, "status": "not checked"}) for module, name in drawn}
     if not args.report:
-        modules = sorted({module for module, _ in drawn if args.only in (None, module)})
-        if args.only and not modules:
-            print(f"mutation_sample: no sampled mutant in {args.only}", file=sys.stderr)
-            return 2
+        if args.only:
+            modules = sorted({module for module, _ in drawn if module == args.only})
+            if not modules:
+                print(f"mutation_sample: no sampled mutant in {args.only}", file=sys.stderr)
+                return 2
+        else:  # resumed: modules already measured are left as they are; the fastest test modules first
+            todo = {module for module, name in drawn if sample[name]["status"] == "not checked"}
+            modules = sorted(todo, key=lambda m: (ROOT / (own_tests(m) or m)).stat().st_size if own_tests(m) else 0)
         for module in modules:
             names = [name for m, name in drawn if m == module]
             tests = own_tests(module)
