@@ -252,3 +252,13 @@ def test_a_prismatic_zero_offset_is_read_off_the_next_axis_when_its_body_differs
     joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
     assert joints["j2"]["offset"] == pytest.approx(0.3, abs=1e-9)
     assert above_info(result) == [("com_difference", "l2"), ("zero_offset", "j2")]
+
+
+def test_two_floating_files_keep_their_base_frames_when_those_explain_everything():
+    # both bases float: the base bodies fix the frame (the identity, solved without refitting) and
+    # nothing is left unexplained, so no world transform is reported
+    from tests.filemode.align.test_floating import floating_arm3
+
+    result = verify(*floating_arm3())
+    assert result.exit_code == 0 and result.passed
+    assert "base_transform" not in [f.kind for f in result.findings]
