@@ -404,6 +404,8 @@ def test_a_one_sample_baseline_missing_a_frames_records_is_refused(arm3_baseline
     data["q"], data["fixed"]["ik"]["targets"] = data["q"][:1], []
     data["records"] = [r for r in data["records"] if r["sample"] == 0 and r["frame"] != "link2"]
     bad = tmp_path / "bad.json"
-    bad.write_text(bl.dumps_baseline(data))
+    text = bl.dumps_baseline(data)
+    assert '\n "fixed": {\n  "ik": {"frame": "end_effector", "position_only": true, "targets": []}\n }' in text
+    bad.write_text(text)
     with pytest.raises(InputError, match=re.escape("records of fk.position at link2 are missing (0 of 1 samples)")):
         bl.read_baseline(bad)
