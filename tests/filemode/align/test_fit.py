@@ -25,6 +25,7 @@ from kinverify.testing.strategies import angles_rpy, arm_specs, vectors
 import tests.filemode.pairs as P
 from tests.filemode.pairs import joint_attr, nums
 from kinverify.filemode.align.geometry import line_distance
+from tests.filemode.align.test_floating import floating_arm3
 
 FAST = VerifyOptions(samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 8})
 SETTINGS = settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
@@ -257,8 +258,6 @@ def test_a_prismatic_zero_offset_is_read_off_the_next_axis_when_its_body_differs
 def test_two_floating_files_keep_their_base_frames_when_those_explain_everything():
     # both bases float: the base bodies fix the frame (the identity, solved without refitting) and
     # nothing is left unexplained, so no world transform is reported
-    from tests.filemode.align.test_floating import floating_arm3
-
     result = verify(*floating_arm3())
     assert result.exit_code == 0 and result.passed
     assert "base_transform" not in [f.kind for f in result.findings]
