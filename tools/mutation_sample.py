@@ -161,8 +161,9 @@ def main(argv: list[str]) -> int:
             statuses = run_module(module, tests, names) if tests else dict.fromkeys(names, "no test module")
             for name, status in statuses.items():
                 sample[name]["status"] = status
+            kept_now = json.loads(store.read_text()) if store.is_file() else {}  # another run's modules kept
             store.parent.mkdir(parents=True, exist_ok=True)
-            store.write_text(json.dumps(sample, indent=1, ensure_ascii=False))
+            store.write_text(json.dumps({**sample, **kept_now, **{n: sample[n] for n in statuses}}, indent=1, ensure_ascii=False))
             print(f"{module} ({tests or 'no test module'}): {dict(Counter(statuses.values()))}", flush=True)
     print(report(package, sample, len(everything), equivalent_names()))
     return 0
