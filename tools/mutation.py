@@ -41,15 +41,8 @@ def narrowed(pyproject: str, module: str, tests: list[str]) -> str:
     )
 
 
-def main(argv: list[str]) -> int:
-    if len(argv) < 2 or not argv[0].endswith(".py"):
-        print(__doc__.strip().splitlines()[2], file=sys.stderr)
-        return 2
-    module, tests = argv[0], argv[1:]
-    for path in (module, *tests):
-        if not (ROOT / path).is_file():
-            print(f"mutation: {path} is not a file of the project", file=sys.stderr)
-            return 2
+def scratch(module: str, tests: list[str]) -> Path:
+    """A fresh copy of the project in ``.mutation/<module>/`` with ``[tool.mutmut]`` narrowed."""
     work = ROOT / ".mutation" / re.sub(r"[^\w.]+", "_", module)
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
@@ -60,6 +53,19 @@ def main(argv: list[str]) -> int:
         else:
             shutil.copy2(src, work / name)
     (work / "pyproject.toml").write_text(narrowed((ROOT / "pyproject.toml").read_text(), module, tests))
+    return work
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) < 2 or not argv[0].endswith(".py"):
+        print(__doc__.strip().splitlines()[2], file=sys.stderr)
+        return 2
+    module, tests = argv[0], argv[1:]
+    for path in (module, *tests):
+        if not (ROOT / path).is_file():
+            print(f"mutation: {path} is not a file of the project", file=sys.stderr)
+            return 2
+    work = scratch(module, tests)
     mutmut = [sys.executable, "-m", "mutmut"]
     subprocess.run([*mutmut, "run", "--max-children", "1"], cwd=work, check=True, stdout=subprocess.DEVNULL)
     subprocess.run([*mutmut, "export-cicd-stats"], cwd=work, check=True, stdout=subprocess.DEVNULL)

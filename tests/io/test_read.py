@@ -45,7 +45,8 @@ def test_a_file_that_reports_no_size_is_bounded_by_reading():
     assert status.startswith(b"Name:") and len(status) > 100
     err = refused(read_bytes, "/proc/self/status", limit=100)
     assert str(err) == f"/proc/self/status is more than 0.0 MB, above the 0 MB {TAIL}" and err.too_large
-    assert read_bytes("/proc/self/status", limit=len(status)) == status
+    limits = read_bytes("/proc/self/limits", limit=MB)  # also 0 bytes, and unchanging (status counts context switches)
+    assert read_bytes("/proc/self/limits", limit=len(limits)) == limits and len(limits) > 100
     assert str(refused(read_bytes, "/proc/self/status", "--in", limit=100)).startswith("--in: /proc/self/status is more")
     err = refused(read_bytes, "/proc/self/smaps", limit=1000)  # read in several pieces: their sizes add up
     assert err.too_large
@@ -82,6 +83,17 @@ def test_a_file_that_cannot_be_read_for_another_reason(tmp_path):
     loop.symlink_to(loop)
     err = refused(read_bytes, loop, "--urdf")
     assert (str(err), err.errno) == (f"--urdf: {loop} cannot be read: Too many levels of symbolic links", errno.ELOOP)
+
+
+@pytest.mark.parametrize("call", [read_bytes, read_head])
+def test_a_regular_file_whose_read_fails_after_the_open(call):
+    # /proc/self/mem is a regular file that opens, and reading it at offset 0 (address 0, never
+    # mapped) fails with EIO: the failing read is one line naming the file, its label and errno,
+    # and the descriptor is closed
+    before = len(os.listdir("/proc/self/fd"))
+    err = refused(call, "/proc/self/mem", label="--urdf")
+    assert (str(err), err.errno) == ("--urdf: /proc/self/mem cannot be read: Input/output error", errno.EIO)
+    assert len(os.listdir("/proc/self/fd")) == before
 
 
 def test_read_text_utf8_without_its_byte_order_mark(tmp_path):

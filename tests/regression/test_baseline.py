@@ -115,6 +115,8 @@ def test_the_file_is_sorted_one_record_per_line_and_exact(arm3_baseline):
     kinematics = [r for r in data["records"] if r["property"].startswith(("fk.", "jacobian."))]
     assert len(record_lines) == len(data["records"]) and len(kinematics) == 4 * len(spec.frame_names) * len(data["q"])
     assert sorted(data["fixed"]) == ["ik"] and text.count('\n  "ik": {') == 1  # fixed inputs: one line each
+    (ik_line,) = [line for line in text.splitlines() if line.startswith('  "ik": ')]
+    assert ik_line.endswith("}") and json.loads(ik_line.removeprefix('  "ik": ')) == data["fixed"]["ik"]
     assert data["format_version"] == bl.FORMAT_VERSION and data["model"] == "arm3"
     assert set(data["fingerprints"]) == {"spec", "urdf", "mjcf"}
 
@@ -372,3 +374,38 @@ def test_ik_targets_keep_their_orientation_when_the_arm_has_six_joints(model, po
     fixed = bl_q.ik_fixed(spec, q)
     assert fixed["position_only"] is position_only and len(fixed["targets"]) == min(len(q), bl_q.IK_TARGETS)
     assert np.array(fixed["targets"][0]["pose"]).shape == (4, 4)
+
+
+def test_save_time_inputs_default_to_the_ones_made_now():
+    spec = load_spec(ARM3)
+    q = spec_samples(spec, 1, seed=0)[-3:]
+    assert bl.compute_records(spec, q) == bl.compute_records(spec, q, bl.prepare_fixed(spec, q))
+
+
+def test_a_negative_sample_count_is_refused():
+    with pytest.raises(InputError, match=r"^--samples must be >= 0, got -1$"):
+        bl.build_baseline(load_spec(ARM3), samples=-1)
+
+
+def test_read_errors_name_the_file(arm3_baseline, tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(arm3_baseline.read_text().replace('"format_version": 2', '"format_version": "2"'))
+    with pytest.raises(
+        InputError, match=f"^{re.escape(str(bad))}: malformed baseline: format_version must be an integer, got '2'$"
+    ):
+        bl.read_baseline(bad)
+    bad.write_text(arm3_baseline.read_text().replace('"value": [0.0, 0.0, 0.42]', '"value": [NaN, 0.0, 0.42]', 1))
+    with pytest.raises(InputError, match=f"^--baseline: {re.escape(str(bad))} holds NaN, which is not a number"):
+        bl.read_baseline(bad)
+
+
+def test_a_one_sample_baseline_missing_a_frames_records_is_refused(arm3_baseline, tmp_path):
+    data = json.loads(arm3_baseline.read_text())
+    data["q"], data["fixed"]["ik"]["targets"] = data["q"][:1], []
+    data["records"] = [r for r in data["records"] if r["sample"] == 0 and r["frame"] != "link2"]
+    bad = tmp_path / "bad.json"
+    text = bl.dumps_baseline(data)
+    assert '\n "fixed": {\n  "ik": {"frame": "end_effector", "position_only": true, "targets": []}\n }' in text
+    bad.write_text(text)
+    with pytest.raises(InputError, match=re.escape("records of fk.position at link2 are missing (0 of 1 samples)")):
+        bl.read_baseline(bad)

@@ -158,3 +158,42 @@ def test_bad_files_are_one_line_errors(tmp_path):
     with pytest.raises(InputError, match="is not a file"):
         diff_files(str(good), str(tmp_path / "missing.urdf"))
     assert file_kind(str(good)) == "urdf" and file_kind(str(MODELS / "arm3.toml")) is None
+
+
+def test_two_kinds_of_file_are_named_in_order(tmp_path):
+    spec = load_spec(MODELS / "arm3.toml")
+    urdf, xml = tmp_path / "a.urdf", tmp_path / "a.xml"
+    urdf.write_text(generate_urdf(spec))
+    xml.write_text(generate_mjcf(spec))
+    with pytest.raises(InputError, match=f"^{re.escape(f'{urdf} is a URDF and {xml} an MJCF: diff compares')}"):
+        diff_files(str(urdf), str(xml))
+    with pytest.raises(InputError, match=f"^{re.escape(f'{xml} is an MJCF and {urdf} a URDF: diff compares')}"):
+        diff_files(str(xml), str(urdf))
+
+
+def test_the_sample_count_is_the_edges_and_the_uniform_draws(tmp_path):
+    text = generate_urdf(load_spec(MODELS / "arm3.toml"))
+    old, new = write_pair(tmp_path, text, text, ".urdf")
+    assert diff_files(old, new, samples=7).samples == diff_files(old, new, samples=3).samples + 4
+
+
+def test_files_with_nothing_in_common_are_not_compared_frame_by_frame(tmp_path):
+    old, new = tmp_path / "arm3.urdf", tmp_path / "lift.urdf"
+    old.write_text(generate_urdf(load_spec(MODELS / "arm3.toml")))
+    new.write_text(generate_urdf(load_spec(MODELS / "lift.toml")))
+    d = diff_files(str(old), str(new), samples=3)
+    assert "no common joints or frames: FK and Jacobians not compared" in d.notes and d.frames == [] and d.samples == 0
+
+
+def test_a_frame_that_moves_most_where_it_turns_least_is_reported_where_it_moves_most(tmp_path):
+    # joint3's origin turned by 0.01 rad about z: link3 turns by 0.01 rad at every configuration,
+    # the end effector (0.05 m along link3's z) moves by 0.05 |sin q3| 2 sin(0.005), most where
+    # q3 is nearest ±90°: that configuration is reported, not the first one
+    spec = load_spec(MODELS / "arm3.toml")
+    joints = list(spec.joints)
+    joints[2] = replace(joints[2], origin=Origin(joints[2].origin.xyz, (0.0, 0.0, 0.01)))
+    old, new = write_pair(tmp_path, generate_urdf(spec), generate_urdf(replace(spec, joints=tuple(joints))), ".urdf")
+    d = diff_files(old, new, samples=6)
+    ee = next(f for f in d.frames if f.frame == "end_effector")
+    assert ee.rotation == pytest.approx(0.01, abs=1e-9) and ee.position > 1e-4
+    assert ee.position == pytest.approx(0.05 * abs(np.sin(ee.q[2])) * 2 * np.sin(0.005), rel=1e-6)

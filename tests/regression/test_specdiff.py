@@ -12,7 +12,7 @@ from kinverify import spec_from_dict
 from kinverify.testing import strategies as kst
 from kinverify.model.canonical import spec_fingerprint, spec_from_canonical, spec_to_canonical
 from kinverify.errors import InputError
-from kinverify.regression.specdiff import diff_specs
+from kinverify.regression.specdiff import ParamChange, diff_specs
 from tests.paths import MODELS
 
 
@@ -107,3 +107,28 @@ def test_a_broken_stored_spec_is_an_input_error():
     data["joints"][0]["limits"]["lower"] = 10.0
     with pytest.raises(InputError, match="invalid stored spec"):
         spec_from_canonical(data)
+
+
+def test_a_change_reads_as_a_line():
+    def axis(d):
+        d["joints"][2]["axis"] = [1.0, 0.0, 0.0]
+
+    (c,) = changed(axis)
+    assert c.describe() == "joint joint3: axis [0, 1, 0] -> [1, 0, 0] (Δ 1.41421)"
+
+
+def test_a_joint_removed_gravity_and_joint_order_changed():
+    def remove_joint3(d):
+        del d["joints"][2]
+        d["tools"][0]["parent"] = "link2"
+
+    def gravity(d):
+        d["gravity"] = [0.0, 0.0, -9.80665]
+
+    def swap(d):
+        d["joints"][1], d["joints"][2] = d["joints"][2], d["joints"][1]
+
+    assert ParamChange("joint joint3", "name", "removed", "joint3", None) in changed(remove_joint3)
+    assert [(c.where, c.field, c.kind) for c in changed(gravity)] == [("arm", "gravity", "changed")]
+    order = [c for c in changed(swap) if c.field == "joint order"]
+    assert order == [ParamChange("arm", "joint order", "changed", ["joint1", "joint2", "joint3"], ["joint1", "joint3", "joint2"])]

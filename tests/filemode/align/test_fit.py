@@ -25,6 +25,7 @@ from kinverify.testing.strategies import angles_rpy, arm_specs, vectors
 import tests.filemode.pairs as P
 from tests.filemode.pairs import joint_attr, nums
 from kinverify.filemode.align.geometry import line_distance
+from tests.filemode.align.test_floating import floating_arm3
 
 FAST = VerifyOptions(
     samples=6, fd_samples=3, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 8}, suites=P.NO_PICTURES
@@ -254,3 +255,11 @@ def test_a_prismatic_zero_offset_is_read_off_the_next_axis_when_its_body_differs
     joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
     assert joints["j2"]["offset"] == pytest.approx(0.3, abs=1e-9)
     assert above_info(result) == [("com_difference", "l2"), ("zero_offset", "j2")]
+
+
+def test_two_floating_files_keep_their_base_frames_when_those_explain_everything():
+    # both bases float: the base bodies fix the frame (the identity, solved without refitting) and
+    # nothing is left unexplained, so no world transform is reported
+    result = verify(*floating_arm3())
+    assert result.exit_code == 0 and result.passed
+    assert "base_transform" not in [f.kind for f in result.findings]

@@ -95,6 +95,11 @@ def test_a_free_joint_against_a_urdf_welded_to_the_world_is_one_error(tmp_path):
     urdf, _ = P.generated_pair("arm3")
     result = run(tmp_path, urdf, floating_arm3()[1])
     assert kinds(result, "error") == ["floating_one_file"], kinds(result)
+    (one,) = [f for f in result.findings if f.kind == "floating_one_file"]
+    assert one.message == (
+        "the MJCF's body base floats (free joint) but the URDF welds its root link to the world (world_to_base is fixed): "
+        "the files describe different robots; the rest is compared with the MJCF's base held fixed where the URDF's is"
+    )
     assert "base:x" not in result.joint_names  # the rest compared with the base fixed
     assert not [c for c in result.failed if c.property.startswith("fk.")]
 

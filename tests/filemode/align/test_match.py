@@ -8,10 +8,11 @@ import re
 
 import pytest
 
-from kinverify.filemode.align.match import match_joints
+from kinverify.filemode.align.match import match_joints, resolve_couplings
 from kinverify.filemode.pipeline import verify_files
 from kinverify.filemode.read.describe_mjcf import describe_mjcf
 from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.filemode.read.model import Coupling
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import spec_from_dict
 from kinverify.run import VerifyOptions
@@ -201,3 +202,13 @@ def test_a_number_two_urdf_joints_share_pairs_neither_with_the_one_mjcf_joint_ca
     }
     assert (free_u, free_m) == ([], [])
     assert {a: how for a, _, how in pairs}["finger2_joint1"] != "number in the name"
+
+
+def test_a_leader_written_as_the_follower_of_its_follower_has_the_offset_taken_back():
+    # a = 2 b + 0.3 with a first in the order: b is written in terms of a, b = (a - 0.3) / 2;
+    # a chain c = -b + 0.1 then follows through b: c = -(a - 0.3) / 2 + 0.1
+    a_b = Coupling("a", "b", 2.0, 0.3, "<mimic>")
+    c_b = Coupling("c", "b", -1.0, 0.1, "<mimic>")
+    out = resolve_couplings([a_b, c_b], ["a", "b", "c"])
+    assert out["b"] == Coupling("b", "a", 0.5, pytest.approx(-0.15), "<mimic>")
+    assert out["c"] == Coupling("c", "a", -0.5, pytest.approx(0.25), "<mimic>")

@@ -50,3 +50,15 @@ def test_a_coupling_group_is_driven_through_the_joint_the_urdf_leaves_free(tmp_p
     )
     result = read_alike(tmp_path, urdf, mjcf)
     assert not [f for f in result.findings if f.kind.startswith("coupling")]
+
+
+def test_a_frame_turned_by_a_constant_is_compared_through_it(tmp_path):
+    # the MJCF's end_effector site turned 90° about z (another convention for the same frame): the
+    # libraries' frames are compared through that constant, so nothing disagrees
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = P.sub_once(
+        r'(<site name="end_effector" pos="0.0 0.0 0.05")', r'\1 quat="0.7071067811865476 0 0 0.7071067811865476"', mjcf
+    )
+    result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), OPTIONS)
+    assert result.exit_code == 0 and result.passed
+    assert not [f for f in result.findings if f.severity == "error"]

@@ -1,12 +1,13 @@
 """MuJoCo's reading of an MJCF, the decisions pinned one by one on the smallest file: a motor's
 gear in the joint's force bound, an ``<equality joint>`` with ``ref`` values read as the coupling
-it makes at q = 0, and an inactive one read as none."""
+it makes at q = 0, an inactive one read as none, and a ``<flexcomp>``'s bodies named and left out."""
 
 from __future__ import annotations
 
+import mujoco
 import pytest
 
-from kinverify.filemode.read.describe_mjcf import describe_mjcf
+from kinverify.filemode.read.describe_mjcf import describe_mjcf, flex_bodies
 
 
 def two_hinges(extra: str = "", refs=(0.0, 0.0)) -> str:
@@ -39,3 +40,15 @@ def test_an_inactive_equality_is_no_coupling():
     eq = '<equality><joint joint1="b" joint2="a" polycoef="0 1 0 0 0" active="{}"/></equality>'
     assert describe_mjcf(two_hinges(eq.format("false"))).couplings == []
     assert [(c.follower, c.leader) for c in describe_mjcf(two_hinges(eq.format("true"))).couplings] == [("b", "a")]
+
+
+def test_a_flexcomps_bodies_are_named_and_left_out():
+    m = mujoco.MjModel.from_xml_string(
+        '<mujoco><worldbody><body name="arm"><joint name="j"/><geom size="0.1" mass="1"/></body>'
+        '<flexcomp name="cloth" type="grid" count="2 2 1" spacing="0.1 0.1 0.1" radius="0.01" dim="2" mass="0.1"/>'
+        "</worldbody></mujoco>"
+    )
+    assert flex_bodies(m) == (
+        {2, 3, 4, 5},
+        ["flex cloth: a deformable object of 4 bodies (<flexcomp>), not part of the robot: not compared"],
+    )
