@@ -28,6 +28,7 @@ def test_verify_writes_json_and_html(tmp_path, capsys):
             "models/arm3.toml",
             "--samples",
             "50",
+            *("--skip", "tracking", "--skip", "pictures"),  # the files written, not those suites (full runs: test_report)
             "--json",
             str(tmp_path / "r.json"),
             "--report",
@@ -55,6 +56,7 @@ def test_verify_exits_1_when_a_check_fails(tmp_path, capsys):
             "20",
             "--backends",
             "analytic,mujoco",
+            *("--skip", "tracking", "--skip", "pictures", "--skip", "ik"),  # the kinematics decide (full runs: test_report)
             "--tolerance",
             "jacobian.fd=1e-13",
             "--json",
