@@ -419,13 +419,15 @@ class Aligner:
                 out.append((f"axis of {a}" + (" reversed" if sign < 0 else ""), t))
         return out
 
-    def simplest(self, t: np.ndarray, signs: dict, offsets: dict):
-        """Drop each explanation (the world transform, a zero offset) that the features do not
-        need: rounding must not pass for a turn of the world or of a joint."""
-        if _is_identity(t, self.scale):
+    def simplest(self, t: np.ndarray, signs: dict, offsets: dict, keep_t: bool = False):
+        """Drop each explanation (the world transform unless ``keep_t``, a zero offset) that the
+        features do not need: rounding must not pass for a turn of the world or of a joint, nor a
+        joint's other difference (its axis tilted) for a zero offset. An explanation is kept only
+        where dropping it leaves more differences: the tie goes to the fewer explanations."""
+        if _is_identity(t, self.scale) and not keep_t:
             t = np.eye(4)
         bad, fits, axis_errors = self.evaluate(t, signs, offsets)
-        if not _is_identity(t, self.scale):
+        if not keep_t and not _is_identity(t, self.scale):
             trial = self.evaluate(np.eye(4), signs, offsets)
             if trial[0] <= bad:
                 t, (bad, fits, axis_errors) = np.eye(4), trial
@@ -449,13 +451,14 @@ class Aligner:
                     signs, offsets = self.solve_joints(t)
                 t, used = self.refit(t, signs, offsets)
                 t, offsets, bad, fits, axis_errors = self.simplest(t, signs, offsets)
-                if _is_identity(t, self.scale):  # solved again on the exact T, not the refit's round-off
+                if _is_identity(t, self.scale):  # solved again on the exact T, not the refit's round-off,
+                    # each offset again kept only where it explains a difference (the tie goes to none)
                     signs2, offsets2 = self.solve_joints(t)
-                    trial = self.evaluate(t, signs2, offsets2)
+                    _, offsets2, *trial = self.simplest(t, signs2, offsets2)
                     if trial[0] <= bad:
                         signs, offsets, (bad, fits, axis_errors) = signs2, offsets2, trial
             else:
-                bad, fits, axis_errors = self.evaluate(t, signs, offsets)
+                t, offsets, bad, fits, axis_errors = self.simplest(t, signs, offsets, keep_t=True)
             n_explain = (
                 int(not _is_identity(t, self.scale))
                 + sum(s < 0 for s in signs.values())

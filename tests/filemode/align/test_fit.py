@@ -263,3 +263,35 @@ def test_two_floating_files_keep_their_base_frames_when_those_explain_everything
     result = verify(*floating_arm3())
     assert result.exit_code == 0 and result.passed
     assert "base_transform" not in [f.kind for f in result.findings]
+
+
+def test_a_tilted_axis_between_two_crossing_axes_is_that_tilt_alone_not_a_zero_offset():
+    """As on a public four-finger hand (the finger's MCP pair): j9 flexes the finger's base, j8
+    (its abduction) is crossed 1.5 cm on by j10's flexion axis. The MJCF's j8 axis is tilted by
+    2.81° within its frame (only its ``axis`` edited). At the zero nothing else differs, but j10's
+    axis line meets the tilted axis elsewhere, which a turn about j8 seems to explain (a zero
+    offset of 2.19°): it leaves the same differences over the sampled configurations as the tilt
+    alone, so the tilt alone is the difference, said once, with nothing below blamed for it."""
+
+    def joint(name, xyz, rpy, lower, upper, link):
+        limits = {"lower": lower, "upper": upper, "unit": "rad"}
+        return {"name": name, "xyz": xyz, "rpy": rpy, "axis": [0, 0, -1], "limits": limits, "link": {"name": link, "mass": 0.03}}
+
+    h = 1.57079
+    spec = spec_from_dict(
+        {
+            "name": "finger",
+            "joints": [
+                joint("j9", [-0.00709, -0.0678, -0.0187], [h, h, 0.0], -0.314, 2.23, "mcp"),
+                joint("j8", [-0.0122, 0.0381, 0.0145], [-h, 0.0, h], -1.047, 1.047, "pip"),
+                joint("j10", [0.015, 0.0143, -0.013], [h, -h, 0.0], -0.506, 1.885, "dip"),
+            ],
+        }
+    )
+    tilted = [-0.01758170473150989, -0.04574548585153592, -0.99879839516438]  # 0.0490275 rad off (0, 0, -1)
+    result = verify(generate_urdf(spec), joint_attr(generate_mjcf(spec), "j8", "axis", nums(lambda _: tilted)))
+    joints = {j["urdf"]: j for j in result.sections["filemode"].data["alignment"]["joints"]}
+    assert all(j["offset"] == 0.0 and j["sign"] == 1 for j in joints.values()), joints
+    errors = [(f.kind, f.subject, f.magnitude) for f in result.findings if f.severity == "error"]
+    assert [e[:2] for e in errors] == [("axis_direction", "j8")], errors
+    assert errors[0][2] == pytest.approx(math.acos(-tilted[2]), rel=1e-6)
