@@ -31,21 +31,6 @@ from hypothesis import strategies as st
 
 from kinverify.model.transforms import axis_angle_to_matrix, matrix_to_quat, quat_to_matrix
 
-KINDS = (
-    "axis_flip",
-    "axis_tilt",
-    "frame_offset_along",
-    "frame_offset_across",
-    "frame_turn",
-    "frame_turn_twist",
-    "frame_twist",
-    "slide_offset_along",
-    "mass",
-    "com",
-    "inertia",
-    "range",
-    "damping",
-)
 FRAME_KINDS = (
     "axis_flip",
     "axis_tilt",
@@ -56,6 +41,7 @@ FRAME_KINDS = (
     "frame_twist",
     "slide_offset_along",
 )
+KINDS = FRAME_KINDS + ("mass", "com", "inertia", "range", "damping")
 JOINT_KINDS = FRAME_KINDS + ("range", "damping")  # planted on a joint (and the body holding it); the rest on a body
 DEG = math.pi / 180
 
