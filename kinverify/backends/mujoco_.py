@@ -22,7 +22,6 @@ class MujocoBackend(EvaluatingBackend):
     coordinates of :mod:`kinverify.model.floating`. Joints not in ``joint_names`` stay at ``qpos0``.
     """
 
-
     def __init__(self, model: "mujoco.MjModel", name: str, joint_names, frames) -> None:
         self.model, self.data, self.name = model, mujoco.MjData(model), name
         self.joint_names, self.frames = tuple(joint_names), tuple(frames)

@@ -64,7 +64,6 @@ class PinocchioBackend(EvaluatingBackend):
     neutral value.
     """
 
-
     def __init__(self, model: "pin.Model", name: str, joint_names, frames) -> None:
         self.model, self.data, self.name = model, model.createData(), name
         self.joint_names, self.frames = tuple(joint_names), tuple(frames)

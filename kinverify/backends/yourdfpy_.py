@@ -28,7 +28,6 @@ class YourdfpyBackend(BackendBase):
     for each frame from the root walks and multiplies the whole path again for every frame
     (quadratic in the chain's length, ~3× slower on a 7-joint arm)."""
 
-
     jacobian_method = "finite-difference"
     slow = True  # ~100x slower per configuration than the others: capped by VerifyOptions.slow_samples
 
