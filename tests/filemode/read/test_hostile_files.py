@@ -37,7 +37,8 @@ def test_a_floating_root_joint_is_compared_and_a_planar_root_refused_in_one_line
     floating = urdf.replace('<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">')
     u, m = write_pair(tmp_path, floating, mjcf)
     # the MJCF's robot is welded to the world: the one difference, the rest compared with the base fixed
-    assert main(["verify", "--urdf", u, "--mjcf", m, "--samples", "8", "--quiet", "--json", f"{tmp_path}/r.json"]) == 1
+    argv = ["--samples", "8", "--quiet", "--json", f"{tmp_path}/r.json", "--report", f"{tmp_path}/r.html"]
+    assert main(["verify", "--urdf", u, "--mjcf", m, *argv]) == 1  # its outputs in tmp_path, not the project's reports/
     errors = [f["kind"] for f in json.loads((tmp_path / "r.json").read_text())["findings"] if f["severity"] == "error"]
     assert errors == ["floating_one_file"]
     planar = urdf.replace('<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="planar">')
