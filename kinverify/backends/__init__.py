@@ -124,13 +124,13 @@ def libraries() -> tuple[str, ...]:
     """The distributions behind the registered backends that are installed, in registry order
     (read from the installed metadata: nothing is imported)."""
     out = []
-    for entry in _ENTRIES:
+    for dist in dict.fromkeys(entry[4] for entry in _ENTRIES):
         try:
-            metadata.version(entry[4])
+            metadata.version(dist)
         except metadata.PackageNotFoundError:
             continue
-        out.append(entry[4])
-    return tuple(dict.fromkeys(out))
+        out.append(dist)
+    return tuple(out)
 
 
 def build_backend(name: str, sources: ModelSources) -> Backend:

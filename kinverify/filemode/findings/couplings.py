@@ -72,12 +72,13 @@ def written_alike(u, m, matching, alignment) -> dict[str, str]:
     while the zero offsets of it or its leader set them apart in the URDF's: follower -> leader."""
     mine, theirs, written, _, maps = _compared(u, m, matching, alignment)
     fitted = {a for a, (_, o) in maps.items() if o}
-    out = {}
-    for f, a in mine.items():
-        if {f, a.leader} & fitted and not _alike(a, theirs.get(f), FITTED_OFFSET_TOL[u.joint(f).type]):
-            if _alike(a, written.get(f)):
-                out[f] = a.leader
-    return out
+    return {f: a.leader for f, a in mine.items() if _folded(u, f, a, theirs.get(f), written.get(f), fitted)}
+
+
+def _folded(u, f: str, a: Coupling, b: Coupling | None, w: Coupling | None, fitted: set) -> bool:
+    """Follower ``f``'s coupling ``a`` (the URDF's) differs from ``b`` (the MJCF's in the URDF's
+    coordinates) only through a zero offset of it or its leader: written alike (``w``) in each file's own."""
+    return bool({f, a.leader} & fitted) and not _alike(a, b, FITTED_OFFSET_TOL[u.joint(f).type]) and _alike(a, w)
 
 
 def coupling_findings(u, m, matching, alignment=None) -> list:
@@ -87,8 +88,8 @@ def coupling_findings(u, m, matching, alignment=None) -> list:
     zero offsets alone set apart (:func:`written_alike`) are the zero offset finding's to say."""
     out = []
     mine, theirs, written, order, maps = _compared(u, m, matching, alignment)
-    folded = written_alike(u, m, matching, alignment) if alignment is not None else {}
     fitted = {a for a, (_, o) in maps.items() if o}
+    folded = {f for f, a in mine.items() if _folded(u, f, a, theirs.get(f), written.get(f), fitted)}
     same = {a for a, (sg, o) in maps.items() if sg == 1 and not o}
     for f in sorted(set(mine) | set(theirs), key=order.index):
         a, b = mine.get(f), theirs.get(f)
