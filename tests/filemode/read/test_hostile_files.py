@@ -32,13 +32,18 @@ def one_line_exit_2(capsys, argv) -> str:
     return err
 
 
+def verify_cli(tmp_path, urdf: str, mjcf: str, samples: int) -> int:
+    """``kinverify verify --urdf --mjcf`` with its JSON and report in ``tmp_path`` (not the project's reports/)."""
+    outputs = ["--quiet", "--json", f"{tmp_path}/r.json", "--report", f"{tmp_path}/r.html"]
+    return main(["verify", "--urdf", urdf, "--mjcf", mjcf, "--samples", str(samples), *outputs])
+
+
 def test_a_floating_root_joint_is_compared_and_a_planar_root_refused_in_one_line(tmp_path, capsys):
     urdf, mjcf = generated_pair("arm3")
     floating = urdf.replace('<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">')
     u, m = write_pair(tmp_path, floating, mjcf)
     # the MJCF's robot is welded to the world: the one difference, the rest compared with the base fixed
-    argv = ["--samples", "8", "--quiet", "--json", f"{tmp_path}/r.json", "--report", f"{tmp_path}/r.html"]
-    assert main(["verify", "--urdf", u, "--mjcf", m, *argv]) == 1  # its outputs in tmp_path, not the project's reports/
+    assert verify_cli(tmp_path, u, m, 8) == 1
     errors = [f["kind"] for f in json.loads((tmp_path / "r.json").read_text())["findings"] if f["severity"] == "error"]
     assert errors == ["floating_one_file"]
     planar = urdf.replace('<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="planar">')
@@ -65,25 +70,7 @@ def test_a_joint_named_like_a_link_is_looked_up_as_the_link(tmp_path, capsys):
     q = np.array([[0.3, -0.7, 1.1]])
     assert np.allclose(pin.poses(q), ydf.poses(q), atol=1e-9)  # the link frame, not the joint frame
     u, m = write_pair(tmp_path, urdf, mjcf)
-    assert (
-        main(
-            [
-                "verify",
-                "--urdf",
-                u,
-                "--mjcf",
-                m,
-                "--samples",
-                "5",
-                "--quiet",
-                "--json",
-                f"{tmp_path}/r.json",
-                "--report",
-                f"{tmp_path}/r.html",
-            ]
-        )
-        == 0
-    )
+    assert verify_cli(tmp_path, u, m, 5) == 0
     assert "Traceback" not in capsys.readouterr().err
 
 
@@ -170,25 +157,7 @@ def test_a_urdf_link_with_negative_mass_fails_file_mode(tmp_path, capsys):
     urdf = head + '<link name="link2">' + re.sub(r'<mass value="[^"]*"/>', '<mass value="-1"/>', link2, count=1)
     assert '<mass value="-1"/>' in urdf
     u, m = write_pair(tmp_path, urdf, mjcf)
-    assert (
-        main(
-            [
-                "verify",
-                "--urdf",
-                u,
-                "--mjcf",
-                m,
-                "--samples",
-                "5",
-                "--quiet",
-                "--json",
-                f"{tmp_path}/r.json",
-                "--report",
-                f"{tmp_path}/r.html",
-            ]
-        )
-        == 1
-    )
+    assert verify_cli(tmp_path, u, m, 5) == 1
     capsys.readouterr()
     found = [f for f in validate_inertials(load_urdf(u), load_mjcf(m))]
     assert [(f.kind, f.severity, f.subject, f.subject_type) for f in found] == [("nonphysical_inertia", "error", "link2", "link")]
