@@ -3,9 +3,10 @@
     python tools/mutation_sample.py kinverify/io --size 80 --seed 30
     python tools/mutation_sample.py kinverify/io --size 80 --seed 30 --only kinverify/io/read.py
     python tools/mutation_sample.py kinverify/io --size 80 --seed 30 --report
+    python tools/mutation_sample.py kinverify/filemode/compare/inertials.py --size 40 --seed 1
 
 Every module of the package is mutated by mutmut (the ``mutation`` extra); the mutants of the whole
-package form one population, from which ``--size`` are drawn uniformly with ``--seed``. Each
+package (or of the one module given instead of a package) form one population, from which ``--size`` are drawn uniformly with ``--seed``. Each
 sampled mutant is run against its module's own test module alone, the one that mirrors it
 (``kinverify/filemode/align/fit.py`` -> ``tests/filemode/align/test_fit.py``), in the module's
 scratch copy (``.mutation/<module>/``, as ``tools/mutation.py`` makes it, kept for ``mutmut show``):
@@ -53,7 +54,7 @@ def own_tests(module: str) -> str | None:
 def population(package: str, cache: Path) -> list[tuple[str, str]]:
     """(module, mutant name) of every mutant mutmut makes in ``package``, modules in path order;
     kept in ``cache`` for sources unchanged (making them takes minutes for a large package)."""
-    paths = sorted((ROOT / package).rglob("*.py"))
+    paths = [ROOT / package] if package.endswith(".py") else sorted((ROOT / package).rglob("*.py"))
     digest = hashlib.sha256(b"".join(p.read_bytes() + str(p).encode() for p in paths)).hexdigest()
     if cache.is_file() and (kept := json.loads(cache.read_text()))["sources"] == digest:
         return [tuple(pair) for pair in kept["mutants"]]
@@ -130,15 +131,16 @@ def report(package: str, sample: dict[str, dict[str, str]], total: int, equivale
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(prog="mutation_sample.py", description=__doc__.splitlines()[0])
-    parser.add_argument("package", help="a package folder, e.g. kinverify/io")
+    parser.add_argument("package", help="a package folder, e.g. kinverify/io, or one module of it")
     parser.add_argument("--size", type=int, default=80, help="mutants drawn from the package (default 80)")
     parser.add_argument("--seed", type=int, default=30, help="seed of the draw (default 30)")
     parser.add_argument("--only", metavar="MODULE", help="run again only this module's share of the sample")
     parser.add_argument("--report", action="store_true", help="print the stored figures, run nothing")
     args = parser.parse_args(argv)
     package = args.package.rstrip("/")
-    if not (ROOT / package / "__init__.py").is_file() or args.size < 1:
-        print(f"mutation_sample: {package} is not a package of the project (or --size < 1)", file=sys.stderr)
+    one_module = package.endswith(".py") and (ROOT / package).is_file()
+    if not (one_module or (ROOT / package / "__init__.py").is_file()) or args.size < 1:
+        print(f"mutation_sample: {package} is not a package or module of the project (or --size < 1)", file=sys.stderr)
         return 2
     kept = ROOT / ".mutation" / "sample"
     everything = population(package, kept / f"{package.replace('/', '.')}-mutants.json")
