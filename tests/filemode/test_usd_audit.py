@@ -65,12 +65,18 @@ float newton:mimicCoef1 = 2
 
 
 @pytest.fixture(scope="module")
-def audit(tmp_path_factory):
+def described(tmp_path_factory):
     path = tmp_path_factory.mktemp("audit") / "robot.usda"
     path.write_text(HEAD + 'def Xform "r"\n{\n' + STAGE + "}\n")
-    desc = describe_usd(read_robot(str(path)))
-    loaded = LoadedFile(str(path), "usd", str(path), str(path), "r", ("USD: layer x.usd is absent",))
-    return str(path), desc, *statements(desc, loaded)
+    return str(path), describe_usd(read_robot(str(path)))
+
+
+@pytest.fixture
+def audit(described):
+    """(path, description, section, findings): the audit made in each test (so that each is a test of it)."""
+    path, desc = described
+    loaded = LoadedFile(path, "usd", path, path, "r", ("USD: layer x.usd is absent",))
+    return path, desc, *statements(desc, loaded)
 
 
 def test_a_value_is_written_with_six_digits_and_its_unit():

@@ -125,8 +125,8 @@ double newton:damping = 1.23456789"""
 
 
 @pytest.fixture(scope="module")
-def values(tmp_path_factory):
-    """Each joint's values (``joint_values``) of a chain of eight joints, keyed by joint name."""
+def chain8(tmp_path_factory):
+    """A chain of eight joints (read once; each test reads its values, so that each is a test of them)."""
     bodies = [f"b{i}" for i in range(9)]
     joints = [
         joint("j1", "Revolute", "b0", "b1", J1, ("PhysicsDriveAPI:angular",)),
@@ -138,12 +138,17 @@ def values(tmp_path_factory):
         joint("j7", "Revolute", "b6", "b7", J7),
         joint("j8", "Prismatic", "b7", "b8", J8),
     ]
-    robot = stage(tmp_path_factory.mktemp("values"), "values", chain(bodies), *joints)
-    return robot, {j.name: joint_values(robot, j) for j in robot.joints if j.kind != "fixed"}
+    return stage(tmp_path_factory.mktemp("values"), "values", chain(bodies), *joints)
+
+
+@pytest.fixture
+def values(chain8):
+    """Each joint's values (``joint_values``), keyed by joint name."""
+    return {j.name: joint_values(chain8, j) for j in chain8.joints if j.kind != "fixed"}
 
 
 def test_an_angular_drive_is_read_per_radian_in_si_units(values):
-    drive = values[1]["j1"]["drive"]
+    drive = values["j1"]["drive"]
     assert drive["stiffness"] == seven(2 * TORQUE / DEG) and drive["damping"] == seven(4 * TORQUE / DEG)
     assert drive["stiffness"] == pytest.approx(3.437747, rel=1e-6)  # 2 × 0.03 N·m per degree
     assert drive["maxForce"] == pytest.approx(5 * TORQUE, rel=1e-12)
@@ -153,7 +158,7 @@ def test_an_angular_drive_is_read_per_radian_in_si_units(values):
 
 
 def test_a_linear_drive_is_read_per_metre_in_si_units(values):
-    drive = values[1]["j2"]["drive"]
+    drive = values["j2"]["drive"]
     # per metre: force unit / length unit = k; not rounded to 7 digits (no degree in it)
     assert drive["stiffness"] == pytest.approx(1.2345679 * K, rel=1e-12)
     assert drive["damping"] is None and drive["targetVelocity"] is None
@@ -163,7 +168,7 @@ def test_a_linear_drive_is_read_per_metre_in_si_units(values):
 
 
 def test_a_drive_with_no_value_authored_leaves_them_unset_and_is_a_force_drive(values):
-    drive = values[1]["j6"]["drive"]
+    drive = values["j6"]["drive"]
     assert drive == {
         "stiffness": None,
         "damping": None,
@@ -172,11 +177,11 @@ def test_a_drive_with_no_value_authored_leaves_them_unset_and_is_a_force_drive(v
         "targetVelocity": None,
         "type": "force",
     }
-    assert values[1]["j3"]["drive"] is None
+    assert values["j3"]["drive"] is None
 
 
 def test_the_force_bound_comes_from_the_drive_else_the_mjc_force_range(values):
-    v = values[1]
+    v = values
     assert v["j1"]["effort"] == pytest.approx(5 * TORQUE, rel=1e-12)  # the drive's, not the force range's 1000
     assert v["j1"]["effort_how"] == "USD drive:angular:physics:maxForce"
     assert v["j2"]["effort"] == math.inf and v["j2"]["effort_how"] == "USD drive:linear:physics:maxForce"
@@ -189,7 +194,7 @@ def test_the_force_bound_comes_from_the_drive_else_the_mjc_force_range(values):
 
 
 def test_no_force_bound_is_read_from_a_range_turned_off_or_without_max(values):
-    v = values[1]
+    v = values
     assert v["j4"]["effort"] is None and v["j7"]["effort"] is None and v["j5"]["effort"] is None
     assert v["j4"]["effort_how"] == "no drive: urdf:limit:effort = 12 is a custom attribute no simulator reads"
     assert v["j5"]["effort_how"] == "no drive and no force range in the USD"
@@ -198,7 +203,7 @@ def test_no_force_bound_is_read_from_a_range_turned_off_or_without_max(values):
 
 
 def test_damping_newton_per_degree_else_mjc_per_radian(values):
-    v = values[1]
+    v = values
     assert v["j1"]["damping"] == seven(6 * TORQUE / DEG)  # newton:damping, per degree, wins over mjc:damping
     assert v["j2"]["damping"] == pytest.approx(1.23456789 * K, rel=1e-12)  # linear: per metre, all its digits
     assert v["j3"]["damping"] == pytest.approx(5 * TORQUE, rel=1e-12)  # mjc:damping: already per radian
@@ -208,7 +213,7 @@ def test_damping_newton_per_degree_else_mjc_per_radian(values):
 
 
 def test_friction_armature_and_velocity_follow_their_fallback_order(values):
-    v = values[1]
+    v = values
     assert v["j1"]["friction"] == pytest.approx(7 * TORQUE, rel=1e-12)  # newton:friction over mjc:frictionloss
     assert v["j2"]["friction"] == pytest.approx(2 * FORCE, rel=1e-12)  # mjc:frictionloss
     assert v["j5"]["friction"] == pytest.approx(0.1 * TORQUE, rel=1e-12)
@@ -224,7 +229,7 @@ def test_friction_armature_and_velocity_follow_their_fallback_order(values):
 
 
 def test_initial_positions_physx_friction_and_range(values):
-    v = values[1]
+    v = values
     assert v["j1"]["initial"] == pytest.approx(20 * DEG, rel=1e-12)
     assert v["j2"]["initial"] == pytest.approx(0.5 * M, rel=1e-12)
     assert v["j3"]["initial"] is None
@@ -296,9 +301,14 @@ MIMICS = [
 
 
 @pytest.fixture(scope="module")
-def mimic(tmp_path_factory):
+def mimic_robot(tmp_path_factory):
     bodies = [f"b{i}" for i in range(11)]
-    return describe_usd(stage(tmp_path_factory.mktemp("mimic"), "mimic", chain(bodies), *MIMICS))
+    return stage(tmp_path_factory.mktemp("mimic"), "mimic", chain(bodies), *MIMICS)
+
+
+@pytest.fixture
+def mimic(mimic_robot):
+    return describe_usd(mimic_robot)
 
 
 def test_couplings_of_both_schemas_with_their_defaults_and_units(mimic):
@@ -394,7 +404,7 @@ TREE = [
         'uniform token[] xformOpOrder = ["xformOp:translate"]\n}\n'
         'def Xform "tip" (apiSchemas = ["MjcSiteAPI"])\n{\n}\n',
     ),
-    joint("root", "Fixed", None, "b0", "point3f physics:localPos0 = (0, 0, 3)"),
+    joint("root", "Fixed", None, "b0", "point3f physics:localPos0 = (0, 0, 3)\npoint3f physics:localPos1 = (1, 0, 0)"),
     joint(
         "j1",
         "Revolute",
@@ -425,9 +435,13 @@ TREE = [
 
 
 @pytest.fixture(scope="module")
-def tree(tmp_path_factory):
-    robot = stage(tmp_path_factory.mktemp("tree"), "tree", *TREE)
-    return robot, describe_usd(robot)
+def tree_robot(tmp_path_factory):
+    return stage(tmp_path_factory.mktemp("tree"), "tree", *TREE)
+
+
+@pytest.fixture
+def tree(tree_robot):
+    return tree_robot, describe_usd(tree_robot)
 
 
 def test_each_movable_joint_with_its_world_axis_line_parent_and_child(tree):
@@ -436,12 +450,12 @@ def test_each_movable_joint_with_its_world_axis_line_parent_and_child(tree):
     j1, flip, j5 = desc.joints
     assert (j1.type, j1.parent, j1.child, j1.parent_frame) == ("revolute", None, "b1", "b0")
     assert j1.axis == pytest.approx([0, 1, 0], abs=1e-7)  # X turned a quarter about z
-    assert j1.anchor == pytest.approx([0, 0, 0.4], abs=1e-7)  # root 0.3 up, the joint 0.1 above it
+    assert j1.anchor == pytest.approx([-0.1, 0, 0.4], abs=1e-7)  # root 0.3 up and 0.1 back, the joint 0.1 above it
     assert (j1.lower, j1.upper) == pytest.approx((-math.pi / 2, 2 * math.pi / 3), rel=1e-7)
     assert (flip.parent, flip.child, flip.parent_frame) == ("j1", "b2", "b1")
     # the joint frame is b1's localPos1 (2, 0, 0) units; the tree runs against the joint: its axis reversed
     assert flip.axis == pytest.approx([1, 0, 0], abs=1e-7)  # -(b1's y, world -x)
-    assert flip.anchor == pytest.approx([0, 0.2, 0.4], abs=1e-7)
+    assert flip.anchor == pytest.approx([-0.1, 0.2, 0.4], abs=1e-7)
     assert (j5.type, j5.parent, j5.child, j5.parent_frame) == ("prismatic", "jflip", "b5", "b4")
 
 
@@ -473,7 +487,7 @@ def test_frames_owners_and_depths_of_bodies_and_sites(tree):
     }
     assert desc.frames["tool"] == pytest.approx(desc.frames["b5"] @ robot.sites["tool"][1])
     assert desc.frames["tool"][:3, 3] - desc.frames["b5"][:3, 3] == pytest.approx([0, 0, 0.2], abs=1e-7)
-    assert desc.frames["b0"][:3, 3] == pytest.approx([0, 0, 0.3])
+    assert desc.frames["b0"][:3, 3] == pytest.approx([-0.1, 0, 0.3])
 
 
 def test_the_description_names_held_joints_and_bodies_with_no_inertial(tree):
@@ -505,7 +519,7 @@ def test_single_precision_bounds_add_up_along_the_tree(tree):
     robot = tree[0]
     p = usd_precision(robot)
     s3 = math.sqrt(3) * F32
-    root = (8 * F32, s3 * 0.3)  # the root's joint to the world: localPos0 (0, 0, 3) units
+    root = (8 * F32, s3 * (0.3 + 0.1))  # the root's joint to the world: localPos0 (0, 0, 3), localPos1 (1, 0, 0) units
     b1 = (root[0] + 8 * F32, root[1] + s3 * 0.1)
     b2 = (b1[0] + 8 * F32, b1[1] + s3 * 0.2)  # jflip: localPos1 (2, 0, 0)
     b4 = (b2[0] + 8 * F32, b2[1] + s3 * 0.1)
@@ -598,3 +612,15 @@ def test_bodies_authored_elsewhere_than_their_joint_frames_put_them(posed):
     assert "b4 (its xformOp:orient is not a unit quaternion, |q| = 0.989949494: pxr reads it as a turn)" == name
     assert pos < 1e-6 and rot > 0.01
     assert found["b5"][0] == "b5" and found["b5"][1] < 1e-6 and found["b5"][2] == pytest.approx(0.002, rel=1e-4)
+
+
+def test_the_first_body_after_the_root_is_checked_too(tmp_path):
+    moved = 'float physics:mass = 1\ndouble3 xformOp:translate = (0, 0, 2)\nuniform token[] xformOpOrder = ["xformOp:translate"]'
+    robot = stage(
+        tmp_path,
+        "first",
+        body("b0", "float physics:mass = 1", root=True),
+        body("b1", moved),
+        joint("j", "Revolute", "b0", "b1", "point3f physics:localPos0 = (0, 0, 1)"),
+    )
+    assert pose_mismatches(robot) == [("b1", pytest.approx(0.1, rel=1e-9), 0.0)]
