@@ -413,7 +413,8 @@ TREE = [
         'uniform token physics:axis = "X"\npoint3f physics:localPos0 = (0, 0, 1)\n'
         "quatf physics:localRot0 = (0.70710677, 0, 0, 0.70710677)\n"
         "float physics:lowerLimit = -90\nfloat physics:upperLimit = 120\nfloat newton:damping = 1\n"
-        "float newton:friction = 1\nfloat newton:armature = 1\nfloat mjc:actuatorfrcrange:max = 1",
+        "float newton:friction = 1\nfloat newton:armature = 1\nfloat mjc:actuatorfrcrange:max = 1\n"
+        "float physxJoint:maxJointVelocity = 90",
     ),
     joint(  # runs from the child (body0) to the parent (body1): flipped
         "jflip",
@@ -468,7 +469,7 @@ def test_joint_values_and_what_each_joint_states(tree):
     assert flip.stated == frozenset() and j5.stated == frozenset()
     assert "urdf:limit:effort = 7" in j5.effort_how
     ext = tree[1].extensions
-    assert ext["j1"] == {} and ext["jflip"] == {"initial": pytest.approx(5 * DEG)}
+    assert j1.velocity == 1.570796 and ext["j1"] == {"velocity": 1.570796} and ext["jflip"] == {"initial": pytest.approx(5 * DEG)}
     assert ext["j5"] == {"custom_effort": 7.0, "physx_friction": pytest.approx(0.3)}
 
 

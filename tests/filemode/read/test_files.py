@@ -70,6 +70,7 @@ def test_a_floating_urdf_before_an_mjcf_with_one_free_body_is_compared_as_coordi
     assert findings == [] and library == "pinocchio" and loaded.kind == "urdf" and loaded.name == "r"
     assert (decision.floating, decision.kind, decision.free) == (True, "floating_base", ["body"])
     assert decision.urdf.kind == "floating" and decision.urdf.joint == "float"
+    assert decision.message.startswith("both files float (the URDF's root joint float is floating; the MJCF's body body")
     assert 'type="floating"' in decision.urdf_text and 'upper="1e308"' in decision.urdf_text  # prepared for the libraries
     assert 'type="floating"' not in text and 'upper="1e308"' in text
     assert desc.frames["base"][:3, 3] == pytest.approx([0, 0, 0])  # both bases at the identity
@@ -220,6 +221,7 @@ WELDED = "<joint name='w' type='fixed'><parent>world</parent><child>base</child>
 def test_links_no_joint_holds_are_free_bodies():
     assert sdf_free_bodies(SDF.replace("WORLD", "")) == ["base"]
     assert sdf_free_bodies(SDF.replace("WORLD", WELDED)) == []
+    assert sdf_free_bodies(SDF.replace("WORLD", WELDED).replace("<child>base</child>", "<child> base\n</child>")) == []
     assert sdf_free_bodies("<sdf version='1.9'><world name='w'/></sdf>") == []
 
 
@@ -233,13 +235,22 @@ def test_an_sdf_before_an_mjcf_is_shaped_as_a_urdf(tmp_path):
     loaded, text, desc, library, decision = read_sdf(path, [], free=["body"])
     assert library == "drake" and text == loaded.text
     assert (decision.floating, decision.kind, decision.free) == (True, "floating_base", ["body"])
-    assert (decision.urdf.kind, decision.urdf.root, decision.urdf.joint) == ("floating", "base", "(free body)")
+    assert (decision.urdf.kind, decision.urdf.root, decision.urdf.joint, decision.urdf.link) == (
+        "floating",
+        "base",
+        "(free body)",
+        "base",
+    )
     assert "the SDF's link base is a free body" in decision.message and "URDF's root joint" not in decision.message
     assert decision.urdf_text == loaded.text
     welded = write(tmp_path, "w.sdf", SDF.replace("WORLD", WELDED))
     *_, decision = read_sdf(welded, [], free=["body"])
     assert (decision.floating, decision.kind, decision.urdf_text) == (False, "floating_one_file", "")
-    assert (decision.urdf.kind, decision.urdf.joint) == ("fixed", None)
+    assert (decision.urdf.kind, decision.urdf.joint, decision.urdf.root) == (
+        "fixed",
+        None,
+        "base",
+    )  # the root link, welded to the world
 
 
 def test_an_sdf_drake_refuses_is_an_input_error(tmp_path):
