@@ -625,3 +625,30 @@ def test_the_first_body_after_the_root_is_checked_too(tmp_path):
         joint("j", "Revolute", "b0", "b1", "point3f physics:localPos0 = (0, 0, 1)"),
     )
     assert pose_mismatches(robot) == [("b1", pytest.approx(0.1, rel=1e-9), 0.0)]
+
+
+def test_a_body_is_named_only_beyond_twice_its_single_precision_bound(tmp_path):
+    """Floating root (exact); b1, b2 hang 0.5 m out (bound: √3·F32·0.5 m plus 8·F32 rad times 0.5 m),
+    b3, b4, b5 at the root's origin (bound: 8·F32 rad, no length). Offsets at 1.25 and 0.8 times
+    twice the bound: the first named, the second not."""
+    allowed_pos = 2 * (math.sqrt(3) * F32 * 0.5 + 8 * F32 * 0.5)
+    allowed_rot = 2 * 8 * F32
+
+    def turned(angle: float) -> str:
+        return xform("(0, 0, 0)", f"({math.cos(angle / 2)!r}, 0, 0, {math.sin(angle / 2)!r})")
+
+    prims = [
+        body("b0", xform("(0, 0, 0)"), root=True),
+        body("b1", xform(f"({3 + 1.25 * allowed_pos / M!r}, 4, 0)")),
+        body("b2", xform(f"({3 + 0.8 * allowed_pos / M!r}, 4, 0)")),
+        body("b3", turned(1.25 * allowed_rot)),
+        body("b4", turned(0.8 * allowed_rot)),
+        body("b5", xform("(0, 0, 0)")),
+    ]
+    prims += [joint(f"j{i}", "Revolute", "b0", f"b{i}", "point3f physics:localPos0 = (3, 4, 0)") for i in (1, 2)]
+    prims += [joint(f"j{i}", "Revolute", "b0", f"b{i}") for i in (3, 4, 5)]
+    found = pose_mismatches(stage(tmp_path, "bounds", *prims))
+    assert [b for b, _, _ in found] == ["b1", "b3"]
+    assert found[0][1] == pytest.approx(1.25 * allowed_pos, rel=0.05) and found[1][2] == pytest.approx(
+        1.25 * allowed_rot, rel=0.05
+    )
