@@ -35,7 +35,9 @@ def test_continuous_joints_are_named():
 
 
 def test_a_continuous_joint_becomes_an_unlimited_revolute_one():
-    out = joints(prepare_urdf(URDF))
+    text = prepare_urdf(URDF)
+    assert isinstance(text, str)
+    out = joints(text)
     spin, wheel, elbow = out["spin"], out["wheel"], out["elbow"]
     assert spin.get("type") == wheel.get("type") == elbow.get("type") == "revolute"
     assert spin.find("limit").attrib == {"effort": "0", "velocity": "0", "lower": "-1e308", "upper": "1e308"}
@@ -65,7 +67,7 @@ MJCF = """<mujoco>
 
 def test_each_top_level_free_body_is_fixed_at_the_world_origin():
     text, fixed = fix_free_bases(MJCF)
-    assert fixed == ["base", "(unnamed body)"]
+    assert fixed == ["base", "(unnamed body)"] and isinstance(text, str)
     root = ET.fromstring(text)
     base, unnamed, arm = root.find("worldbody").findall("body")
     assert base.attrib == {"name": "base"} and [c.tag for c in base] == ["joint", "body"]
@@ -83,7 +85,9 @@ def test_an_mjcf_without_free_base_is_returned_as_written():
 
 
 def test_locked_urdf_joints_become_fixed_without_motion_elements():
-    out = joints(lock_urdf_joints(URDF, ["elbow", "nothere"]))
+    text = lock_urdf_joints(URDF, ["elbow", "nothere"])
+    assert isinstance(text, str)
+    out = joints(text)
     elbow = out["elbow"]
     assert elbow.get("type") == "fixed"
     assert [c.tag for c in elbow] == ["parent", "child", "origin"]
@@ -109,7 +113,7 @@ LOCK = """<mujoco>
   </actuator>
   <sensor><jointpos name="s1" joint="j3"/><jointpos name="s2" joint="j2"/><tendonpos name="s3" tendon="t1"/></sensor>
   <equality>
-    <joint name="e1" joint1="j2" joint2="j1"/><joint name="e2" joint1="j2" joint2="j4"/>
+    <joint name="e1" joint1="j2" joint2="j1"/><joint name="e2" joint1="j2" joint2="j4"/><joint name="e5" joint1="j3" joint2="j2"/>
     <joint name="j1"/>
     <weld name="e3" body1="a"/><connect name="e4" jointinparent="j3"/>
   </equality>
@@ -118,7 +122,9 @@ LOCK = """<mujoco>
 
 
 def test_locked_mjcf_joints_go_with_what_refers_to_them():
-    root = ET.fromstring(lock_mjcf_joints(LOCK, {"j1", "j3"}))
+    text = lock_mjcf_joints(LOCK, {"j1", "j3"})
+    assert isinstance(text, str)  # text, as the libraries load it
+    root = ET.fromstring(text)
     assert [j.get("name") for b in root.iter("body") for j in b.findall("joint")] == ["j2", "j4"]
     tendon = root.find("tendon")
     assert [t.get("name") for t in tendon] == ["t2", "t3"]  # t1 had only j1: gone; spatial t3 kept
@@ -138,3 +144,10 @@ def test_locking_no_mjcf_joint_returns_the_text_as_written():
     assert lock_mjcf_joints(LOCK, []) is LOCK
     kept = ET.fromstring(lock_mjcf_joints(LOCK, ["absent"]))
     assert kept.find("keyframe") is None and len(kept.find("actuator")) == 5 and len(kept.find("tendon")) == 3
+
+
+def test_every_continuous_joint_is_prepared_wherever_it_stands():
+    text = URDF.replace('name="spin" type="continuous"', 'name="spin" type="revolute"')
+    out = joints(prepare_urdf(text))  # a revolute joint first, then a continuous one
+    assert out["wheel"].get("type") == "revolute" and out["wheel"].find("limit").get("upper") == "1e308"
+    assert out["spin"].find("limit") is None
