@@ -97,7 +97,20 @@ def test_the_summary_names_the_joints_bodies_root_and_units(audit):
 def test_each_joint_row_says_what_the_file_states_in_si_units(audit):
     _, _, section, _ = audit
     joints = section.tables[0]
-    assert joints.columns[0] == "joint" and len(joints.columns) == 11
+    assert joints.title == "Joints (SI units, radians; 'unset': the file leaves it to the simulator's default)"
+    assert joints.columns == [
+        "joint",
+        "type",
+        "limits",
+        "force bound",
+        "force bound from",
+        "damping",
+        "friction",
+        "armature",
+        "velocity limit",
+        "drive (per radian)",
+        "initial position",
+    ]
     rows = {r[0]: r for r in joints.rows}
     assert list(rows) == ["j1", "j2", "j3"]
     # j1: force bound 5 × 2 kg × 0.25 m², damping 3 × 0.5 N·m, 180 °/s, initial 90°, a drive per radian
@@ -123,7 +136,7 @@ def test_each_joint_row_says_what_the_file_states_in_si_units(audit):
 def test_each_body_row_says_whether_its_mass_and_inertia_are_stated(audit):
     _, _, section, _ = audit
     bodies = section.tables[1]
-    assert bodies.columns == ["body", "mass [kg]", "centre of mass and inertia"]
+    assert bodies.title == "Rigid bodies" and bodies.columns == ["body", "mass [kg]", "centre of mass and inertia"]
     assert bodies.rows == [
         ["b0", "2", "stated"],
         ["b1", "2", "unset (derived from the colliders)"],
@@ -135,6 +148,7 @@ def test_each_body_row_says_whether_its_mass_and_inertia_are_stated(audit):
 def test_couplings_are_listed_with_their_schema(audit):
     _, _, section, _ = audit
     assert len(section.tables) == 3 and section.tables[2].title == "Couplings"
+    assert section.tables[2].columns == ["follower", "leader", "multiplier", "offset", "schema"]
     assert section.tables[2].rows == [["j3", "j1", "2", "1.5", "NewtonMimicAPI"]]  # 3 units × 0.5 m
 
 
