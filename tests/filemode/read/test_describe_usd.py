@@ -119,7 +119,7 @@ J7 = """float mjc:actuatorfrcrange:max = -5
 token mjc:actuatorfrclimited = "0"
 double mjc:damping = 1.23456789"""
 
-J8 = """float mjc:actuatorfrcrange:max = -5
+J8 = """float mjc:actuatorfrcrange:max = -0.5
 token mjc:actuatorfrclimited = "auto"
 double newton:damping = 1.23456789"""
 
@@ -189,7 +189,7 @@ def test_the_force_bound_comes_from_the_drive_else_the_mjc_force_range(values):
     assert v["j6"]["effort_how"] == "USD PhysicsDriveAPI:angular without maxForce (unbounded)"
     assert v["j3"]["effort"] == pytest.approx(4 * TORQUE, rel=1e-12)  # max(|-4|, |3|) N·m units
     assert v["j3"]["effort_how"] == "USD mjc:actuatorfrcrange"
-    assert v["j8"]["effort"] == pytest.approx(5 * FORCE, rel=1e-12)  # no min, a negative max, "auto" limited
+    assert v["j8"]["effort"] == pytest.approx(0.5 * FORCE, rel=1e-12)  # no min (0), a negative max, "auto" limited
     assert v["j8"]["effort_how"] == "USD mjc:actuatorfrcrange"
 
 
