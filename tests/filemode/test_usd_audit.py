@@ -165,6 +165,7 @@ def test_a_force_bound_kept_as_a_custom_attribute_and_bodies_with_no_mass_are_fo
     assert effort.subject == "j2" and effort.property == "limits.effort"  # j1's custom effort is not its bound
     assert effort.values == {"file": "USD", "unset_in": "USD", "custom": {"j2": 12.5}}
     assert "no force bound on 1 joints" in effort.message and effort.message.endswith(": j2 12.5")
+    assert "survives only as the custom attribute urdf:limit:effort, which no simulator reads" in effort.message
     assert mass.subject == "b3, zz" and mass.subject_type == "link"
     assert mass.values == {"file": "USD", "bodies": ["b3", "zz"]}
     assert "no mass for 2 bodies" in mass.message and mass.message.endswith("colliders' volume): b3, zz")

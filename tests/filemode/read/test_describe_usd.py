@@ -652,3 +652,17 @@ def test_a_body_is_named_only_beyond_twice_its_single_precision_bound(tmp_path):
     assert found[0][1] == pytest.approx(1.25 * allowed_pos, rel=0.05) and found[1][2] == pytest.approx(
         1.25 * allowed_rot, rel=0.05
     )
+
+
+def test_a_rotation_that_agrees_is_reported_as_none_not_as_rounding_beyond_one(tmp_path):
+    """A body turned 74° about z as its joint frame says, moved 0.01 m: its rotation offset is 0
+    (the cosine, computed a rounding above 1, is clipped), never NaN."""
+    q = f"({math.cos(math.radians(37))!r}, 0, 0, {math.sin(math.radians(37))!r})"
+    robot = stage(
+        tmp_path,
+        "agree",
+        body("b0", xform("(0, 0, 0)"), root=True),
+        body("b1", xform("(0.1, 0, 1)", q)),
+        joint("j", "Revolute", "b0", "b1", f"point3f physics:localPos0 = (0, 0, 1)\nquatf physics:localRot0 = {q}"),
+    )
+    assert pose_mismatches(robot) == [("b1", pytest.approx(0.01, rel=1e-6), 0.0)]

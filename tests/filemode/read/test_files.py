@@ -105,7 +105,7 @@ def test_a_urdf_mujoco_refuses_too_is_read_by_drake(tmp_path):
     findings: list = []
     _, _, desc, library, _ = read_urdf(write(tmp_path, "r.urdf", robot(ZERO)), findings)
     assert library == "drake" and desc.no_inertial == {"tip"}
-    assert [f.values["library"] for f in findings] == ["pinocchio", "mujoco"]
+    assert [f.values for f in findings] == [{"file": "URDF", "library": "pinocchio"}, {"file": "URDF", "library": "mujoco"}]
     assert findings[1].message.startswith("MuJoCo's URDF import refuses the URDF too: mass and inertia of moving bodies")
     assert findings[1].message.endswith("; read with Drake's URDF parser instead") and findings[1].kind == "parser_refused"
 
@@ -255,8 +255,9 @@ def test_an_sdf_before_an_mjcf_is_shaped_as_a_urdf(tmp_path):
 
 def test_an_sdf_drake_refuses_is_an_input_error(tmp_path):
     path = write(tmp_path, "s.sdf", SDF.replace("WORLD", "").replace("<child>arm</child>", "<child>nothere</child>"))
-    with pytest.raises(InputError, match=f"^--sdf: Drake cannot load {path}: "):
+    with pytest.raises(InputError, match=f"^--sdf: Drake cannot load {path}: ") as err:
         read_sdf(path, [])
+    assert "name[nothere]" in str(err.value) and "\n" not in str(err.value)  # Drake's reason, on one line
 
 
 def test_the_mjcf_angle_unit():
