@@ -297,12 +297,20 @@ MIMICS = [
         ("PhysxMimicJointAPI:rotX", "PhysxMimicJointAPI:rotY"),
     ),
     joint("fixed", "Fixed", "b9", "b10", "rel newton:mimicJoint = </r/lead>"),  # not movable: no coupling
+    joint(  # an instance name with a namespace: all of it after the schema's name
+        "p5",
+        "Revolute",
+        "b10",
+        "b11",
+        "rel physxMimicJoint:rot:X:referenceJoint = </r/lead>\nfloat physxMimicJoint:rot:X:gearing = 3",
+        ("PhysxMimicJointAPI:rot:X",),
+    ),
 ]
 
 
 @pytest.fixture(scope="module")
 def mimic_robot(tmp_path_factory):
-    bodies = [f"b{i}" for i in range(11)]
+    bodies = [f"b{i}" for i in range(12)]
     return stage(tmp_path_factory.mktemp("mimic"), "mimic", chain(bodies), *MIMICS)
 
 
@@ -320,6 +328,7 @@ def test_couplings_of_both_schemas_with_their_defaults_and_units(mimic):
         "p1": ("lead", 0.5, pytest.approx(-30 * DEG, rel=1e-12), "PhysxMimicJointAPI"),
         "p2": ("n4", -0.0, pytest.approx(-2 * M, rel=1e-12), "PhysxMimicJointAPI"),
         "p3": ("lead", -2.0, 0.0, "PhysxMimicJointAPI"),
+        "p5": ("lead", -3.0, 0.0, "PhysxMimicJointAPI"),
     }
 
 

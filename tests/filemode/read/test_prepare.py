@@ -32,6 +32,7 @@ def joints(text: str) -> dict[str, ET.Element]:
 def test_continuous_joints_are_named():
     assert continuous_joints(URDF) == {"spin", "wheel"}
     assert continuous_joints('<robot name="r"><joint name="x" type="revolute"/></robot>') == set()
+    assert continuous_joints('<robot name="r"><actuator name="m" type="continuous"/></robot>') == set()  # not a joint
 
 
 def test_a_continuous_joint_becomes_an_unlimited_revolute_one():
