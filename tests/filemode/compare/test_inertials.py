@@ -477,6 +477,8 @@ def test_a_mass_ratio_shared_by_every_moving_body_is_a_units_mistake():
     assert uniform_mass_ratio([result(1.0, 1000.0)]) is None  # one body says nothing
     assert uniform_mass_ratio([result(1.0, 1000.0), result(2.0, 2000.0 * (1 + 2e-6))]) is None
     assert uniform_mass_ratio([result(1.0, 1000.0), result(2.0, 2000.0 * (1 + 5e-7))]) == pytest.approx(1000.0)
+    spread = [result(1.0, 1000.0), result(1.0, 1000.0 * (1 + 9e-7)), result(1.0, 1000.0 * (1 - 9e-7))]
+    assert uniform_mass_ratio(spread) == pytest.approx(1000.0)  # each within a millionth of the first
     # the welded base and massless bodies are left out
     assert uniform_mass_ratio([result(1.0, 1000.0), result(2.0, 2000.0), result(3.0, 3.0, fixed=True)]) == pytest.approx(1000.0)
     assert uniform_mass_ratio([result(1.0, 1000.0), result(0.0, 5.0), result(2.0, 2000.0)]) == pytest.approx(1000.0)
@@ -698,6 +700,8 @@ def test_a_twin_that_states_no_inertial_makes_the_difference_unset():
     r = analysed(u, m)["j2"]
     assert r.status == "unset" and [p.unset_twin for p in r.extra] == ["link2"]
     assert r.without_extra == Difference(0.0, 0.0, 0.0)
+    r = analysed(m, u)["j2"]  # the URDF's the unset one: its rigid body has no URDF part
+    assert r.status == "unset" and r.tol == DEFAULTS and (r.urdf.mass, r.mjcf.mass) == (0.0, 1.0)
 
 
 def test_the_stated_parts_are_compared_without_the_unset_one():
@@ -721,6 +725,11 @@ def test_the_stated_parts_are_compared_alone_only_when_each_has_its_twin():
     m.bodies.pop()
     m.no_inertial = {"tool"}
     m.bodies[2].mass = 1.3
+    marker = with_tool(arm(), 0.0, "marker").bodies[-1]  # massless, no twin: states nothing
+    marker.inertia_local = marker.inertia = np.zeros((3, 3))
+    u.bodies.append(marker)
+    u.frames["marker"], u.frame_owner["marker"], u.frame_depth["marker"] = pose((0.0, 0.0, 0.6)), "j2", 3
+    assert analysed(u, m)["j2"].urdf.mass == pytest.approx(1.0)
     with_tool(u, 0.2, "lamp")  # a twinless stated part
     r = analysed(u, m)["j2"]
     assert (r.urdf.mass, r.mjcf.mass) == pytest.approx((1.7, 1.3)) and r.status == "differs"
