@@ -250,7 +250,8 @@ def test_the_base_falls_back_to_each_files_massive_base_body_then_a_root_frame_p
     assert (root.urdf_link, root.mjcf_link) == ("base", "b0")
     # the MJCF's base body massless: its name comes from the root frame pair
     m2 = model("mjcf", [body("b0", None, 0.0), body("b1", "j1", 2.0)], frames=frames_m)
-    (root, *_) = groups(u, m2, [("j1", "j1")], [("link1", "b1"), ("base", "b0")], dict(u.frames), dict(m2.frames), False)
+    pairs = [("link1", "b1"), ("base", "b1"), ("link1", "b0"), ("base", "b0")]  # the first with both on the base
+    (root, *_) = groups(u, m2, [("j1", "j1")], pairs, dict(u.frames), dict(m2.frames), False)
     assert (root.urdf_link, root.mjcf_link) == ("base", "b0")
     (root, *_) = groups(u, m2, [("j1", "j1")], [], dict(u.frames), dict(m2.frames), False)
     assert (root.urdf_link, root.mjcf_link) == ("base", ROOT)
@@ -288,6 +289,10 @@ def test_a_body_on_a_joint_one_file_lacks_is_moved_by_it_and_has_no_twin():
     assert (prop_u.name, prop_u.moved_by, prop_u.twin) == ("prop", "prop_joint", None)
     assert (prop_m.name, prop_m.moved_by, prop_m.twin) == ("prop", None, None)  # its twin is moved by a joint
     assert grps[2].urdf[0].twin == "link2" and grps[2].mjcf[0].twin == "link2"
+    # the other way round: the MJCF's prop is on a joint the URDF lacks
+    grps = groups(m, u, [("j1", "j1"), ("j2", "j2")], [(f, f) for f in u.frames], dict(m.frames), dict(u.frames), False)
+    prop_u, prop_m = grps[2].urdf[1], grps[2].mjcf[1]
+    assert (prop_m.moved_by, prop_m.twin) == ("prop_joint", None) and (prop_u.moved_by, prop_u.twin) == (None, None)
 
 
 def test_twins_on_different_joints_are_not_one_body():
@@ -412,6 +417,8 @@ def test_the_angle_between_principal_axes_is_measured():
     assert [x["angle_deg"] for x in d["axes"]] == pytest.approx([30.0, 30.0, 0.0], abs=1e-9)
     assert d["largest_axis_angle_deg"] == pytest.approx(30.0, rel=1e-9)
     assert len(d["turned"]) == 2
+    r = rot_z(math.radians(0.5))  # half a degree is a turn
+    assert len(describe_tensors(a, r @ a @ r.T, None, 0.0)["turned"]) == 2
 
 
 def test_moments_are_the_same_within_the_moment_tolerance():
@@ -570,6 +577,13 @@ def test_tolerances_rise_with_the_written_precision():
     tensor = (1e-3 + 2 * (1e-3 + 2e-3)) * norm + 2 * 2.0 * (0.0 + 5e-4) * com_floor
     assert r.tol == pytest.approx((1e-3 * 2.0, com_floor, tensor), rel=1e-12)
     assert r.status == "agree"  # nothing differs at all
+    # the tensor floor is relative to the larger of the two tensors
+    m = arm("mjcf")
+    m.bodies[1].inertia_local = np.diag([0.02, 0.03, 0.01])
+    r = analysed(arm(), m, floors=floors)["j1"]
+    assert r.tol[2] == pytest.approx((1e-3 + 2 * (1e-3 + 2e-3)) * 0.03 + 2 * 2.0 * 5e-4 * com_floor, rel=1e-12)
+    r = analysed(m, arm(), floors=floors)["j1"]
+    assert r.tol[2] == pytest.approx((1e-3 + 2 * (1e-3 + 2e-3)) * 0.03 + 2 * 2.0 * 5e-4 * com_floor, rel=1e-12)
     # a default above the floor wins
     r = analysed(arm(), arm("mjcf"), defaults=(1.0, 1.0, 1.0), floors=floors)["j1"]
     assert r.tol == (1.0, 1.0, 1.0)
@@ -767,6 +781,7 @@ def test_with_the_moved_part_left_out_a_remaining_difference_is_the_bodys():
     r = analysed(prop(arm()), m)["j2"]
     assert r.status == "differs" and [p.name for p in r.moved] == ["prop"]
     assert (r.urdf.mass, r.mjcf.mass) == pytest.approx((1.0, 1.4))
+    assert r.extra == [] and r.without_extra is None  # the moved part is that joint's, not an extra one
 
 
 def test_the_tensors_are_described_in_the_urdf_links_frame():
