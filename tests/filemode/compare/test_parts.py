@@ -100,6 +100,8 @@ def test_several_parts_add_up_and_many_are_listed_briefly():
     (f,) = findings_of(spinner(arm(), ("r1", "r2", "r3", "r4", "r5")), arm("mjcf"))
     assert "links r1 (0.1 kg), r2 (0.1 kg), r3 (0.1 kg), r4 (0.1 kg), r5 (0.1 kg): 0.5 kg in all" in f.message
     assert f.values["links"][4] == {"name": "r5", "mass": 0.1, "body": "link2", "how": "moved by prop_joint"}
+    (f,) = findings_of(spinner(arm(), ("r1", "r2", "r3", "r4")), arm("mjcf"))  # four: each said in full
+    assert "r4 (0.1 kg, moved by prop_joint): 0.4 kg in all" in f.message
     # many parts, but a fixed one keeps saying how it is fixed
     u = with_tool(spinner(arm(), ("r1", "r2", "r3", "r4")))
     (f,) = findings_of(u, arm("mjcf"))
@@ -201,6 +203,23 @@ def test_a_fixed_link_one_file_keeps_apart_and_the_other_merges_is_lumped():
     assert f.values["file"] == "MJCF" and f.message.startswith("the MJCF keeps as separate fixed links what the URDF merges")
 
 
+def test_a_fixed_link_lumped_within_the_written_precision_is_lumped_too():
+    m = merged_tool(arm("mjcf"))
+    m.bodies[2].mass *= 1 + 1e-4  # within a relative floor of 1e-3: rounding
+    (f,) = findings_of(with_tool(arm()), m, floors=Floors(relative=1e-3))
+    assert (f.kind, f.subject) == ("lumped_links", "tool")
+
+
+def test_a_link_welded_to_the_world_is_not_lumped():
+    u = pedestal(arm())
+    m = arm("mjcf")
+    m.bodies[0] = body("base", None, 7.0, (0.0, 0.0, (4.0 * 0.05 - 3.0 * 0.1) / 7.0), (0.0, 0.0, 0.0))
+    info = info_of(u, m)
+    results = analyse(info, (1e-6, 1e-6, 1.0))
+    assert results[0].status == "agree" and results[0].group.fixed_base_root
+    assert part_findings(info, results, TOL_MASS) == []
+
+
 def test_a_same_named_link_on_both_sides_is_not_lumped():
     # both files have the tool, not paired as frames: its twin is the same-named body of the same rigid body
     u, m = with_tool(arm()), with_tool(arm("mjcf"))
@@ -274,6 +293,13 @@ def test_a_units_mistake_is_not_said_again_by_the_base():
     assert findings_of(u, arm("mjcf")) == []
     u.bodies[2].mass = 999.0  # not uniform: the base's difference is said
     assert "base_inertial_difference" in [f.kind for f in findings_of(u, arm("mjcf"))]
+
+
+def test_a_welded_base_within_the_written_precision_says_nothing():
+    m = arm("mjcf")
+    m.bodies[0].mass = 4.001
+    assert findings_of(arm(), m, floors=Floors(relative=1e-3)) == []
+    assert [f.kind for f in findings_of(arm(), m)] == ["base_inertial_difference"]
 
 
 def test_a_welded_base_that_agrees_or_is_unknown_says_nothing():
