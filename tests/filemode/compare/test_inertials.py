@@ -240,6 +240,10 @@ def test_the_base_is_named_after_the_same_named_root_body_nearest_the_root():
     m = model("mjcf", arm_bodies(), frames=frames)
     (root, *_) = groups(u, m, [("j1", "j1")], [], dict(u.frames), dict(m.frames), False)
     assert (root.urdf_link, root.mjcf_link) == ("base", "base")
+    # a root frame that carries a body in one file only names it too
+    m.bodies.append(body("world", None, 0.5))
+    (root, *_) = groups(u, m, [("j1", "j1")], [], dict(u.frames), dict(m.frames), False)
+    assert (root.urdf_link, root.mjcf_link) == ("world", "world")
 
 
 def test_the_base_falls_back_to_each_files_massive_base_body_then_a_root_frame_pair():
@@ -255,6 +259,9 @@ def test_the_base_falls_back_to_each_files_massive_base_body_then_a_root_frame_p
     assert (root.urdf_link, root.mjcf_link) == ("base", "b0")
     (root, *_) = groups(u, m2, [("j1", "j1")], [], dict(u.frames), dict(m2.frames), False)
     assert (root.urdf_link, root.mjcf_link) == ("base", ROOT)
+    u.bodies[0].mass = 0.0  # neither base weighs anything: the root frame pair names both
+    (root, *_) = groups(u, m2, [("j1", "j1")], [("link1", "b0"), ("base", "b0")], dict(u.frames), dict(m2.frames), False)
+    assert (root.urdf_link, root.mjcf_link) == ("base", "b0")
 
 
 def test_groups_place_each_inertial_through_its_frames_pose():
@@ -436,6 +443,14 @@ def test_an_axis_of_nearly_equal_moments_is_not_defined():
     assert d["largest_axis_angle_deg"] == 0.0 and d["turned"] == []
     d = describe_tensors(np.diag([1.0, 1.5, 2.0]), np.diag([1.5, 1.0, 2.0]), None, 0.0)  # gap 0.25 of the scale
     assert [x["defined"] for x in d["axes"]] == [True, True, True] and d["largest_axis_angle_deg"] == pytest.approx(90.0)
+
+
+def test_the_scale_is_the_larger_of_the_two_tensors():
+    # moments 1 and 1.001 of a tensor of scale 2: not defined, however small the other tensor is
+    d = describe_tensors(np.diag([1.0, 1.001, 2.0]), np.diag([0.1, 0.2, 0.3]), None, 0.0)
+    assert [x["defined"] for x in d["axes"]] == [False, False, True]
+    d = describe_tensors(np.diag([0.1, 0.2, 0.3]), np.diag([1.0, 1.001, 2.0]), None, 0.0)
+    assert [x["defined"] for x in d["axes"]] == [True, True, True]  # 0.1 apart of 2
 
 
 def test_empty_tensors_describe_as_nothing():
