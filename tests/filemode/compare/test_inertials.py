@@ -258,7 +258,7 @@ def test_the_base_falls_back_to_each_files_massive_base_body_then_a_root_frame_p
     (root, *_) = groups(u, m2, [("j1", "j1")], pairs, dict(u.frames), dict(m2.frames), False)
     assert (root.urdf_link, root.mjcf_link) == ("base", "b0")
     (root, *_) = groups(u, m2, [("j1", "j1")], [], dict(u.frames), dict(m2.frames), False)
-    assert (root.urdf_link, root.mjcf_link) == ("base", ROOT)
+    assert (root.urdf_link, root.mjcf_link) == ("base", "(base)")  # said so in its label
     u.bodies[0].mass = 0.0  # neither base weighs anything: the root frame pair names both
     (root, *_) = groups(u, m2, [("j1", "j1")], [("link1", "b0"), ("base", "b0")], dict(u.frames), dict(m2.frames), False)
     assert (root.urdf_link, root.mjcf_link) == ("base", "b0")
@@ -451,6 +451,13 @@ def test_the_scale_is_the_larger_of_the_two_tensors():
     assert [x["defined"] for x in d["axes"]] == [False, False, True]
     d = describe_tensors(np.diag([0.1, 0.2, 0.3]), np.diag([1.0, 1.001, 2.0]), None, 0.0)
     assert [x["defined"] for x in d["axes"]] == [True, True, True]  # 0.1 apart of 2
+
+
+def test_small_tensors_are_scaled_by_their_own_size():
+    # moments of a few grams·m²: 5e-4 apart of 2e-3 is a quarter of the scale, the axes defined
+    a, b = np.diag([0.001, 0.0015, 0.002]), np.diag([0.0015, 0.001, 0.002])
+    d = describe_tensors(a, b, None, 0.0)
+    assert [x["defined"] for x in d["axes"]] == [True, True, True] and d["largest_axis_angle_deg"] == pytest.approx(90.0)
 
 
 def test_empty_tensors_describe_as_nothing():
@@ -680,6 +687,13 @@ def test_mujocos_snapped_centre_of_mass_widens_the_centre_tolerance_by_its_share
     assert analysed(u, m, defaults=(1e-6, 1e-6, 1.0))["j1"].status == "differs"
 
 
+def test_a_light_bodys_snapped_centre_of_mass_is_its_share_of_a_light_body():
+    u, m = arm(), arm("mjcf")
+    u.bodies[2].mass = m.bodies[2].mass = 0.5
+    m.bodies[2].snapped_com = 2e-3
+    assert analysed(u, m)["j2"].tol[1] == pytest.approx(DEFAULTS[1] + 2e-3, rel=1e-12)
+
+
 def test_mujocos_snapped_axes_widen_the_tensor_tolerance_by_the_turn_of_their_spread():
     m = arm("mjcf")
     m.bodies[2].snapped = 0.01  # link2's moments 0.005 .. 0.012: a spread of 0.007
@@ -731,6 +745,14 @@ def test_a_twin_that_states_no_inertial_makes_the_difference_unset():
     assert r.without_extra == Difference(0.0, 0.0, 0.0)
     r = analysed(m, u)["j2"]  # the URDF's the unset one: its rigid body has no URDF part
     assert r.status == "unset" and r.tol == DEFAULTS and (r.urdf.mass, r.mjcf.mass) == (0.0, 1.0)
+
+
+def test_an_unset_twin_and_a_part_with_none_explain_together():
+    u, m = with_tool(arm()), arm("mjcf")
+    m.bodies.pop(2)
+    m.no_inertial = {"link2"}
+    r = analysed(u, m)["j2"]
+    assert r.status == "explained" and sorted(p.name for p in r.extra) == ["link2", "tool"]
 
 
 def test_the_stated_parts_are_compared_without_the_unset_one():
