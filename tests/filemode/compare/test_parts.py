@@ -26,6 +26,7 @@ from tests.filemode.compare.test_inertials import (
 )
 
 TOL_MASS = 1e-6
+CHECKS = [["inertia.mass", "rigid bodies"], ["inertia.com", "rigid bodies"], ["inertia.tensor", "rigid bodies"]]
 
 
 def findings_of(u, m, **kw) -> list:
@@ -52,11 +53,7 @@ def test_a_part_on_a_joint_one_file_lacks_is_said_once_with_that_joint():
     assert f.values["file"] == "URDF" and f.values["joints"] == ["prop_joint"] and f.values["groups"] == ["j2"]
     assert f.values["links"] == [{"name": "prop", "mass": 0.1, "body": "link2", "how": "moved by prop_joint"}]
     assert f.values["mass_kg"] == pytest.approx(0.1)
-    assert f.values["checks"] == [
-        ["inertia.mass", "rigid bodies"],
-        ["inertia.com", "rigid bodies"],
-        ["inertia.tensor", "rigid bodies"],
-    ]
+    assert f.values["checks"] == CHECKS
     assert f.message == (
         "the URDF has parts the MJCF lacks: joint prop_joint; link prop (0.1 kg, moved by prop_joint): 0.1 kg in all, "
         "left out when comparing the rigid bodies they join (link2) (not compared; held at zero)"
@@ -133,7 +130,7 @@ def test_an_inertial_the_urdf_leaves_unset_is_said_by_the_urdf():
     u.no_inertial = {"link2"}
     (f,) = findings_of(u, arm("mjcf"))
     assert (f.kind, f.severity, f.subject, f.magnitude, f.unit) == ("inertial_unset", "warning", "link2", 1.0, "kg")
-    assert f.values["unset_in"] == "URDF"
+    assert f.values["unset_in"] == "URDF" and f.values["checks"] == CHECKS
     assert f.values["links"] == [{"name": "link2", "other": "link2", "mass": 1.0, "body": "link2"}]
     assert f.message == (
         "the URDF leaves the inertial of 1 link unset (massless by default); the MJCF states it: link2 (1 kg in the MJCF)"
@@ -157,7 +154,7 @@ def test_a_mass_from_an_absent_mesh_is_said_not_compared():
     assert (f.kind, f.severity, f.subject) == ("mass_unknown", "warning", "link1")
     assert f.message.startswith("1 rigid body not compared: part of the mass comes from mesh files that are absent")
     assert f.message.endswith("<inertial>): link1 (MJCF)")
-    assert f.values["bodies"] == ["link1"] and f.values["parts"] == [["MJCF", "link1"]]
+    assert f.values["bodies"] == ["link1"] and f.values["parts"] == [["MJCF", "link1"]] and f.values["checks"] == CHECKS
     u = arm()
     u.bodies[2].mass_known = False
     (f,) = findings_of(u, m)
@@ -265,7 +262,10 @@ def test_a_welded_base_that_differs_is_a_warning_that_moves_nothing():
     assert (f.kind, f.severity, f.subject, f.magnitude, f.unit) == ("base_inertial_difference", "warning", "base", 0.5, "kg")
     assert f.values["urdf"] == 4.0 and f.values["mjcf"] == 4.5 and f.values["com_m"] == 0.0
     assert "the base (base, welded to the world) weighs 4 kg in the URDF and 4.5 kg in the MJCF" in f.message
-    assert "changes no joint force" in f.message
+    assert "centres of mass 0 m apart" in f.message and "changes no joint force" in f.message
+    m.bodies[0].com_local = np.array([0.0, 0.0, 0.08])
+    (f,) = findings_of(arm(), m)
+    assert "centres of mass 0.03 m apart" in f.message and f.values["com_m"] == pytest.approx(0.03)
     # the same mass, another inertia: the tensor's difference is its size
     m = arm("mjcf")
     m.bodies[0].inertia_local = np.diag([0.04, 0.04, 0.05])
