@@ -652,7 +652,7 @@ def test_a_mass_from_an_absent_mesh_is_unknown_either_way():
     m = arm("mjcf")
     m.bodies[1].mass, m.bodies[1].mass_known = 7.0, False
     r = analysed(arm(), m)["j1"]
-    assert r.status == "unknown" and r.diff.mass == pytest.approx(5.0)
+    assert r.status == "unknown" and r.diff.mass == pytest.approx(5.0) and r.tol == DEFAULTS
     u = arm()
     u.bodies[2].mass_known = False
     assert analysed(u, arm("mjcf"))["j2"].status == "unknown"  # even when they agree
@@ -666,6 +666,9 @@ def test_a_mass_whose_place_is_unknown_is_compared_by_its_mass_alone():
     assert r.status == "agree" and r.tol[1:] == (math.inf, math.inf) and r.diff.com == pytest.approx(math.hypot(0.5, 0.1))
     m.bodies[1].mass = 3.0
     assert analysed(arm(), m)["j1"].status == "differs"
+    # its mass within the written precision only: rounding, by the mass's own default
+    m.bodies[1].mass = 2.0002
+    assert analysed(arm(), m, defaults=(1e-6, 1e-3, 1e-7), floors=Floors(relative=1e-3))["j1"].status == "rounding"
     u = arm()
     u.bodies[2].com_known = False
     u.bodies[2].com_local = np.array([0.0, 0.3, 0.0])
