@@ -182,6 +182,7 @@ def groups(u: ModelDesc, m: ModelDesc, joint_pairs, frame_pairs, poses_u: dict, 
                 known=body.mass_known,
                 unset_twin=silent,
                 moved_by=_moved_by(u, body.owner, key_u),
+                com_known=body.com_known,  # a USD first side may state a mass with no centre of mass
             )
         )
     for body in m.bodies:
@@ -332,7 +333,8 @@ def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
         big = max(a.mass, b.mass)
         com_floor = info.floor("inertia.com", fl.com + pos_floor + rot_floor * lever)
         mass_tol = max(defaults[0], info.floor("inertia.mass", fl.relative * big))
-        com_tol = max(defaults[1], com_floor) + sum(p.snapped_com * p.mass for p in g.mjcf) / max(b.mass, 1e-300)
+        snapped_com = sum(p.snapped_com * p.mass for p in g.mjcf) / max(b.mass, 1e-300)  # MuJoCo's, not the file's
+        com_tol = max(defaults[1], com_floor) + snapped_com
         norm = max(float(np.abs(np.linalg.eigvalsh(a.inertia)).max()), float(np.abs(np.linalg.eigvalsh(b.inertia)).max()))
         snapped = sum(2 * p.snapped * float(np.ptp(np.linalg.eigvalsh(p.inertia))) for p in g.mjcf)
         tensor_tol = max(
@@ -369,7 +371,7 @@ def analyse(info, defaults: tuple[float, ...]) -> list[GroupResult]:
             result = GroupResult(g, a, b, diff, tol, "unknown", moved=moved)
         elif diff.within(*tol):
             exact = (
-                (defaults[0], defaults[1], defaults[2] + snapped)
+                (defaults[0], defaults[1] + snapped_com, defaults[2] + snapped)
                 if math.isfinite(com_tol)
                 else (defaults[0], com_tol, tensor_tol)
             )

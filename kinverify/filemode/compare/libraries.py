@@ -94,7 +94,7 @@ def side_names(options, kinds=("urdf", "mjcf")) -> list[str]:
     first, second = names_reading(kinds[0]), names_reading(kinds[1])
     wanted = [n for n in (options.backends or first + second) if n in first + second]
     if not any(n in first for n in wanted) or not any(n in second for n in wanted):
-        article = {"URDF": "a"}
+        article = {"URDF": "a", "USD": "a"}  # "an MJCF", "an SDF": as they are spoken
         a, b = (f"{article.get(LABELS[k], 'an')} {LABELS[k]}" for k in kinds)
         raise InputError(
             f"--backends: file mode needs {a} backend ({', '.join(first)}) and {b} backend "

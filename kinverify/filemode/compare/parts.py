@@ -166,8 +166,11 @@ def _lumped(results) -> list:
             for r in results
             if r.status in ("agree", "rounding") and not r.group.fixed_base_root
             for p in _side(r, side)
-            if p.twin is None and p.mass > 0 and p.name not in {o.name for o in _side(r, other_side)}
-        ]  # a same-named body in the same rigid body is its twin
+            if p.twin is None
+            and p.mass > 0
+            and p.name not in {o.name for o in _side(r, other_side)}
+            and not any(p is x for x in r.moved)
+        ]  # a same-named body in the same rigid body is its twin; what a joint in one file only moves is that joint's (extra_parts)
         if found:
             other = "MJCF" if side == "URDF" else "URDF"
             out.append(
