@@ -355,6 +355,7 @@ def test_base_findings_both_float_the_transform_becomes_one_base_frame_offset():
     assert offset.values == {"xyz": [0.1, 0.0, 0.2], "rpy": [0.0, 0.0, 0.5]}
     assert "base link base_link" in offset.message and "base body torso" in offset.message
     assert "xyz = [0.1, 0, 0.2] m" in offset.message and "rpy = [0, 0, 0.5] rad" in offset.message
+    assert "the files are compared after it" in offset.message
 
 
 def test_base_findings_one_file_floating_drops_the_transform():
