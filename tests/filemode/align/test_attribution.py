@@ -535,3 +535,57 @@ def test_a_first_joint_hanging_from_a_base_link_the_mjcf_merges_into_its_world()
     mjcf = small_mjcf().replace('<body name="base_link" pos="0 0 0">', "").replace("</body></worldbody>", "</worldbody>")
     out = attributed(small_info(mjcf))
     assert (out["j1"].merged_base, out["j1"].base_placed) == ("base_link", False)
+
+
+def test_a_joint_without_poses_is_left_out():
+    info = small_info(small_mjcf())
+    del info.poses_u["l3"]
+    assert list(attributed(info)) == ["j1", "j2"]
+    info = small_info(small_mjcf())
+    del info.poses_m["l2"]
+    assert list(attributed(info)) == ["j1", "j3"]
+
+
+def test_a_joint_matched_in_neither_file_is_held_and_its_child_hangs_from_the_one_above():
+    # j2 not matched: j3 is attributed after j1, whose frame it does not hang from directly (no frame change taken)
+    info = small_info(small_mjcf(l2={"pos": "0.003 0.004 0.3"}))
+    info.alignment.joints = [x for x in info.alignment.joints if x.urdf != "j2"]
+    info.matching.joints = [x for x in info.matching.joints if x[0] != "j2"]
+    out = attributed(info)
+    assert list(out) == ["j1", "j3"]
+    assert out["j3"].parent_frame == "l1" and out["j3"].moved is None
+    # j3's axis line (world -x) moved with l2 by (-4, 3, 0) mm: 3 mm across it
+    assert out["j3"].axis[1] == pytest.approx(0.003, abs=1e-12)
+
+
+def test_a_body_without_mass_has_no_inertial_to_compare():
+    info = small_info(small_mjcf(l3={"ipos": "0.02 0.001 0.1"}))
+    for b in info.m.bodies:
+        if b.name == "l3":
+            b.mass = 0.0
+    assert attributed(info)["j3"].contents == 0
+    info = small_info(small_mjcf(l3={"ipos": "0.02 0.001 0.1"}))
+    info.u.bodies = [b for b in info.u.bodies if b.name != "l3"]
+    assert attributed(info)["j3"].contents == 0
+
+
+def test_only_an_mjcf_site_counts_among_a_body_s_contents():
+    # the tool as a fixed MJCF body moved 1 mm: a frame of its own (compared elsewhere), not the joint's contents
+    mjcf = small_mjcf(site="0 0.001 0.2").replace(
+        '<site name="tool" pos="0 0.001 0.2"/>', '<body name="tool" pos="0 0.001 0.2"/>'
+    )
+    info = small_info(mjcf)
+    assert info.m.frame_kind["tool"] == "link" and info.m.frame_owner["tool"] == "j3"
+    assert attributed(info)["j3"].contents == 0
+
+
+def test_a_turned_base_frame_is_counted_once():
+    # the MJCF's fixed base turned 0.01 rad about z under the identity alignment: j1's frame turns with it
+    # (j1's one turn) and the base frame itself sits turned (one more)
+    quat = f"{math.cos(0.005)!r} 0 0 {math.sin(0.005)!r}"
+    info = small_info(small_mjcf().replace('pos="0 0 0">', f'pos="0 0 0" quat="{quat}">', 1))
+    out = attributed(info)
+    assert out["j1"].turn == pytest.approx([0.0, 0.0, 0.01], abs=1e-12) and out["j1"].moved is None
+    assert findings_count(info) == 2
+    del info.poses_m["base_link"]  # a base frame without a pose is not compared
+    assert findings_count(info) == 1
