@@ -530,6 +530,23 @@ def test_match_couplings_the_urdf_s_own_then_the_mjcf_s_for_free_joints():
     assert "c" not in match_couplings(u, m, joints)
 
 
+def test_match_couplings_keeps_a_urdf_mimic_follower_a_follower():
+    # the URDF's a = 2 b + 0.1 with a first in the chain: b stays the input, a its follower
+    u = d([j("a"), j("b", "a")], couplings=[Coupling("a", "b", 2.0, 0.1, "<mimic>")])
+    m = d([j("x"), j("y", "x")])
+    out = match_couplings(u, m, [("a", "x", "given"), ("b", "y", "given")])
+    assert out == {"a": Coupling("a", "b", 2.0, 0.1, "<mimic>", False)}
+
+
+def test_match_couplings_an_mjcf_coupling_touching_a_urdf_coupled_joint_is_left_out():
+    # the URDF couples b to a; the MJCF couples c to a (its follower free in the URDF, its leader not): the
+    # URDF's group stands, c stays free
+    u = d([j("a"), j("b", "a"), j("c", "b")], couplings=[Coupling("b", "a", 2.0, 0.0, "<mimic>")])
+    m = d([j("x"), j("y", "x"), j("z", "y")], couplings=[Coupling("z", "x", 3.0, 0.0, "<equality joint>")])
+    out = match_couplings(u, m, [("a", "x", "given"), ("b", "y", "given"), ("c", "z", "given")])
+    assert out == {"b": Coupling("b", "a", 2.0, 0.0, "<mimic>", False)}
+
+
 def test_match_frames_moving_frames_base_frames_and_names():
     u = d([j("a", parent_frame="base"), j("b", "a")], {"tool": "b", "cam": "a", "mount": None, "u_only": "b"})
     m = d([j("x", parent_frame="world"), j("y", "x")], {"tool": "y", "CAM": "x", "mount": None, "other": "y"}, base="world")
