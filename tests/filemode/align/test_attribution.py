@@ -589,3 +589,19 @@ def test_a_turned_base_frame_is_counted_once():
     assert findings_count(info) == 2
     del info.poses_m["base_link"]  # a base frame without a pose is not compared
     assert findings_count(info) == 1
+
+
+def test_a_frame_s_rotation_floor_widens_its_contents_by_their_lever_arm():
+    # l3's rotation floor 1e-3 rad (twice: 2e-3): its centre of mass, 0.102 m from l3's origin, may sit 2.04e-4 m
+    # off; its tensor 2·2e-3 of 0.04 = 1.6e-4 off
+    floors = Floors(frames={"l3": (0.0, 1e-3)})
+    lever = math.hypot(0.02, 0.1)
+    assert 2e-3 * lever == pytest.approx(2.04e-4, rel=1e-2)
+    for dy, contents in ((1.5e-4, 0), (2.5e-4, 1)):
+        mjcf = small_mjcf(l3={"ipos": f"0.02 {dy!r} 0.1"})
+        assert attributed(small_info(mjcf, floors=floors))["j3"].contents == contents
+        assert attributed(small_info(mjcf))["j3"].contents == 1
+    for dz, contents in ((1e-4, 0), (2e-4, 1)):
+        mjcf = small_mjcf(l3={"inertia": f'diaginertia="0.02 0.03 {0.04 + dz!r}"'})
+        assert attributed(small_info(mjcf, floors=floors))["j3"].contents == contents
+        assert attributed(small_info(mjcf))["j3"].contents == 1
