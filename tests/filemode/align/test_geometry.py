@@ -220,9 +220,12 @@ def test_kabsch_never_returns_a_reflection():
 
 
 def test_project_on_line_batched():
-    x = np.array([[[2.0, 3.0, 4.0]], [[-1.0, 0.0, 0.0]]])
-    out = project_on_line(x, np.array([0.0, 0.0, 1.0]), X)
-    assert out == pytest.approx(np.array([[[2.0, 0.0, 1.0]], [[-1.0, 0.0, 1.0]]]))
+    # the line through (5, 0, 1) along (0.6, 0.8, 0): a point 2 along it and 3 off it along z projects onto it
+    point, axis = np.array([5.0, 0.0, 1.0]), np.array([0.6, 0.8, 0.0])
+    on = point + 2.0 * axis
+    x = np.array([on + [0.0, 0.0, 3.0], on + 4.0 * np.array([0.8, -0.6, 0.0]), point - axis])
+    assert project_on_line(x, point, axis) == pytest.approx(np.array([on, on, point - axis]), abs=1e-12)
+    assert project_on_line(x[None], point, axis)[0] == pytest.approx(np.array([on, on, point - axis]), abs=1e-12)
 
 
 def test_foot_on_line_skew():
