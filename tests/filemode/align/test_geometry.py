@@ -58,15 +58,17 @@ def test_angle_between(b, angle):
 
 
 def test_line_distance_skew_lines():
-    # x axis and a line along (cos 30°, sin 30°, 0) through (0, 0, 2): common normal is z, distance 2
+    # a line along x through (1, 2, 3) and one along (cos 30°, sin 30°, 0) 2 m above it: common normal z
+    p1 = np.array([1.0, 2.0, 3.0])
     a2 = np.array([math.cos(math.pi / 6), math.sin(math.pi / 6), 0.0])
-    assert line_distance(np.zeros(3), X, np.array([5.0, -1.0, 2.0]), a2) == pytest.approx(2.0, rel=1e-12)
-    assert line_distance(np.zeros(3), X, np.array([0.0, 0.0, -3.0]), Y) == pytest.approx(3.0, rel=1e-12)
+    assert line_distance(p1, X, p1 + [5.0, -1.0, 2.0], a2) == pytest.approx(2.0, rel=1e-12)
+    assert line_distance(p1, X, p1 + [0.0, 0.0, -3.0], Y) == pytest.approx(3.0, rel=1e-12)
 
 
 def test_line_distance_parallel_lines():
-    assert line_distance(np.zeros(3), X, np.array([7.0, 3.0, 4.0]), X) == pytest.approx(5.0, rel=1e-12)
-    assert line_distance(np.zeros(3), X, np.array([7.0, 3.0, 4.0]), -X) == pytest.approx(5.0, rel=1e-12)
+    p1 = np.array([1.0, 2.0, 3.0])
+    assert line_distance(p1, X, p1 + [7.0, 3.0, 4.0], X) == pytest.approx(5.0, rel=1e-12)
+    assert line_distance(p1, X, p1 + [7.0, 3.0, 4.0], -X) == pytest.approx(5.0, rel=1e-12)
 
 
 def test_pose_difference():
@@ -230,7 +232,7 @@ def test_project_on_line_batched():
 
 def test_foot_on_line_skew():
     # line 1: the x axis; line 2: through (2, 5, 3) along y. The foot on line 2 is (2, 0, 3)
-    assert foot_on_line(np.zeros(3), X, np.array([2.0, 5.0, 3.0]), Y) == pytest.approx([2.0, 0.0, 3.0], abs=1e-12)
+    assert foot_on_line(np.array([-1.0, 0.0, 0.0]), X, np.array([2.0, 5.0, 3.0]), Y) == pytest.approx([2.0, 0.0, 3.0], abs=1e-12)
     # line 2 at 30° from line 1 (|n| < 1): foot where line 2 is nearest the x axis, the point above it
     a2 = np.array([math.cos(math.pi / 6), math.sin(math.pi / 6), 0.0])
     p2 = np.array([0.0, 0.0, 2.0]) + 3.0 * a2
