@@ -273,8 +273,8 @@ def test_matching_lookups():
         (["panda_joint1", "panda_joint2"], ["joint1", "joint2"]),
         (["iiwa_joint_1", "iiwa_joint_2"], ["1", "2"]),
         (["r-arm-1", "r-arm-2"], ["1", "2"]),
-        (["robot/a", "robot/b"], ["a", "b"]),
-        (["ns:a", "ns:b"], ["a", "b"]),
+        (["robot/arm/a", "robot/arm/b"], ["a", "b"]),  # up to the last separator of the common prefix
+        (["ns:arm:a", "ns:arm:b"], ["a", "b"]),
         (["a_link", "b_link"], ["a", "b"]),
         (["x_a_link", "x_b_link"], ["a", "b"]),
         (["panda_", "panda_joint"], ["panda_", "joint"]),  # a name that is all prefix is kept whole
@@ -594,6 +594,13 @@ def test_match_frames_a_frame_moving_with_another_joint_is_not_paired_by_name():
     m = d([j("x"), j("y", "x")], {"tool": "x", "flange": "y"})
     frames = match_frames(u, m, [("a", "x", "name"), ("b", "y", "name")])
     assert not [f for f in frames if f[0] in ("tool", "flange")]
+
+
+def test_match_frames_a_frame_paired_by_its_name_is_not_paired_again_by_a_similar_one():
+    u = d([j("a"), j("b", "a")], {"Tool": "b"})
+    m = d([j("x"), j("y", "x")], {"Tool": "y", "tool": "y"})
+    frames = match_frames(u, m, [("a", "x", "name"), ("b", "y", "name")])
+    assert [f for f in frames if "Tool" in f[:2] or "tool" in f[:2]] == [("Tool", "Tool", "same name")]
 
 
 def test_match_frames_given_on_the_command_line():
