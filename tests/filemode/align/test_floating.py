@@ -268,6 +268,7 @@ def test_urdf_base_of_a_robot_without_a_root():
 
 
 def test_fixed_urdf_keeps_the_origin_or_drops_it():
+    assert isinstance(fixed_urdf(FLOATING, keep_origin=True), str)  # text, as the readers take it
     kept = ET.fromstring(fixed_urdf(FLOATING, keep_origin=True))
     (joint,) = [j for j in kept.findall("joint") if j.get("name") == "float"]
     assert joint.get("type") == "fixed"
@@ -287,6 +288,7 @@ def test_fixed_urdf_leaves_a_non_floating_urdf_alone():
 def test_floating_urdf_adds_a_floating_joint_above_an_unstated_root():
     text = '<robot name="r"><link name="b"/></robot>'
     out = floating_urdf(text)
+    assert isinstance(out, str)
     assert urdf_base(out) == UrdfBase("floating", ADDED_ROOT, ADDED_JOINT, "b")
     joint = ET.fromstring(out).find("joint")
     assert (joint.find("parent").get("link"), joint.find("child").get("link")) == ("world", "b")
