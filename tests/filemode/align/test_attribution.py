@@ -8,6 +8,7 @@ tilted where nothing but the joints places the MJCF's world is that axis, not a 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from pathlib import Path
@@ -17,7 +18,7 @@ import numpy as np
 import pytest
 
 import tests.filemode.pairs as P
-from kinverify.filemode.align.attribution import Attribution, attribute, findings_count
+from kinverify.filemode.align.attribution import Attribution, _merged_base, attribute, findings_count
 from kinverify.filemode.align.match import Matching
 from kinverify.filemode.align.result import Alignment, JointMap
 from kinverify.filemode.compare.context import FileModeInfo
@@ -605,3 +606,28 @@ def test_a_frame_s_rotation_floor_widens_its_contents_by_their_lever_arm():
         mjcf = small_mjcf(l3={"inertia": f'diaginertia="0.02 0.03 {0.04 + dz!r}"'})
         assert attributed(small_info(mjcf, floors=floors))["j3"].contents == contents
         assert attributed(small_info(mjcf))["j3"].contents == 1
+
+
+@pytest.mark.parametrize(
+    ("link", "in_mjcf", "mjcf_parent", "merged"),
+    [
+        ("base_link", False, "world", "base_link"),
+        ("base_link", False, "", "base_link"),
+        ("base_link", True, "world", ""),  # the MJCF has the link's frame
+        ("base_link", False, "torso", ""),  # the MJCF's joint hangs from a frame of its own
+        ("world", False, "world", ""),
+        ("", False, "world", ""),
+    ],
+)
+def test_merged_base(link, in_mjcf, mjcf_parent, merged):
+    u, m = describe_urdf(small_urdf()), describe_mjcf(small_mjcf())
+    ju, jm = dataclasses.replace(u.joint("j1"), parent_frame=link), dataclasses.replace(m.joint("j1"), parent_frame=mjcf_parent)
+    if not in_mjcf:
+        m.frames.pop("base_link")
+    assert _merged_base(u, m, ju, jm) == merged
+
+
+def test_findings_count_counts_a_flip_and_an_offset_without_an_attribution():
+    info = small_info(small_mjcf(), sign={"j2": -1}, offset={"j3": 0.1})
+    info.alignment.attribution = {}
+    assert findings_count(info) == 2
