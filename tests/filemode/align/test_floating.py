@@ -301,6 +301,7 @@ def test_decide_both_float(kind):
     floating, found, message = decide(base, ["torso"])
     assert (floating, found) == (True, "floating_base")
     assert "torso" in message and "base:x, base:y, base:z, base:roll, base:pitch, base:yaw" in message
+    assert "the free joint's initial value, not a property of the robot" in message
     if kind == "floating":
         assert "root joint float is floating" in message and "has no joint" not in message
     else:
