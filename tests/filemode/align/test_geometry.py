@@ -324,3 +324,7 @@ def test_rotation_between_parallel_and_opposite():
     assert rotation_between(Z, -Z) == pytest.approx(np.diag([-1.0, 1.0, -1.0]), abs=1e-12)
     assert rotation_between(X, -X) == pytest.approx(np.diag([-1.0, -1.0, 1.0]), abs=1e-12)
     assert rotation_between(-X, X) == pytest.approx(np.diag([-1.0, -1.0, 1.0]), abs=1e-12)
+    # a slanted a: a half turn about a × x, normalised (|a × x| = 0.877 here)
+    a = np.array([0.48, 0.6, 0.64])
+    n = np.cross(a, X) / np.linalg.norm(np.cross(a, X))
+    assert rotation_between(a, -a) == pytest.approx(2 * np.outer(n, n) - np.eye(3), abs=1e-12)

@@ -497,6 +497,9 @@ def test_resolve_couplings_group_root_and_skips():
     couplings = [Coupling("b", "a", 2.0, 0.1, "<mimic>"), Coupling("e", "q", 1.0, 0.0, "<mimic>")]
     assert resolve_couplings(couplings, ["a", "b", "e"]) == {"b": Coupling("b", "a", 2.0, pytest.approx(0.1), "<mimic>", False)}
     assert resolve_couplings([Coupling("q", "a", 1.0, 0.0, "<mimic>")], ["a", "b"]) == {}
+    assert resolve_couplings(couplings[::-1], ["a", "b", "e"]) == {
+        "b": Coupling("b", "a", 2.0, pytest.approx(0.1), "<mimic>", False)
+    }
     # the root is the first joint that is not a follower: with a a follower, b leads (a = (b - 0.1) / 2)
     out = resolve_couplings(couplings[:1], ["a", "b"], followers={"a"})
     assert out == {"a": Coupling("a", "b", 0.5, pytest.approx(-0.05), "<mimic>", False)}
@@ -600,6 +603,8 @@ def test_match_frames_a_frame_paired_by_its_name_is_not_paired_again_by_a_simila
     u = d([j("a"), j("b", "a")], {"Tool": "b"})
     m = d([j("x"), j("y", "x")], {"Tool": "y", "tool": "y"})
     frames = match_frames(u, m, [("a", "x", "name"), ("b", "y", "name")])
+    assert [f for f in frames if "Tool" in f[:2] or "tool" in f[:2]] == [("Tool", "Tool", "same name")]
+    frames = match_frames(m, u, [("x", "a", "name"), ("y", "b", "name")])
     assert [f for f in frames if "Tool" in f[:2] or "tool" in f[:2]] == [("Tool", "Tool", "same name")]
 
 
