@@ -266,13 +266,17 @@ def resolve_couplings(couplings, order: list[str], followers=frozenset()) -> dic
     one joint)."""
     rank = {n: i for i, n in enumerate(order)}
     edges: dict[str, list[tuple[str, float, float, Coupling]]] = {}
+    held = []
     for c in couplings:
         if c.follower not in rank or c.leader not in rank:
             continue
+        if not c.multiplier:  # f = 0·l + o: held at its offset, it ties no joint to another
+            held.append(c)
+            continue
         edges.setdefault(c.follower, []).append((c.leader, c.multiplier, c.offset, c))  # f = k·l + o
-        if c.multiplier:
-            edges.setdefault(c.leader, []).append((c.follower, 1 / c.multiplier, -c.offset / c.multiplier, c))
-    out, seen = {}, set()
+        edges.setdefault(c.leader, []).append((c.follower, 1 / c.multiplier, -c.offset / c.multiplier, c))
+    out: dict[str, Coupling] = {c.follower: Coupling(c.follower, c.leader, 0.0, c.offset, c.source, c.nonlinear) for c in held}
+    seen: set[str] = set()
     for start in sorted(edges, key=rank.__getitem__):
         if start in seen:
             continue
@@ -294,7 +298,7 @@ def resolve_couplings(couplings, order: list[str], followers=frozenset()) -> dic
                     value[other] = (kj / k, (cj - o) / k, c)
                     todo.append(other)
         for j, (k, c, via) in value.items():
-            if j != root:
+            if j != root and j not in out:
                 assert via is not None  # reached through a coupling
                 source = next((x.source for x in couplings if x.follower == j), via.source)
                 nonlinear = any(x.nonlinear for x in couplings if j in (x.follower, x.leader))

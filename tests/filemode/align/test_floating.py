@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import re
+import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
@@ -15,9 +16,22 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import tests.filemode.pairs as P
-from kinverify.filemode.align.floating import conjugated, urdf_base
+from kinverify.filemode.align.floating import (
+    ADDED_JOINT,
+    ADDED_ROOT,
+    UrdfBase,
+    base_findings,
+    base_samples,
+    conjugated,
+    decide,
+    fixed_urdf,
+    floating_urdf,
+    urdf_base,
+)
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.files import BaseDecision
 from kinverify.filemode.pipeline import verify_files
-from kinverify.model.floating import BASE_COORDINATES, base_transforms
+from kinverify.model.floating import BASE_COORDINATES, base_limits, base_transforms
 from kinverify.run import VerifyOptions
 from tests.filemode.pairs import write_pair
 
@@ -195,3 +209,168 @@ def test_armature_and_damping_a_free_joint_takes_from_its_class_are_named_and_le
     (f,) = [f for f in result.findings if "free joint" in f.message and f.kind == "inexpressible"]
     assert f.severity == "warning" and f.values["armature"] == 0.1 and f.values["damping"] == 1.0
     assert not kinds(result, "error") and result.passed, ([c.property for c in result.failed], kinds(result))
+
+
+# --- each decision of the module on its own, with small texts and the project's dataclasses ---
+
+WORLD_FIXED = (
+    '<robot name="r"><link name="world"/><joint name="weld" type="fixed"><parent link="world"/><child link="b"/>'
+    '</joint><link name="b"/><joint name="j1" type="revolute"><parent link="b"/><child link="c"/></joint>'
+    '<link name="c"/></robot>'
+)
+FLOATING = (
+    '<robot name="r"><link name="c"/><joint name="j1" type="revolute"><parent link="b"/><child link="c"/></joint>'
+    '<link name="w"/><joint name="weld" type="fixed"><parent link="w"/><child link="x"/></joint><link name="x"/>'
+    '<joint name="float" type="floating"><parent link="w"/><child link="b"/><origin xyz="1 2 3"/>'
+    '<limit effort="1"/><axis xyz="0 0 1"/></joint><link name="b"/></robot>'
+)
+
+
+def test_urdf_base_floating_names_the_joint_and_its_child():
+    base = urdf_base(FLOATING)
+    assert base == UrdfBase("floating", "w", "float", "b")
+
+
+def test_urdf_base_floating_without_a_child_keeps_the_root_link():
+    text = '<robot name="r"><link name="w"/><joint name="f" type="floating"><parent link="w"/></joint></robot>'
+    assert urdf_base(text) == UrdfBase("floating", "w", "f", "w")
+
+
+def test_urdf_base_world_welded_is_fixed():
+    assert urdf_base(WORLD_FIXED) == UrdfBase("fixed", "world", "weld", "world")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        # a root called world with a moving joint below: not welded
+        '<robot name="r"><link name="world"/><joint name="j" type="revolute"><parent link="world"/><child link="b"/>'
+        '</joint><link name="b"/></robot>',
+        # a root called world with nothing below it
+        '<robot name="r"><link name="world"/></robot>',
+        # welded with fixed joints, but the root is not called world
+        '<robot name="r"><link name="ground"/><joint name="j" type="fixed"><parent link="ground"/><child link="b"/>'
+        '</joint><link name="b"/></robot>',
+        # world welded by one fixed joint and held by a moving one beside it
+        '<robot name="r"><link name="world"/><joint name="a" type="fixed"><parent link="world"/><child link="b"/></joint>'
+        '<joint name="j" type="prismatic"><parent link="world"/><child link="c"/></joint><link name="b"/><link name="c"/>'
+        "</robot>",
+    ],
+)
+def test_urdf_base_unstated(text):
+    base = urdf_base(text)
+    assert base.kind == "unstated" and base.joint is None and base.link == base.root
+    assert base.root in ("world", "ground")
+
+
+def test_urdf_base_of_a_robot_without_a_root():
+    assert urdf_base('<robot name="r"/>') == UrdfBase("unstated", "", None, "")
+
+
+def test_fixed_urdf_keeps_the_origin_or_drops_it():
+    assert isinstance(fixed_urdf(FLOATING, keep_origin=True), str)  # text, as the readers take it
+    kept = ET.fromstring(fixed_urdf(FLOATING, keep_origin=True))
+    (joint,) = [j for j in kept.findall("joint") if j.get("name") == "float"]
+    assert joint.get("type") == "fixed"
+    assert [el.tag for el in joint] == ["parent", "child", "origin"]
+    assert joint.find("origin").get("xyz") == "1 2 3"
+    assert [j.get("type") for j in kept.findall("joint")] == ["revolute", "fixed", "fixed"]
+    dropped = ET.fromstring(fixed_urdf(FLOATING, keep_origin=False))
+    (joint,) = [j for j in dropped.findall("joint") if j.get("name") == "float"]
+    assert [el.tag for el in joint] == ["parent", "child"]
+    assert urdf_base(fixed_urdf(FLOATING, keep_origin=False)).kind == "unstated"
+
+
+def test_fixed_urdf_leaves_a_non_floating_urdf_alone():
+    assert fixed_urdf(WORLD_FIXED, keep_origin=False) is WORLD_FIXED
+
+
+def test_floating_urdf_adds_a_floating_joint_above_an_unstated_root():
+    text = '<robot name="r"><link name="b"/></robot>'
+    out = floating_urdf(text)
+    assert isinstance(out, str)
+    assert urdf_base(out) == UrdfBase("floating", ADDED_ROOT, ADDED_JOINT, "b")
+    joint = ET.fromstring(out).find("joint")
+    assert (joint.find("parent").get("link"), joint.find("child").get("link")) == ("world", "b")
+    assert floating_urdf(FLOATING) is FLOATING and floating_urdf(WORLD_FIXED) is WORLD_FIXED
+
+
+@pytest.mark.parametrize("kind", ["floating", "unstated"])
+def test_decide_both_float(kind):
+    base = UrdfBase(kind, "root_link", "float" if kind == "floating" else None, "b")
+    floating, found, message = decide(base, ["torso"])
+    assert (floating, found) == (True, "floating_base")
+    assert "torso" in message and "base:x, base:y, base:z, base:roll, base:pitch, base:yaw" in message
+    assert "the free joint's initial value, not a property of the robot" in message
+    if kind == "floating":
+        assert "root joint float is floating" in message and "has no joint" not in message
+    else:
+        assert "root link root_link has no joint" in message
+
+
+@pytest.mark.parametrize(("kind", "extra"), [("floating", True), ("unstated", False), ("fixed", False)])
+def test_decide_several_free_bodies(kind, extra):
+    base = UrdfBase(kind, "root_link", "float", "b")
+    floating, found, message = decide(base, ["a", "b"])
+    assert (floating, found) == (False, "floating_base")
+    assert "has 2 free top-level bodies (a, b)" in message
+    assert ("the URDF's floating root is held there too" in message) is extra
+
+
+def test_decide_free_against_welded_and_floating_against_welded():
+    floating, found, message = decide(UrdfBase("fixed", "world", "weld", "world"), ["torso"])
+    assert (floating, found) == (False, "floating_one_file")
+    assert "body torso floats" in message and "(weld is fixed)" in message
+    floating, found, message = decide(UrdfBase("floating", "w", "float", "b"), [])
+    assert (floating, found) == (False, "floating_one_file")
+    assert "root joint float is floating but the MJCF has no free joint" in message
+
+
+@pytest.mark.parametrize("kind", ["fixed", "unstated"])
+def test_decide_nothing_to_say(kind):
+    assert decide(UrdfBase(kind, "world", None, "world"), []) == (False, "", "")
+
+
+def test_base_samples_within_the_limits_and_repeatable():
+    lower, upper = base_limits(np.zeros(3))
+    samples = base_samples(200, 3)
+    assert samples.shape == (200, 6)
+    assert np.all(samples >= lower) and np.all(samples <= upper)
+    # they spread over the range (a sampler fixed at one bound or the origin would not)
+    assert np.all(samples.max(axis=0) - samples.min(axis=0) > 0.8 * (upper - lower))
+    assert np.array_equal(samples, base_samples(200, 3)) and not np.array_equal(samples, base_samples(200, 4))
+
+
+def moved_finding():
+    return finding("base_transform", "moved", {"xyz": [0.1, 0.0, 0.2], "rpy": [0.0, 0.0, 0.5]}, magnitude=0.3, unit="m|rad")
+
+
+def decision(floating, kind):
+    return BaseDecision(floating, kind, "", UrdfBase("floating", "w", "float", "base_link"), ["torso"])
+
+
+def test_base_findings_both_float_the_transform_becomes_one_base_frame_offset():
+    other = finding("axis_sign_flip", "flipped", joint="j1")
+    out = base_findings([other, moved_finding()], decision(True, "floating_base"))
+    assert [f.kind for f in out] == ["base_frame_offset", "axis_sign_flip"]
+    offset = out[0]
+    assert offset.subject == "base_link" and offset.magnitude == 0.3 and offset.unit == "m|rad"
+    assert offset.values == {"xyz": [0.1, 0.0, 0.2], "rpy": [0.0, 0.0, 0.5]}
+    assert "base link base_link" in offset.message and "base body torso" in offset.message
+    assert "xyz = [0.1, 0, 0.2] m" in offset.message and "rpy = [0, 0, 0.5] rad" in offset.message
+    assert "the files are compared after it" in offset.message
+
+
+def test_base_findings_one_file_floating_drops_the_transform():
+    other = finding("axis_sign_flip", "flipped", joint="j1")
+    out = base_findings([moved_finding(), other], decision(False, "floating_one_file"))
+    assert [f.kind for f in out] == ["axis_sign_flip"]
+
+
+def test_base_findings_left_alone_without_a_base_decision():
+    findings = [moved_finding()]
+    assert base_findings(findings, decision(False, "")) is findings
+    # several free bodies: held fixed, the transform stays a world transform
+    assert base_findings(findings, decision(False, "floating_base")) is findings
+    # both float without a transform: nothing to add
+    assert base_findings([], decision(True, "floating_base")) == []
