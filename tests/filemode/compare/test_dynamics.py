@@ -4,8 +4,13 @@ left out, not reported as a residual nobody can place."""
 from __future__ import annotations
 
 from dataclasses import replace
+from types import SimpleNamespace
+
+import pytest
 
 import tests.filemode.pairs as P
+from kinverify.filemode.compare.context import FileModeInfo
+from kinverify.filemode.compare.dynamics import parameter_findings, velocity_findings
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 
@@ -53,3 +58,210 @@ def test_a_damping_difference_within_the_users_tolerance_is_not_reported(tmp_pat
     changed = joint2(mjcf, "damping", "0.1001")
     loose = replace(OPTIONS, tolerances={"dynamics.damping": 1e-3})
     assert 'damping="0.1001"' in changed and dynamics_findings(verify_files(*P.write_pair(tmp_path, urdf, changed), loose)) == []
+
+
+# --- the parameters compared on the files' own values (parameter_findings) -----------------
+
+JOINTS = ("joint1", "joint2", "joint3")
+
+
+@pytest.fixture(scope="module")
+def arm3():
+    """arm3's two files read (same joint names, identity alignment): damping 0.1, friction 0 on
+    every joint in both, armature 0.01 in the MJCF only."""
+    urdf, mjcf = P.generated_pair("arm3")
+    return FileModeInfo.from_sources(SimpleNamespace(urdf=urdf, mjcf=mjcf, joint_names=list(JOINTS)))
+
+
+def edited(info, u=None, m=None, u_kind="urdf", m_kind="mjcf", **m_desc):
+    """``info`` with joint fields replaced (``u``/``m``: joint -> fields), the sides' kinds and MJCF fields."""
+    u, m = u or {}, m or {}
+    ud = replace(info.u, kind=u_kind, joints=[replace(j, **u.get(j.name, {})) for j in info.u.joints])
+    md = replace(info.m, kind=m_kind, joints=[replace(j, **m.get(j.name, {})) for j in info.m.joints], **m_desc)
+    return replace(info, u=ud, m=md)
+
+
+def params(info, tolerances=None, kinds=None):
+    out = parameter_findings(info, tolerances or {})
+    return [f for f in out if kinds is None or f.kind in kinds]
+
+
+DIFFS = ("damping_difference", "friction_difference", "armature_difference", "damping_unset", "friction_unset", "armature_unset")
+
+
+def test_files_that_agree_on_damping_and_friction_give_no_parameter_finding(arm3):
+    assert params(arm3, kinds=DIFFS) == []
+
+
+def test_a_damping_both_files_state_differently_is_one_error_with_its_size(arm3):
+    (f,) = params(edited(arm3, m={"joint2": {"damping": 0.35}}), kinds=DIFFS)
+    assert (f.kind, f.severity, f.subject, f.other, f.property) == (
+        "damping_difference",
+        "error",
+        "joint2",
+        "joint2",
+        "dynamics.damping",
+    )
+    assert (f.magnitude, f.unit) == (pytest.approx(0.25, rel=1e-12), "N·m·s/rad")
+    assert f.values == {"urdf": 0.1, "mjcf": 0.35, "unset_in": None, "checks": [["dynamics.damping", "parameters"]]}
+    assert f.message == "damping 0.1 in the URDF, 0.35 in the MJCF on 1 joint: joint2"
+
+
+def test_joints_with_the_same_pair_of_frictions_are_one_finding_and_another_pair_another(arm3):
+    info = edited(arm3, m={"joint1": {"friction": 0.5}, "joint3": {"friction": 0.5}, "joint2": {"friction": 0.75}})
+    found = params(info, kinds=DIFFS)
+    assert [(f.kind, f.subject, f.magnitude, f.unit) for f in found] == [
+        ("friction_difference", "joint1, joint3", 0.5, "N·m"),
+        ("friction_difference", "joint2", 0.75, "N·m"),
+    ]
+    assert (
+        found[0].message
+        == "friction (URDF friction, MJCF frictionloss) 0 in the URDF, 0.5 in the MJCF on 2 joints: joint1, joint3"
+    )
+    assert found[0].values["checks"] == [["dynamics.friction", "parameters"]]
+
+
+@pytest.mark.parametrize("prop, field", [("dynamics.damping", "damping"), ("dynamics.friction", "friction")])
+def test_a_difference_at_the_users_tolerance_is_not_reported_and_one_above_it_is(arm3, prop, field):
+    info = edited(arm3, u={"joint2": {field: 0.5}}, m={"joint2": {field: 0.75}})
+    assert params(info, {prop: 0.25}, kinds=DIFFS) == []  # exactly at the tolerance
+    assert [f.magnitude for f in params(info, {prop: 0.125}, kinds=DIFFS)] == [0.25]
+    other = "dynamics.friction" if prop == "dynamics.damping" else "dynamics.damping"
+    assert [f.magnitude for f in params(info, {other: 1.0}, kinds=DIFFS)] == [0.25]  # another property's tolerance
+
+
+def test_the_default_tolerance_tells_a_millionth_and_not_rounding(arm3):
+    assert [f.magnitude for f in params(edited(arm3, m={"joint2": {"damping": 0.100001}}), kinds=DIFFS)] == [
+        pytest.approx(1e-6, rel=1e-6)
+    ]
+    assert params(edited(arm3, m={"joint2": {"damping": 0.1 + 1e-13}}), kinds=DIFFS) == []
+
+
+@pytest.mark.parametrize("side", ["u", "m"])
+def test_a_value_one_file_cannot_express_is_not_compared(arm3, side):
+    assert params(edited(arm3, **{side: {"joint2": {"damping": None, "friction": None}}}), kinds=DIFFS) == []
+
+
+def test_a_damping_the_urdf_leaves_unset_is_a_warning_naming_the_urdf_words(arm3):
+    info = edited(arm3, u={"joint2": {"damping": 0.0, "stated": frozenset({"friction"})}}, m={"joint2": {"damping": 0.3}})
+    (f,) = params(info, kinds=DIFFS)
+    assert (f.kind, f.severity, f.subject, f.magnitude) == ("damping_unset", "warning", "joint2", pytest.approx(0.3))
+    assert f.values["unset_in"] == "URDF"
+    assert f.message == (
+        "the URDF leaves damping unset on 1 joint (no <dynamics damping>: 0 by default); the MJCF states 0.3: joint2"
+    )
+
+
+def test_a_friction_the_mjcf_leaves_unset_names_its_default_class(arm3):
+    info = edited(arm3, u={"joint2": {"friction": 0.5}}, m={"joint2": {"stated": frozenset({"damping"})}})
+    (f,) = params(info, kinds=DIFFS)
+    assert (f.kind, f.values["unset_in"]) == ("friction_unset", "MJCF")
+    assert f.message == (
+        "the MJCF leaves friction (URDF friction, MJCF frictionloss) unset on 1 joint (no frictionloss on the "
+        "joint or its default class: 0 by default); the URDF states 0.5: joint2"
+    )
+
+
+def test_an_unset_value_and_a_stated_one_of_the_same_size_are_two_findings(arm3):
+    info = edited(
+        arm3,
+        u={"joint1": {"friction": 0.5}, "joint2": {"friction": 0.5}},
+        m={"joint1": {"stated": frozenset({"damping"})}},
+    )
+    assert sorted((f.kind, f.subject) for f in params(info, kinds=DIFFS)) == [
+        ("friction_difference", "joint2"),
+        ("friction_unset", "joint1"),
+    ]
+
+
+def test_armature_is_compared_only_against_a_usd(arm3):
+    changed = {"joint2": {"armature": 0.02}}
+    assert params(edited(arm3, u=changed), kinds=DIFFS) == []  # a URDF and an MJCF: the inexpressible finding
+    (f,) = params(edited(arm3, u=changed, u_kind="usd"), kinds=DIFFS)
+    assert (f.kind, f.subject, f.magnitude, f.unit) == ("armature_difference", "joint2", pytest.approx(0.01), "kg·m²")
+    assert f.message == "armature 0.02 in the URDF, 0.01 in the MJCF on 1 joint: joint2"
+    (g,) = params(edited(arm3, u={"joint2": {"armature": 0.01}}, m={"joint2": {"armature": 0.0}}, m_kind="usd"), kinds=DIFFS)
+    assert (g.kind, g.subject) == ("armature_difference", "joint2")
+
+
+def test_a_usd_side_leaving_a_value_unset_names_the_usd_attributes(arm3):
+    info = edited(
+        arm3,
+        u={"joint2": {"armature": 0.0, "stated": frozenset({"damping", "friction"})}},
+        m={"joint2": {"armature": 0.02}},
+        u_kind="usd",
+    )
+    (f,) = params(info, kinds=DIFFS)
+    assert f.kind == "armature_unset" and "(no physxJoint:armature, newton:armature or mjc:armature on the joint: 0" in f.message
+    info = edited(arm3, m={"joint2": {"damping": 0.0, "stated": frozenset()}}, m_kind="usd")
+    (g,) = params(info, kinds=DIFFS)
+    assert g.kind == "damping_unset" and "(no newton:damping or mjc:damping on the joint: 0 by default)" in g.message
+    info = edited(arm3, u={"joint2": {"friction": 0.5}}, m={"joint2": {"stated": frozenset()}}, m_kind="usd")
+    (h,) = params(info, kinds=DIFFS)
+    assert "(no newton:friction or mjc:frictionloss on the joint: 0 by default)" in h.message
+
+
+def test_velocity_limits_are_compared_against_a_usd_within_a_millionth(arm3):
+    u = {"joint1": {"type": "prismatic"}}
+    m = {j: {"velocity": 3.0} for j in JOINTS} | {"joint2": {"velocity": 2.5}, "joint1": {"velocity": 1.5}}
+    assert params(edited(arm3, u=u, m=m), kinds=("velocity_difference",)) == []  # no USD: no velocity finding
+    found = params(edited(arm3, u=u, m=m, m_kind="usd"), kinds=("velocity_difference",))
+    assert [(f.subject, f.magnitude, f.unit, f.property, f.severity) for f in found] == [
+        ("joint1", 1.5, "m/s", "limits.velocity", "error"),
+        ("joint2", 0.5, "rad/s", "limits.velocity", "error"),
+    ]
+    assert found[1].message == "velocity limit 3 rad/s in the URDF, 2.5 rad/s in the MJCF on 1 joint: joint2"
+    assert found[1].values == {"urdf": 3.0, "mjcf": 2.5}
+
+
+def test_velocity_limits_a_millionth_apart_agree_and_the_same_pair_is_one_finding(arm3):
+    # 1.000001 against 1: within a millionth of the larger value (not of the smaller)
+    m = {"joint1": {"velocity": 1.000001}, "joint2": {"velocity": 2.0}, "joint3": {"velocity": 2.0}}
+    u = {"joint1": {"velocity": 1.0}, "joint2": {"velocity": 2.5}, "joint3": {"velocity": 2.5}}
+    (f,) = velocity_findings(edited(arm3, u=u, m=m, m_kind="usd"))
+    assert (f.subject, f.magnitude) == ("joint2, joint3", pytest.approx(0.5))
+    assert f.message.endswith("on 2 joints: joint2, joint3")
+    assert velocity_findings(edited(arm3, u={"joint2": {"velocity": None}}, m={"joint2": {"velocity": 2.0}})) == []
+
+
+def test_the_mjcf_armature_a_urdf_cannot_express_is_one_warning_with_its_values(arm3):
+    info = edited(arm3, m={"joint2": {"armature": 0.02}, "joint3": {"armature": 0.0}})
+    (f,) = params(info, kinds=("inexpressible",))
+    assert (f.severity, f.subject, f.property, f.unit) == ("warning", "joint1, joint2", "dynamics.armature", "kg·m²")
+    assert f.magnitude == pytest.approx(0.02) and f.values == {"mjcf": {"joint1": 0.01, "joint2": 0.02}}
+    assert f.message == (
+        "the MJCF gives 2 joints armature (rotor inertia) 0.01, 0.02, which a URDF cannot express: the URDF's "
+        "dynamics lack it (the comparison gives Pinocchio the MJCF's)"
+    )
+    assert params(edited(arm3, u_kind="usd"), kinds=("inexpressible",)) == []  # a USD first side states armature
+
+
+def test_an_mjcf_spring_is_one_warning_left_out_of_the_comparison(arm3):
+    (f,) = params(edited(arm3, m={"joint3": {"stiffness": 5.0}}), kinds=("stiffness_inexpressible",))
+    assert (f.subject, f.magnitude, f.unit, f.property) == ("joint3", 5.0, "N·m/rad", "dynamics.stiffness")
+    assert "a spring (stiffness 5)" in f.message and "springs are left out of the dynamics comparison" in f.message
+    assert params(arm3, kinds=("stiffness_inexpressible",)) == []
+
+
+def test_gravity_compensation_is_one_warning_with_its_shares(arm3):
+    info = edited(arm3, gravcomp={"link2": 1.0, "link3": 0.5})
+    (f,) = [f for f in params(info, kinds=("inexpressible",)) if f.property == "dynamics.gravity"]
+    assert (f.magnitude, f.values) == (1.0, {"file": "MJCF", "mjcf_gravcomp": {"link2": 1.0, "link3": 0.5}})
+    assert "compensates gravity on 2 bodies (gravcomp 0.5, 1:" in f.message and f.message.endswith(": link2, link3")
+
+
+def test_a_free_joints_armature_and_damping_are_one_warning(arm3):
+    info = edited(arm3, free_joint={"armature": 0.1, "damping": 0.2})
+    (f,) = [f for f in params(info, kinds=("inexpressible",)) if f.property == "dynamics.mass_matrix"]
+    assert (f.magnitude, f.values) == (0.2, {"file": "MJCF", "armature": 0.1, "damping": 0.2})
+    assert "its free joint armature 0.1 and damping 0.2 (" in f.message
+
+
+def test_drakes_rotor_inertia_is_named_as_the_reflected_inertia(arm3):
+    ext = {"joint1": {"rotor_inertia": 0.001, "gear_ratio": 10.0}, "joint2": {"rotor_inertia": 0.002}, "joint3": {"x": 1}}
+    info = replace(arm3, u=replace(arm3.u, extensions=ext))
+    (f,) = params(info, kinds=("format_extension",))
+    assert (f.subject, f.magnitude, f.unit, f.severity) == ("joint1, joint2", pytest.approx(0.1), "kg·m²", "info")
+    assert f.values["reflected_inertia"] == {"joint1": pytest.approx(0.1), "joint2": pytest.approx(0.002)}
+    assert "reflected inertia G²·I of joint1 0.1, joint2 0.002 kg·m², not in the comparison" in f.message
+    assert params(arm3, kinds=("format_extension",)) == []
