@@ -3,14 +3,20 @@ left out, not reported as a residual nobody can place."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 import tests.filemode.pairs as P
 from kinverify.filemode.compare.context import FileModeInfo
-from kinverify.filemode.compare.dynamics import parameter_findings, velocity_findings
+from kinverify.backends import ModelSources
+from kinverify.filemode.compare.dynamics import AlignedMujoco, FileDynamicsSuite, parameter_findings, velocity_findings
+from kinverify.model.floating import BASE_COORDINATES, BASE_REVOLUTE
+from kinverify.suites.base import VerifyContext
+from kinverify.tracking.models import MujocoDynamics
 from kinverify.filemode.pipeline import verify_files
 from kinverify.run import VerifyOptions
 
@@ -20,16 +26,16 @@ OPTIONS = VerifyOptions(
 
 
 def test_gravity_compensation_is_named_and_left_out_of_the_rigid_body_comparison(tmp_path):
-    """The MJCF cancels the weight of panda_link3 and panda_link4 (gravcomp="1"), which a URDF
-    cannot say: one warning naming it, and the gravity, inverse and forward dynamics agree."""
-    urdf, mjcf = P.generated_pair("panda")
-    for body in ("panda_link3", "panda_link4"):
+    """The MJCF cancels the weight of link1 and link2 (gravcomp="1"), which a URDF cannot say: one
+    warning naming it, and the gravity, inverse and forward dynamics agree."""
+    urdf, mjcf = P.generated_pair("arm3")
+    for body in ("link1", "link2"):
         mjcf = P.sub_once(rf'(<body name="{body}")', r'\1 gravcomp="1"', mjcf)
     result = verify_files(*P.write_pair(tmp_path, urdf, mjcf), OPTIONS)
     above = [f for f in result.findings if f.severity != "info" and not P.ignored_by_drake(f)]
     gravcomp = [f for f in above if "gravcomp" in f.message]
     assert len(gravcomp) == 1 and gravcomp[0].severity == "warning"
-    assert gravcomp[0].values["mjcf_gravcomp"] == {"panda_link3": 1.0, "panda_link4": 1.0}
+    assert gravcomp[0].values["mjcf_gravcomp"] == {"link1": 1.0, "link2": 1.0}
     assert not [f for f in above if f.kind == "dynamics_difference"], [f.message for f in above]
     dynamics = {c.property: c.passed for c in result.checks if c.property.startswith("dynamics.")}
     assert dynamics["dynamics.gravity"] and dynamics["dynamics.inverse"] and dynamics["dynamics.forward"]
@@ -265,3 +271,151 @@ def test_drakes_rotor_inertia_is_named_as_the_reflected_inertia(arm3):
     assert f.values["reflected_inertia"] == {"joint1": pytest.approx(0.1), "joint2": pytest.approx(0.002)}
     assert "reflected inertia G²·I of joint1 0.1, joint2 0.002 kg·m², not in the comparison" in f.message
     assert params(arm3, kinds=("format_extension",)) == []
+
+
+# --- MuJoCo in the URDF's coordinates, Pinocchio with the reported differences substituted ---
+
+RNG = np.random.default_rng(7)
+STATES = [(RNG.uniform(-1, 1, 3), RNG.uniform(-1, 1, 3), RNG.uniform(-1, 1, 3)) for _ in range(3)]
+
+
+def damped(mjcf: str, values=(0.1, 0.2, 0.3)) -> str:
+    for joint, d in zip(JOINTS, values, strict=True):
+        mjcf = P.joint_attr(mjcf, joint, "damping", lambda _, d=d: repr(d))
+    return P.joint_attr(mjcf, "joint3", "frictionloss", lambda _: "0.05")
+
+
+@pytest.fixture(scope="module")
+def arm3_mjcf():
+    return damped(P.generated_pair("arm3")[1])
+
+
+def test_mujoco_read_through_a_flipped_joint_with_a_zero_offset_is_the_unflipped_files_dynamics(arm3_mjcf):
+    """joint2's axis reversed and its zero 0.3 rad further (``ref``) in one MJCF: q_mjcf = -q + 0.3.
+    Read through that map, it gives the other MJCF's mass matrix, forces and accelerations."""
+    flipped = P.joint_attr(arm3_mjcf, "joint2", "axis", lambda _: "0.0 -1.0 0.0")
+    flipped = P.sub_once(r'(<joint name="joint2" )', r'\1ref="0.3" ', flipped)
+    ref = MujocoDynamics(arm3_mjcf, JOINTS, rigid=True)
+    inner = MujocoDynamics(flipped, JOINTS, rigid=True)
+    seen = AlignedMujoco(inner, np.array([1.0, -1.0, 1.0]), np.array([0.0, 0.3, 0.0]), np.array([0.0, 0.0, -9.81]))
+    for q, v, a in STATES:
+        assert not np.allclose(inner.mass(q), ref.mass(q), atol=1e-6)  # the map matters on these states
+        assert seen.mass(q) == pytest.approx(ref.mass(q), abs=1e-10)
+        assert seen.gravity(q) == pytest.approx(ref.gravity(q), abs=1e-10)
+        assert seen.bias(q, v) == pytest.approx(ref.bias(q, v), abs=1e-10)
+        assert seen.inverse(q, v, a) == pytest.approx(ref.inverse(q, v, a), abs=1e-10)
+        assert seen.forward(q, v, a) == pytest.approx(ref.forward(q, v, a), abs=1e-8)
+    # the parameters are the file's own, joint by joint
+    assert (list(seen.damping), list(seen.friction), list(seen.armature)) == (
+        [0.1, 0.2, 0.3],
+        [0.0, 0.0, 0.05],
+        [0.01, 0.01, 0.01],
+    )
+    assert seen.snapped_inertia_frames() == inner.snapped_inertia_frames() == []
+
+
+def test_mujoco_is_given_the_gravity_of_the_aligned_world(arm3_mjcf):
+    ref = MujocoDynamics(arm3_mjcf, JOINTS, rigid=True)
+    twice = AlignedMujoco(MujocoDynamics(arm3_mjcf, JOINTS, rigid=True), np.ones(3), np.zeros(3), np.array([0.0, 0.0, -19.62]))
+    q = STATES[0][0]
+    assert twice.gravity(q) == pytest.approx(2 * ref.gravity(q), rel=1e-9) and np.abs(ref.gravity(q)).max() > 0.1
+
+
+def rotated_joint2(urdf: str, mjcf: str, roll=0.3, yaw=0.7) -> tuple[str, str]:
+    """joint2's frame turned by rpy (roll, 0, yaw) in both files alike (the same robot)."""
+    urdf = P.sub_once(
+        r'(<joint name="joint2".*?<origin xyz="0.0 0.0 0.3" rpy=")[^"]*(")', rf"\g<1>{roll!r} 0.0 {yaw!r}\g<2>", urdf
+    )
+    cz, sz, cx, sx = math.cos(yaw / 2), math.sin(yaw / 2), math.cos(roll / 2), math.sin(roll / 2)
+    quat = f"{cz * cx!r} {cz * sx!r} {sz * sx!r} {sz * cx!r}"  # q_z(yaw) ⊗ q_x(roll), wxyz
+    return urdf, P.sub_once(r'(<body name="link2" pos="0.0 0.0 0.3")', rf'\1 quat="{quat}"', mjcf)
+
+
+@pytest.fixture(scope="module")
+def changed_pair():
+    """arm3 with joint2's frame turned (both files); the MJCF gives link2 another mass, an offset
+    and turned inertial, and joint2 a damping of 0.5 (0.1 in the URDF)."""
+    urdf, mjcf = rotated_joint2(*P.generated_pair("arm3"))
+    mjcf = P.joint_attr(mjcf, "joint2", "damping", lambda _: "0.5")
+    mjcf = P.sub_once(
+        r'(<body name="link2".*?<inertial )[^>]*(/>)',
+        r'\1pos="0.01 -0.02 0.14" mass="1.2" fullinertia="0.005 0.006 0.004 0.0001 0.0002 0.0003"\2',
+        mjcf,
+    )
+    info = FileModeInfo.from_sources(SimpleNamespace(urdf=urdf, mjcf=mjcf, joint_names=list(JOINTS)))
+    sources = ModelSources("arm3", JOINTS, (), (-1.0,) * 3, (1.0,) * 3, (True,) * 3, urdf=urdf, mjcf=mjcf)
+    return info, sources
+
+
+def file_models(changed_pair, groups, damping_joints):
+    info, sources = changed_pair
+    suite = FileDynamicsSuite(info, groups, damping_joints, [])
+    ctx = suite.context(VerifyContext(sources, {}, np.zeros((2, 3)), VerifyOptions(extra={"dynamics_samples": 1})))
+    return suite.models(ctx)
+
+
+def test_the_mjcf_inertial_and_damping_a_finding_reports_are_substituted_and_then_the_files_agree(changed_pair):
+    info = changed_pair[0]
+    pin, mj, label = file_models(changed_pair, {"joint2": info.m.body("link2")}, {"joint2"})
+    assert label == "MJCF"
+    for q, v, a in STATES:
+        assert pin.mass(q) == pytest.approx(mj.mass(q), abs=1e-9)
+        assert pin.gravity(q) == pytest.approx(mj.gravity(q), abs=1e-9)
+        assert pin.bias(q, v) == pytest.approx(mj.bias(q, v), abs=1e-9)
+        assert pin.inverse(q, v, a) == pytest.approx(mj.inverse(q, v, a), abs=1e-9)
+        assert pin.forward(q, v, a) == pytest.approx(mj.forward(q, v, a), abs=1e-7)
+    # the parameters stay each file's own: the damping is compared as a parameter
+    assert list(pin.damping) == [0.1, 0.1, 0.1] and list(mj.damping) == [0.1, 0.5, 0.1]
+
+
+def test_without_a_finding_nothing_is_substituted(changed_pair):
+    info = changed_pair[0]
+    pin, mj, _ = file_models(changed_pair, {"link9": info.m.body("link2"), "(base)": info.m.body("link2")}, {"joint1"})
+    q, v, a = STATES[0]
+    assert abs(pin.mass(q)[1, 1] - mj.mass(q)[1, 1]) > 1e-3  # link2's inertial differs
+    # the damping of joint2 is not substituted (joint1's is, and agrees): the forces differ by 0.4·q̇₂ there
+    base, _, _ = file_models(changed_pair, {"joint2": info.m.body("link2")}, set())
+    assert base.inverse(q, v, a) - mj.inverse(q, v, a) == pytest.approx([0.0, -0.4 * v[1], 0.0], abs=1e-9)
+    assert base.forward(q, v, mj.inverse(q, v, a)) - a != pytest.approx(np.zeros(3), abs=1e-6)
+
+
+def test_the_suite_compares_the_matched_joints_with_unmatched_ones_locked(changed_pair):
+    info, sources = changed_pair
+    al = replace(
+        info.alignment, joints=[replace(j, type="prismatic") if j.urdf == "joint3" else j for j in info.alignment.joints]
+    )
+    locked = replace(info, alignment=al, matching=replace(info.matching, unmatched_urdf=["joint3"], unmatched_mjcf=["joint1"]))
+    suite = FileDynamicsSuite(locked, {}, set(), [])
+    q = np.arange(30.0).reshape(10, 3)
+    ctx = suite.context(VerifyContext(sources, {}, q, VerifyOptions(extra={"dynamics_samples": 4})))
+    assert (ctx.sources.joint_names, ctx.sources.mjcf_joint_names, ctx.sources.revolute) == (JOINTS, JOINTS, (True, True, False))
+    assert ctx.q == pytest.approx(q[:4]) and ctx.backends == {}
+    assert 'name="joint3" type="fixed"' in ctx.sources.urdf and 'name="joint1" type="revolute"' in ctx.sources.urdf
+    assert '<joint name="joint1"' not in ctx.sources.mjcf and '<joint name="joint3"' in ctx.sources.mjcf
+    assert len(suite.context(VerifyContext(sources, {}, np.zeros((120, 3)), VerifyOptions())).q) == 100  # the default
+
+
+def test_a_floating_base_leads_the_compared_coordinates(changed_pair):
+    info, sources = changed_pair
+    suite = FileDynamicsSuite(replace(info, base_coordinates=True), {}, set(), [])
+    q = np.arange(18.0).reshape(2, 9)
+    ctx = suite.context(VerifyContext(sources, {}, q, VerifyOptions()))
+    assert ctx.sources.joint_names == BASE_COORDINATES + JOINTS == ctx.sources.mjcf_joint_names
+    assert ctx.sources.revolute == BASE_REVOLUTE + (True,) * 3
+    assert ctx.q == pytest.approx(q)
+
+
+def test_mujoco_gravity_is_turned_with_a_world_the_mjcf_turns():
+    """The MJCF mounts arm3 turned a quarter turn about x (T): MuJoCo's gravity is turned with it,
+    so the arm feels the URDF's gravity (without it, it would pull along the arm's y)."""
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = mjcf.replace(
+        '<body name="world_mount">', f'<body name="world_mount" quat="{math.sqrt(0.5)!r} {math.sqrt(0.5)!r} 0 0">', 1
+    )
+    info = FileModeInfo.from_sources(SimpleNamespace(urdf=urdf, mjcf=mjcf, joint_names=list(JOINTS)))
+    turn = np.eye(4)
+    turn[1:3, 1:3] = [[0.0, -1.0], [1.0, 0.0]]
+    sources = ModelSources("arm3", JOINTS, (), (-1.0,) * 3, (1.0,) * 3, (True,) * 3, urdf=urdf, mjcf=mjcf)
+    pin, mj, _ = file_models((replace(info, alignment=replace(info.alignment, T=turn)), sources), {}, set())
+    q = np.array([0.3, 0.8, -0.5])
+    assert np.abs(pin.gravity(q)).max() > 0.5 and pin.gravity(q) == pytest.approx(mj.gravity(q), abs=1e-9)
