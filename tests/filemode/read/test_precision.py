@@ -370,3 +370,10 @@ def test_the_kinematic_and_dynamics_floors():
     assert f.dynamics == pytest.approx(1e-5 + 2 * 1e-4 + 2 * 4e-3 + 2e-3 / 0.5, rel=1e-12)
     assert Floors().kinematic == (0.0, 0.0)
     assert Floors({"x": (2e-3, 1e-3)}, relative=1e-5).dynamics == pytest.approx(1e-5 + 2e-3, rel=1e-12)
+
+
+@pytest.mark.parametrize("angle", ["degree", "radian"])
+def test_a_slide_range_is_in_metres_whatever_the_compilers_angle(angle):
+    mjcf = f"""<mujoco><compiler angle="{angle}"/><worldbody><body name="a">
+      <joint name="s" type="slide" range="-0.12345 0.5"/></body></worldbody></mujoco>"""
+    assert mjcf_precision(mjcf).limit == pytest.approx(0.5e-5, rel=1e-9)
