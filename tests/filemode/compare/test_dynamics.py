@@ -419,3 +419,41 @@ def test_mujoco_gravity_is_turned_with_a_world_the_mjcf_turns():
     pin, mj, _ = file_models((replace(info, alignment=replace(info.alignment, T=turn)), sources), {}, set())
     q = np.array([0.3, 0.8, -0.5])
     assert np.abs(pin.gravity(q)).max() > 0.5 and pin.gravity(q) == pytest.approx(mj.gravity(q), abs=1e-9)
+
+
+def test_a_floating_base_is_read_through_the_joint_map_behind_its_six_coordinates(arm3_mjcf):
+    """Both MJCFs float arm3 on a free joint: the base's six coordinates pass as they are (the
+    same world), the joints through the map; the mass matrix and gravity are the unflipped file's."""
+    free = arm3_mjcf.replace('<body name="world_mount">', '<body name="world_mount"><freejoint name="root"/>', 1)
+    flipped = P.joint_attr(free, "joint2", "axis", lambda _: "0.0 -1.0 0.0")
+    flipped = P.sub_once(r'(<joint name="joint2" )', r'\1ref="0.3" ', flipped)
+    names = BASE_COORDINATES + JOINTS
+    ref = MujocoDynamics(free, names, rigid=True)
+    inner = MujocoDynamics(flipped, names, rigid=True)
+    seen = AlignedMujoco(inner, np.array([1.0, -1.0, 1.0]), np.array([0.0, 0.3, 0.0]), np.array([0.0, 0.0, -9.81]), np.eye(4))
+    assert seen.t is None and inner.floating
+    for q, _, _ in STATES:
+        full = np.concatenate([[0.1, -0.2, 0.3, 0.4, -0.5, 0.6], q])
+        assert not np.allclose(inner.mass(full), ref.mass(full), atol=1e-6)
+        assert seen.mass(full) == pytest.approx(ref.mass(full), abs=1e-10)
+        assert seen.gravity(full) == pytest.approx(ref.gravity(full), abs=1e-10)
+
+
+def test_a_floating_base_in_a_turned_world_is_read_through_the_conjugated_base_coordinates(arm3_mjcf):
+    """The MJCF's world and its base body's frame are both turned by T (0.4 rad about x: the arm
+    hangs in a <frame> turned back): the same robot, whose base coordinates MuJoCo reads
+    conjugated by T, and whose gravity is turned with the world."""
+    free = arm3_mjcf.replace('<body name="world_mount">', '<body name="world_mount"><freejoint name="root"/>', 1)
+    turn = np.eye(4)
+    turn[1:3, 1:3] = [[math.cos(0.4), -math.sin(0.4)], [math.sin(0.4), math.cos(0.4)]]
+    inside = P.sub_once(r'(<body name="base")', rf'<frame quat="{math.cos(0.2)!r} {math.sin(0.2)!r} 0 0">\1', free)
+    inside = P.sub_once(r"(</body>)(\s*</worldbody>)", r"</frame>\1\2", inside)
+    names = BASE_COORDINATES + JOINTS
+    ref = MujocoDynamics(free, names, rigid=True)
+    seen = AlignedMujoco(
+        MujocoDynamics(inside, names, rigid=True), np.ones(3), np.zeros(3), turn[:3, :3] @ [0.0, 0.0, -9.81], turn
+    )
+    for q, _, _ in STATES:
+        full = np.concatenate([[0.1, -0.2, 0.3, 0.4, -0.5, 0.6], q])
+        assert seen.mass(full) == pytest.approx(ref.mass(full), abs=1e-9)
+        assert seen.gravity(full) == pytest.approx(ref.gravity(full), abs=1e-9)
