@@ -182,3 +182,16 @@ def test_links_are_named_from_the_base_out(arm3):
     urdf = arm3[0]
     desc = describe_urdf(inertial(inertial(urdf, "link3", value="0.04"), "link1", value="0.95"))
     assert [f.subject for f in inertial_findings(urdf, desc)] == ["link1", "link3"]
+
+
+def test_a_centre_of_mass_more_than_a_nanometre_apart_on_a_metre_scale_is_named(arm3):
+    urdf = arm3[0]
+    (f,) = inertial_findings(urdf, describe_urdf(inertial(urdf, "link2", xyz="0.0 0.0 0.1350000015")))
+    assert (f.subject, f.property) == ("link2", "inertia.com")
+
+
+def test_a_centre_of_mass_within_the_models_scale_leaves_the_inertia_to_be_named(arm3):
+    urdf = arm3[0]
+    desc = describe_urdf(inertial(urdf, "link2", xyz="0.0 0.0 0.13500001", ixx=repr(0.004842168172904483 + 2e-6)))
+    (f,) = inertial_findings(urdf, desc, scale=1000.0)  # 1e-8 m apart: within 1e-6 m on this scale
+    assert (f.subject, f.property) == ("link2", "inertia.tensor")
