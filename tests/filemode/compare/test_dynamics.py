@@ -253,7 +253,10 @@ def test_gravity_compensation_is_one_warning_with_its_shares(arm3):
     info = edited(arm3, gravcomp={"link2": 1.0, "link3": 0.5})
     (f,) = [f for f in params(info, kinds=("inexpressible",)) if f.property == "dynamics.gravity"]
     assert (f.magnitude, f.values) == (1.0, {"file": "MJCF", "mjcf_gravcomp": {"link2": 1.0, "link3": 0.5}})
-    assert "compensates gravity on 2 bodies (gravcomp 0.5, 1:" in f.message and f.message.endswith(": link2, link3")
+    assert f.message == (
+        "the MJCF compensates gravity on 2 bodies (gravcomp 0.5, 1: MuJoCo cancels that share of their weight), "
+        "which a URDF cannot express: the rigid-body dynamics are compared without it: link2, link3"
+    )
 
 
 def test_a_free_joints_armature_and_damping_are_one_warning(arm3):
@@ -457,3 +460,16 @@ def test_a_floating_base_in_a_turned_world_is_read_through_the_conjugated_base_c
         full = np.concatenate([[0.1, -0.2, 0.3, 0.4, -0.5, 0.6], q])
         assert seen.mass(full) == pytest.approx(ref.mass(full), abs=1e-9)
         assert seen.gravity(full) == pytest.approx(ref.gravity(full), abs=1e-9)
+
+
+def test_an_armature_an_mjcf_leaves_unset_against_a_usd_names_the_mjcf_words(arm3):
+    info = edited(arm3, u={"joint2": {"armature": 0.02}}, m={"joint2": {"armature": 0.0, "stated": frozenset()}}, u_kind="usd")
+    (f,) = params(info, kinds=DIFFS)
+    assert (f.kind, f.values["unset_in"]) == ("armature_unset", "MJCF")
+    assert "(no armature on the joint or its default class: 0 by default); the URDF states 0.02: joint2" in f.message
+
+
+def test_values_equal_to_twelve_decimals_are_one_pair(arm3):
+    info = edited(arm3, m={"joint1": {"damping": 0.5}, "joint3": {"damping": 0.5 + 3e-13}})
+    (f,) = params(info, kinds=DIFFS)
+    assert f.subject == "joint1, joint3" and f.values["mjcf"] == 0.5
