@@ -233,7 +233,13 @@ def test_velocity_limits_a_millionth_apart_agree_and_the_same_pair_is_one_findin
 def test_the_mjcf_armature_a_urdf_cannot_express_is_one_warning_with_its_values(arm3):
     info = edited(arm3, m={"joint2": {"armature": 0.02}, "joint3": {"armature": 0.0}})
     (f,) = params(info, kinds=("inexpressible",))
-    assert (f.severity, f.subject, f.property, f.unit) == ("warning", "joint1, joint2", "dynamics.armature", "kg·m²")
+    assert (f.severity, f.subject, f.other, f.property, f.unit) == (
+        "warning",
+        "joint1, joint2",
+        "joint1, joint2",
+        "dynamics.armature",
+        "kg·m²",
+    )
     assert f.magnitude == pytest.approx(0.02) and f.values == {"mjcf": {"joint1": 0.01, "joint2": 0.02}}
     assert f.message == (
         "the MJCF gives 2 joints armature (rotor inertia) 0.01, 0.02, which a URDF cannot express: the URDF's "
@@ -346,7 +352,9 @@ def changed_pair():
         mjcf,
     )
     info = FileModeInfo.from_sources(SimpleNamespace(urdf=urdf, mjcf=mjcf, joint_names=list(JOINTS)))
-    sources = ModelSources("arm3", JOINTS, (), (-1.0,) * 3, (1.0,) * 3, (True,) * 3, urdf=urdf, mjcf=mjcf)
+    sources = ModelSources(
+        "arm3", JOINTS, ("link3",), (-1.0,) * 3, (1.0,) * 3, (True,) * 3, urdf=urdf, mjcf=mjcf, mjcf_frames=("link3",)
+    )
     return info, sources
 
 
@@ -392,6 +400,7 @@ def test_the_suite_compares_the_matched_joints_with_unmatched_ones_locked(change
     q = np.arange(30.0).reshape(10, 3)
     ctx = suite.context(VerifyContext(sources, {}, q, VerifyOptions(extra={"dynamics_samples": 4})))
     assert (ctx.sources.joint_names, ctx.sources.mjcf_joint_names, ctx.sources.revolute) == (JOINTS, JOINTS, (True, True, False))
+    assert (ctx.sources.frames, ctx.sources.mjcf_frames) == (("link3",), ("link3",))
     assert ctx.q == pytest.approx(q[:4]) and ctx.backends == {}
     assert 'name="joint3" type="fixed"' in ctx.sources.urdf and 'name="joint1" type="revolute"' in ctx.sources.urdf
     assert '<joint name="joint1"' not in ctx.sources.mjcf and '<joint name="joint3"' in ctx.sources.mjcf
@@ -422,6 +431,7 @@ def test_mujoco_gravity_is_turned_with_a_world_the_mjcf_turns():
     pin, mj, _ = file_models((replace(info, alignment=replace(info.alignment, T=turn)), sources), {}, set())
     q = np.array([0.3, 0.8, -0.5])
     assert np.abs(pin.gravity(q)).max() > 0.5 and pin.gravity(q) == pytest.approx(mj.gravity(q), abs=1e-9)
+    assert mj.t == pytest.approx(turn)  # a floating base's coordinates are conjugated by it
 
 
 def test_a_floating_base_is_read_through_the_joint_map_behind_its_six_coordinates(arm3_mjcf):
@@ -473,3 +483,12 @@ def test_values_equal_to_twelve_decimals_are_one_pair(arm3):
     info = edited(arm3, m={"joint1": {"damping": 0.5}, "joint3": {"damping": 0.5 + 3e-13}})
     (f,) = params(info, kinds=DIFFS)
     assert f.subject == "joint1, joint3" and f.values["mjcf"] == 0.5
+
+
+def test_a_damping_the_mjcf_leaves_unset_names_its_default_class(arm3):
+    info = edited(arm3, u={"joint2": {"damping": 0.3}}, m={"joint2": {"damping": 0.0, "stated": frozenset()}})
+    (f,) = params(info, kinds=DIFFS)
+    assert f.message == (
+        "the MJCF leaves damping unset on 1 joint (no damping on the joint or its default class: 0 by default); "
+        "the URDF states 0.3: joint2"
+    )
