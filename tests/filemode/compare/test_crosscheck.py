@@ -119,6 +119,8 @@ def test_a_backend_seen_through_the_alignment_is_asked_through_its_inner_library
 
 def test_a_reader_of_a_format_not_compared_names_the_file(drake_mjcf):
     assert [f.values["file"] for f in refusal_findings({"drake-mjcf": drake_mjcf}, ("urdf", "sdf"))] == ["file", "file"]
+    assert [f.values["file"] for f in refusal_findings({"drake-sdf": drake_mjcf}, ("urdf", "sdf"))] == ["SDF", "SDF"]
+    assert "ignores part of the SDF that is compared" in refusal_findings({"drake-sdf": drake_mjcf}, ("sdf", "mjcf"))[0].message
 
 
 TAG = "<literal-string>.xml:1: warning: The tag '{}' found as a child of '{}' is currently unsupported and will be ignored."
@@ -318,6 +320,7 @@ def test_the_top_level_pose_pinocchio_drops_is_put_back_and_said_once(mounted):
     assert (f.kind, f.severity, f.magnitude, f.unit) == ("parser_quirk", "info", pytest.approx(0.3), "m|rad")
     assert f.values["top_level_xyz"] == pytest.approx([0.1, 0.2, 0.0]) and f.values["issue"] == QUIRK_ISSUE
     assert f.values["backends"] == ["mujoco", "pinocchio-mjcf"] and f.values["rotation_rad"] == pytest.approx(0.3)
+    assert f.values["position_m"] == rows[0][2] > 0.2 and f.values["file"] == "MJCF"
     assert f"({shift:.4g} m, 0.3 rad = {math.degrees(0.3):.4g}°)" in f.message and "pinocchio#2782" in f.message
     # corrected: the same poses as MuJoCo's
     cols = [backends["mujoco"].frames.index(x) for x in keep["pinocchio-mjcf"].frames]
@@ -347,3 +350,14 @@ def test_readings_that_agree_are_not_corrected(arm3):
     backends = backends_of(*arm3, ["mujoco", "pinocchio-mjcf"])
     keep, findings, rows = cross_check(backends, Q, TIGHT, np.eye(4), np.eye(4), rebuild_mjcf)
     assert findings == [] and len(rows[0]) == 4 and keep["pinocchio-mjcf"] is backends["pinocchio-mjcf"]
+
+
+def test_three_readings_that_agree_are_listed_with_the_one_apart(arm3):
+    urdf, mjcf = arm3
+    backends = backends_of(urdf, mjcf, ["pinocchio-urdf", "yourdfpy", "mujoco-urdf"])
+    backends["drake-urdf"] = backends_of(moved_joint3(urdf), mjcf, ["drake-urdf"])["drake-urdf"]
+    keep, (f,), rows = cross_check(backends, Q, TIGHT, np.eye(4), None, rebuild_mjcf)
+    assert list(keep) == ["pinocchio-urdf", "yourdfpy", "mujoco-urdf"] and len(rows) == 3
+    assert f.message.startswith(
+        "the URDF is read alike by pinocchio-urdf, yourdfpy and mujoco-urdf, and differently by drake-urdf: up to 0.01 m"
+    )

@@ -251,8 +251,14 @@ def test_the_mjcf_armature_a_urdf_cannot_express_is_one_warning_with_its_values(
 def test_an_mjcf_spring_is_one_warning_left_out_of_the_comparison(arm3):
     (f,) = params(edited(arm3, m={"joint3": {"stiffness": 5.0}}), kinds=("stiffness_inexpressible",))
     assert (f.subject, f.magnitude, f.unit, f.property) == ("joint3", 5.0, "N·m/rad", "dynamics.stiffness")
-    assert "a spring (stiffness 5)" in f.message and "springs are left out of the dynamics comparison" in f.message
+    assert f.message == (
+        "the MJCF gives 1 joints a spring (stiffness 5), which a URDF cannot express: the URDF's dynamics lack it "
+        "(springs are left out of the dynamics comparison)"
+    )
     assert params(arm3, kinds=("stiffness_inexpressible",)) == []
+    # a USD first side states armature, not springs: the spring is still said
+    usd = params(edited(arm3, m={"joint3": {"stiffness": 5.0}}, u_kind="usd"), kinds=("stiffness_inexpressible",))
+    assert [f.subject for f in usd] == ["joint3"]
 
 
 def test_gravity_compensation_is_one_warning_with_its_shares(arm3):
@@ -269,7 +275,10 @@ def test_a_free_joints_armature_and_damping_are_one_warning(arm3):
     info = edited(arm3, free_joint={"armature": 0.1, "damping": 0.2})
     (f,) = [f for f in params(info, kinds=("inexpressible",)) if f.property == "dynamics.mass_matrix"]
     assert (f.magnitude, f.values) == (0.2, {"file": "MJCF", "armature": 0.1, "damping": 0.2})
-    assert "its free joint armature 0.1 and damping 0.2 (" in f.message
+    assert f.message == (
+        "the MJCF gives its free joint armature 0.1 and damping 0.2 (a floating base in a URDF has neither): "
+        "left out of the rigid-body dynamics comparison"
+    )
 
 
 def test_drakes_rotor_inertia_is_named_as_the_reflected_inertia(arm3):
@@ -278,7 +287,10 @@ def test_drakes_rotor_inertia_is_named_as_the_reflected_inertia(arm3):
     (f,) = params(info, kinds=("format_extension",))
     assert (f.subject, f.magnitude, f.unit, f.severity) == ("joint1, joint2", pytest.approx(0.1), "kg·m²", "info")
     assert f.values["reflected_inertia"] == {"joint1": pytest.approx(0.1), "joint2": pytest.approx(0.002)}
-    assert "reflected inertia G²·I of joint1 0.1, joint2 0.002 kg·m², not in the comparison" in f.message
+    assert f.message == (
+        "the URDF's transmissions give rotor inertia and gear ratio (a Drake extension Pinocchio does not read): "
+        "reflected inertia G²·I of joint1 0.1, joint2 0.002 kg·m², not in the comparison"
+    )
     assert params(arm3, kinds=("format_extension",)) == []
 
 
