@@ -504,3 +504,17 @@ def test_a_damping_the_mjcf_leaves_unset_names_its_default_class(arm3):
         "the MJCF leaves damping unset on 1 joint (no damping on the joint or its default class: 0 by default); "
         "the URDF states 0.3: joint2"
     )
+
+
+def test_a_run_compares_the_files_after_the_substitutions(changed_pair):
+    """The suite's own run on the pair: with link2's inertial and joint2's damping substituted, every
+    state check passes and the damping parameter still differs (it is compared on the files' values)."""
+    info, sources = changed_pair
+    suite = FileDynamicsSuite(info, {"joint2": info.m.body("link2")}, {"joint2"}, [])
+    out = suite.run(
+        VerifyContext(sources, {}, np.random.default_rng(11).uniform(-1, 1, (3, 3)), VerifyOptions(extra={"dynamics_samples": 3}))
+    )
+    passed = {c.property: c.passed for c in out.checks}
+    assert passed["dynamics.mass_matrix"] and passed["dynamics.inverse"] and passed["dynamics.forward"]
+    assert passed["dynamics.damping"] is False
+    assert FileDynamicsSuite.forward_scales_with_acceleration  # rounded files: the forward floor grows with q̈
