@@ -217,7 +217,7 @@ def parameter_findings(info, tolerances: dict) -> list:
         if desc.kind == "usd":  # a USD side takes the URDF's or the MJCF's place
             how[side] = usd
     for (value, prop, silent, x, y), joints in groups.items():
-        label = {"dynamics.friction": "friction (URDF friction, MJCF frictionloss)"}.get(prop, "damping")
+        label = {"dynamics.friction": "friction (URDF friction, MJCF frictionloss)"}.get(prop, value)
         names = ", ".join(j.urdf for j in joints)
         count = f"{len(joints)} joint{'s' if len(joints) > 1 else ''}"
         if silent:
