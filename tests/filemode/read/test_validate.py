@@ -126,6 +126,7 @@ def test_urdf_a_mass_without_inertia_is_checked_alone():
 def test_urdf_inertials_the_libraries_cannot_read_are_left_to_them():
     for bad in (link("a", None), link("b", "heavy"), link("c", "-1", 'ixx="x"'), link("d", "-1", 'ixx="1" izz="x"')):
         assert urdf_problems(urdf(bad)) == []
+        assert [p[0] for p in urdf_problems(urdf(bad, link("after", "-1")))] == ["after"]  # the next link still checked
     unnamed = '<link><inertial><mass value="-1"/></inertial></link>'
     assert [p[0] for p in urdf_problems(urdf(unnamed, link("e", "-1")))] == ["?", "e"]
 
@@ -151,7 +152,8 @@ def test_mjcf_inertias_of_the_wrong_length_or_unreadable_leave_the_mass_alone():
         assert mjcf_problems(mjcf(f'<inertial mass="1" {attrs}/>')) == []
         ((name, mass, inertia, problem),) = mjcf_problems(mjcf(f'<inertial mass="-1" {attrs}/>'))
         assert (name, mass, inertia, problem) == ("b0", -1.0, None, "mass -1 kg is negative")
-    assert mjcf_problems(mjcf('<inertial diaginertia="1 1 3"/>', '<inertial mass="x" diaginertia="1 1 3"/>')) == []
+    unreadable = ('<inertial diaginertia="1 1 3"/>', '<inertial mass="x" diaginertia="1 1 3"/>', '<inertial mass="-1"/>')
+    assert [p[0] for p in mjcf_problems(mjcf(*unreadable))] == ["b2"]  # the next body still checked
 
 
 def test_mjcf_balanceinertia_leaves_the_moments_to_mujoco_not_the_mass():
