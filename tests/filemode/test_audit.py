@@ -12,11 +12,18 @@ import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from kinverify.backends import available_backends, names_reading
+from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.cli import main
-from kinverify.filemode.audit import audit_file
+from kinverify.errors import InputError
+from kinverify.filemode.audit import _describe, _disagreement, _first_element, _section, audit_file
+from kinverify.filemode.findings.table import finding
+from kinverify.filemode.read.describe_urdf import describe_urdf
+from kinverify.filemode.read.loading import load_urdf
+from kinverify.filemode.read.prepare import prepare_urdf
 from kinverify.filemode.compare.crosscheck import QUIRK_ISSUE
 from kinverify.run import VerifyOptions
 from tests.filemode.pairs import generated_pair, ignored_by_drake, turned_world
@@ -229,3 +236,195 @@ def test_every_real_file_is_audited_to_a_verdict(name):
             assert f.values.get("backend") or f.values.get("backends")
     if name.startswith("go2/") and kind == "mjcf":
         assert [f.kind for f in result.findings if f.kind == "floating_base"] == ["floating_base"]
+
+
+# --- the audit's own decisions, on tiny files and the real libraries -----------------------------
+
+LIMIT = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
+CHAIN = (
+    '<robot name="c"><link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/>'
+    '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/>'
+    f'<axis xyz="0 0 1"/>{LIMIT}</joint>'
+    '<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.2 0 0"/>'
+    f'<axis xyz="0 1 0"/>{LIMIT}</joint>'
+    '<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.3 0 0"/>'
+    f'<axis xyz="0 1 0"/>{LIMIT}</joint></robot>'
+)
+Q = np.array([[0.1, 0.2, 0.3], [0.0, -0.1, -0.4]])
+
+
+def pin(text: str, frames=("base", "l1", "l2", "l3")):
+    return PinocchioBackend.from_urdf(text, ["j1", "j2", "j3"], list(frames))
+
+
+@pytest.fixture(scope="module")
+def chain_desc():
+    return describe_urdf(CHAIN)
+
+
+def test_the_first_element_read_differently_is_the_highest_in_the_chain_placed_elsewhere_at_zero(chain_desc):
+    moved = CHAIN.replace('<origin xyz="0.2 0 0"/>', '<origin xyz="0.25 0 0"/>')
+    where = _first_element("urdf", chain_desc, pin(CHAIN), pin(moved, ("l3", "l2", "l1", "base")), Q, (1e-9, 1e-9))
+    assert where == {
+        "frame": "l2",  # the highest, though l3 comes first in the other reading's frames
+        "joint": "j2",
+        "position_m": pytest.approx(0.05, rel=1e-9),
+        "rotation_rad": pytest.approx(0.0, abs=1e-12),
+        "at_zero": True,
+        "frames": ["l3", "l2"],
+        "element": "link",
+    }
+    assert _first_element("urdf", chain_desc, pin(CHAIN), pin(moved), Q, (0.06, 1e-9)) is None  # within tolerance
+    turned = CHAIN.replace('<origin xyz="0.2 0 0"/>', '<origin xyz="0.2 0 0" rpy="0 0 0.1"/>')  # only turned at zero
+    where = _first_element("urdf", chain_desc, pin(CHAIN), pin(turned), Q, (0.5, 1e-9))
+    assert (where["frame"], where["at_zero"], where["frames"]) == ("l2", True, ["l2", "l3"])
+    assert where["rotation_rad"] == pytest.approx(0.1, rel=1e-9)
+
+
+def test_an_element_apart_only_once_its_joint_moves_is_named_with_the_joint(chain_desc):
+    flipped = CHAIN.replace('<origin xyz="0.3 0 0"/><axis xyz="0 1 0"/>', '<origin xyz="0.3 0 0"/><axis xyz="0 -1 0"/>')
+    assert flipped != CHAIN
+    where = _first_element("urdf", chain_desc, pin(CHAIN), pin(flipped), Q, (1e-9, 1e-9))
+    assert (where["frame"], where["joint"], where["at_zero"], where["frames"]) == ("l3", "j3", False, ["l3"])
+    assert where["rotation_rad"] == pytest.approx(0.8, rel=1e-9)  # 2 × 0.4 rad, the largest |q3|
+    assert where["position_m"] == pytest.approx(0.0, abs=1e-12)  # its origin is on the axis
+    assert _first_element("urdf", chain_desc, pin(CHAIN), pin(flipped), Q, (1e-9, 0.9)) is None
+
+
+def test_readings_alike_or_without_a_frame_in_common_have_no_first_element(chain_desc):
+    assert _first_element("urdf", chain_desc, pin(CHAIN), pin(CHAIN), Q, (1e-12, 1e-12)) is None
+    assert _first_element("urdf", chain_desc, pin(CHAIN, ("base", "l1")), pin(CHAIN, ("l2", "l3")), Q, (1e-9, 1e-9)) is None
+
+
+WHERE = dict(
+    frame="l2", joint="j2", position_m=0.0123456, rotation_rad=0.5, at_zero=False, frames=["l2", "l3", "l4"], element="link"
+)
+
+
+def test_a_disagreement_names_the_library_the_element_and_how_far_apart():
+    f = _disagreement("urdf", "pinocchio-urdf", "yourdfpy", WHERE)
+    assert f.message == (
+        "yourdfpy reads the URDF's link l2 differently from pinocchio-urdf: placed alike at q = 0, apart once j2 moves, "
+        "up to 0.0123 m, 0.5 rad (2 frames below it differ with it)"
+    )
+    assert (f.kind, f.severity, f.subject, f.subject_type, f.property, f.unit) == (
+        "parser_disagreement",
+        "error",
+        "l2",
+        "link",
+        "fk.position",
+        "m|rad",
+    )
+    assert f.magnitude == 0.5 and f.values == {
+        "file": "URDF",
+        "backends": ["pinocchio-urdf", "yourdfpy"],
+        "backend": "yourdfpy",
+        "agree": [],
+        "joint": "j2",
+        "position_m": 0.0123456,
+        "rotation_rad": 0.5,
+        "at_zero": False,
+        "frames": ["l2", "l3", "l4"],
+    }
+    near = _disagreement("urdf", "a", "b", {**WHERE, "position_m": 2.0, "rotation_rad": 0.1})
+    assert near.magnitude == 2.0
+
+
+def test_a_disagreement_says_where_it_starts_and_who_agrees():
+    at_zero = _disagreement("mjcf", "mujoco", "drake-mjcf", {**WHERE, "at_zero": True, "frames": ["l2", "l3"]})
+    assert "MJCF's link l2 differently from mujoco: placed elsewhere at q = 0, up to" in at_zero.message
+    assert at_zero.message.endswith(" (1 frame below it differ with it)")
+    unowned = _disagreement("sdf", "a", "b", {**WHERE, "joint": None, "frames": ["l2"]})
+    assert unowned.message.endswith("apart once the joints moves, up to 0.0123 m, 0.5 rad")
+    site = _disagreement("mjcf", "mujoco", "b", {**WHERE, "element": "site", "frame": "tip"})
+    assert (site.subject, site.subject_type) == ("tip", "frame") and "MJCF's site tip differently" in site.message
+    two = _disagreement("urdf", "pinocchio-urdf", "yourdfpy", WHERE, ("pinocchio-urdf", "mujoco-urdf"))
+    assert two.message.endswith("differ with it); pinocchio-urdf and mujoco-urdf agree with each other, yourdfpy stands apart")
+    assert two.values["agree"] == ["pinocchio-urdf", "mujoco-urdf"]
+    three = _disagreement("urdf", "a", "d", WHERE, ("a", "b", "c"))
+    assert three.message.endswith("; a, b and c agree with each other, d stands apart")
+    one = _disagreement("urdf", "a", "d", WHERE, ("a",))
+    assert one.message.endswith("differ with it)")
+
+
+def test_the_audit_table_says_how_each_library_read_the_file():
+    urdf_readers = list(names_reading("urdf"))
+    ref, refused, ignoring, differ, quirk, agrees, unselected = urdf_readers[:5] + ["nobody", "x"]
+    readers = urdf_readers[:5]
+    wanted = readers[:4]
+    backends = {n: n for n in wanted if n != refused}
+    findings = [
+        finding("parser_refused", "r", {"backend": refused}),
+        finding("parser_refused", "i", {"backend": ignoring, "elements": ["<a>", "b@c"]}),
+        finding("parser_refused", "i", {"backend": refused, "elements": ["<z>"]}),
+        finding("parser_disagreement", "d", {"backend": differ}, severity="error"),
+        finding("parser_quirk", "q", {"backends": [ref, quirk]}),
+    ]
+    rows = [(0, f"{ref} vs {ignoring}", 1.5e-10, 2.25e-9), (0, f"{ref} vs {differ}", 0.01234, 0.5)]
+    section = _section("urdf", "r.urdf", wanted, backends, dict(backends), ref, rows, findings, ["note"])
+    assert section.title == "One-file audit: every library reading the URDF"
+    assert section.summary == f"r.urdf read by 3 libraries ({', '.join(backends)}); reference {ref}; 1 disagreement(s)."
+    (table,) = section.tables
+    assert (table.title, table.columns) == (
+        "Libraries",
+        ["library", "reading", f"max position vs {ref} [m]", "max rotation [rad]"],
+    )
+    assert table.rows == [
+        [ref, "reference", "", ""],
+        [refused, "refuses the file", "", ""],
+        [ignoring, "agrees (its parser ignores <a>, b@c)", "1.5e-10", "2.25e-09"],
+        [differ, "reads it differently", "0.0123", "0.5"],
+        [readers[4], "not selected (--backends)", "", ""],
+    ]
+    assert section.notes == ["note"]
+    quirky = _section("urdf", "r.urdf", readers, {n: n for n in readers}, {ref: ref}, ref, [], findings[4:], [])
+    assert [row[1] for row in quirky.tables[0].rows][4] == "agrees once the known quirk is corrected (pinocchio#2782)"
+    assert quirky.summary == f"r.urdf read by 1 library ({ref}); reference {ref}; 0 disagreement(s)."
+    assert [row[1] for row in quirky.tables[0].rows][1:4] == ["agrees"] * 3
+
+
+def test_a_file_no_reference_reader_can_load_is_one_line_naming_the_reader(tmp_path):
+    mjcf = '<mujoco><worldbody><body name="b"><joint name="j"/><geom size="0.1" material="nowhere"/></body></worldbody></mujoco>'
+    path = tmp_path / "m.xml"
+    path.write_text(mjcf)
+    with pytest.raises(InputError) as err:
+        audit_file(str(path), "mjcf", OPTIONS)
+    assert str(err.value).startswith(f"--mjcf: MuJoCo, the reference reader of MJCF, cannot load {path}: material 'nowhere'")
+    sdf = '<sdf version="1.9"><model name="m"><link name="a"/><joint name="j" type="revolute"><parent>a</parent><child>nowhere</child></joint></model></sdf>'
+    path = tmp_path / "s.sdf"
+    path.write_text(sdf)
+    with pytest.raises(InputError) as err:
+        audit_file(str(path), "sdf", OPTIONS)
+    assert str(err.value).startswith(f"--sdf: Drake, the only reader of SDFormat, cannot load {path}: ") and "nowhere" in str(
+        err.value
+    )
+
+
+def test_a_urdf_pinocchio_refuses_is_described_through_mujoco_and_one_neither_reads_is_refused(tmp_path):
+    inertial = '<inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>'
+    text = (
+        f'<robot name="r"><link name="base"/><link name="l1">{inertial}</link><joint name="j1" type="revolute">'
+        '<parent link="base"/><child link="l1"/><origin xyz="0.1 0 0"/><axis xyz="0 0 1"/></joint></robot>'
+    )  # no <limit>: urdfdom refuses a revolute joint without one, MuJoCo reads it unlimited
+    path = tmp_path / "r.urdf"
+    path.write_text(text)
+    out, desc, free = _describe("urdf", load_urdf(str(path), keep_meshes=False))
+    assert (desc.library, desc.kind, free, [j.name for j in desc.joints]) == ("mujoco (URDF import)", "urdf", [], ["j1"])
+    assert desc.joints[0].anchor == pytest.approx([0.1, 0, 0], abs=1e-12) and out == prepare_urdf(load_urdf(str(path)).text)
+    path.write_text(text.replace(inertial, ""))  # MuJoCo refuses a moving body without mass
+    with pytest.raises(InputError) as err:
+        audit_file(str(path), "urdf", OPTIONS)
+    assert str(err.value).startswith(f"--urdf: neither Pinocchio nor MuJoCo can load {path}: mass and inertia")
+
+
+def test_what_a_one_file_audit_refuses_before_reading(tmp_path):
+    path = tmp_path / "r.urdf"
+    path.write_text(CHAIN.replace('type="revolute"', 'type="fixed"'))
+    with pytest.raises(InputError) as err:
+        audit_file(str(path), "urdf", OPTIONS)
+    assert str(err.value) == f"--urdf: {path} has no movable 1-DOF joints (hinge or slide) to compare"
+    with pytest.raises(InputError) as err:
+        audit_file(str(path), "urdf", VerifyOptions(backends=["mujoco", "drake-mjcf"]))
+    assert str(err.value) == (
+        f"--backends: a one-file audit of a URDF compares {', '.join(names_reading('urdf'))}; got mujoco, drake-mjcf"
+    )
