@@ -5,6 +5,7 @@ the library; Pinocchio's dropped top-level pose (pinocchio#2782) is information,
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -19,7 +20,7 @@ from kinverify.backends import available_backends, names_reading
 from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.cli import main
 from kinverify.errors import InputError
-from kinverify.filemode.audit import _describe, _disagreement, _first_element, _section, audit_file
+from kinverify.filemode.audit import ONLY_READER, _describe, _disagreement, _first_element, _section, audit_file
 from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.filemode.read.loading import load_urdf
@@ -428,3 +429,59 @@ def test_what_a_one_file_audit_refuses_before_reading(tmp_path):
     assert str(err.value) == (
         f"--backends: a one-file audit of a URDF compares {', '.join(names_reading('urdf'))}; got mujoco, drake-mjcf"
     )
+
+
+def test_a_urdf_pinocchio_refuses_is_one_refusal_and_its_dynamics_are_not_compared(tmp_path):
+    inertial = '<inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>'
+    path = tmp_path / "r.urdf"
+    path.write_text(
+        f'<robot name="r"><link name="base"/><link name="l1">{inertial}</link><joint name="j1" type="revolute">'
+        '<parent link="base"/><child link="l1"/><origin xyz="0.1 0 0"/><axis xyz="0 0 1"/></joint></robot>'
+    )
+    result = audit_file(str(path), "urdf", dataclasses.replace(OPTIONS, backends=["pinocchio-urdf", "mujoco-urdf"]))
+    (refused,) = result.findings  # one cause, one finding
+    assert (refused.kind, refused.values["backend"]) == ("parser_refused", "pinocchio-urdf") and "limits" in refused.message
+    assert "dynamics not compared: pinocchio-urdf did not read the file" in result.notes
+    assert statuses(result) == {
+        "pinocchio-urdf": "refuses the file",
+        "mujoco-urdf": "reference",
+        **{n: "not selected (--backends)" for n in names_reading("urdf") if n not in ("pinocchio-urdf", "mujoco-urdf")},
+    }
+    assert result.model_info["audit"] == {"file": "URDF", "libraries": ["mujoco-urdf"], "reference": "mujoco-urdf"}
+
+
+def test_a_free_base_is_held_fixed_and_said_so(tmp_path):
+    path = tmp_path / "f.xml"
+    path.write_text(
+        '<mujoco model="f"><worldbody><body name="base" pos="0 0 0.5"><freejoint/><geom size="0.1"/>'
+        '<body name="arm" pos="0.2 0 0"><joint name="j" axis="0 0 1" range="-1 1"/><geom size="0.05"/></body></body>'
+        "</worldbody></mujoco>"
+    )
+    options = dataclasses.replace(OPTIONS, backends=["mujoco", "pinocchio-mjcf"], suites=["kinematics"])
+    result = audit_file(str(path), "mjcf", options)
+    (free,) = result.findings
+    assert (free.kind, free.subject, free.values) == ("floating_base", "MJCF", {"file": "MJCF", "bodies": ["base"]})
+    assert free.message == (
+        "the MJCF's free base (base) is held at the identity pose: the libraries' readings of everything below it are compared"
+    )
+    assert result.verdict == "pass" and result.backends == ["mujoco", "pinocchio-mjcf"]
+    assert ("mujoco", "pinocchio-mjcf") in {c.backends for c in result.checks} and "dynamics" not in result.sections
+    assert not [n for n in result.notes if n.startswith("dynamics")]  # not asked for: nothing to say
+    assert result.model_info["audit"] == {"file": "MJCF", "libraries": ["mujoco", "pinocchio-mjcf"], "reference": "mujoco"}
+    assert result.model_info["files"] == {"mjcf": str(path)} and list(result.sections)[0] == "audit"
+
+
+def test_an_sdformat_audit_is_drakes_reading_alone_and_says_so(tmp_path):
+    path = tmp_path / "s.sdf"
+    path.write_text(
+        '<sdf version="1.9"><model name="m"><link name="a"/><link name="b"><inertial><mass>1</mass></inertial></link>'
+        '<joint name="j" type="revolute"><parent>a</parent><child>b</child><axis><xyz>0 0 1</xyz>'
+        "<limit><lower>-1</lower><upper>1</upper></limit></axis></joint></model></sdf>"
+    )
+    result = audit_file(str(path), "sdf", OPTIONS)
+    assert result.notes[0] == ONLY_READER and "Drake is the only library here that reads SDFormat" in ONLY_READER
+    assert "dynamics not compared: Drake is the only reader of SDFormat" in result.notes
+    assert [f.kind for f in result.findings] == ["floating_base"] and "SDF's free base (a)" in result.findings[0].message
+    assert statuses(result) == {"drake-sdf": "reference"} and result.verdict == "pass"
+    assert result.sections["audit"].summary == f"{path} read by 1 library (drake-sdf); reference drake-sdf; 0 disagreement(s)."
+    assert result.model_info["audit"] == {"file": "SDF", "libraries": ["drake-sdf"], "reference": "drake-sdf"}
