@@ -450,12 +450,25 @@ def test_a_urdf_pinocchio_refuses_is_one_refusal_and_its_dynamics_are_not_compar
     assert result.model_info["audit"] == {"file": "URDF", "libraries": ["mujoco-urdf"], "reference": "mujoco-urdf"}
 
 
+def test_a_file_no_selected_library_reads_is_one_line_naming_their_refusals(tmp_path):
+    path = tmp_path / "r.urdf"
+    path.write_text(
+        '<robot name="r"><link name="base"/><link name="l1"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" '
+        'izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link><joint name="j1" type="revolute"><parent link="base"/>'
+        '<child link="l1"/><axis xyz="0 0 1"/></joint></robot>'
+    )  # no <limit>: urdfdom refuses it
+    with pytest.raises(InputError) as err:
+        audit_file(str(path), "urdf", dataclasses.replace(OPTIONS, backends=["pinocchio-urdf"]))
+    assert str(err.value).startswith(f"--urdf: no library can read {path}: pinocchio-urdf refuses the URDF: ")
+    assert "limits" in str(err.value) and "\n" not in str(err.value)
+
+
 def test_a_free_base_is_held_fixed_and_said_so(tmp_path):
     path = tmp_path / "f.xml"
     path.write_text(
-        '<mujoco model="f"><worldbody><body name="base" pos="0 0 0.5"><freejoint/><geom size="0.1"/>'
-        '<body name="arm" pos="0.2 0 0"><joint name="j" axis="0 0 1" range="-1 1"/><geom size="0.05"/></body></body>'
-        "</worldbody></mujoco>"
+        '<mujoco model="f"><asset><mesh name="gone" file="gone.stl"/></asset><worldbody><body name="base" pos="0 0 0.5">'
+        '<freejoint/><geom size="0.1"/><body name="arm" pos="0.2 0 0"><joint name="j" axis="0 0 1" range="-1 1"/>'
+        '<geom size="0.05"/><geom type="mesh" mesh="gone" mass="0"/></body></body></worldbody></mujoco>'
     )
     options = dataclasses.replace(OPTIONS, backends=["mujoco", "pinocchio-mjcf"], suites=["kinematics"])
     result = audit_file(str(path), "mjcf", options)
@@ -466,7 +479,8 @@ def test_a_free_base_is_held_fixed_and_said_so(tmp_path):
     )
     assert result.verdict == "pass" and result.backends == ["mujoco", "pinocchio-mjcf"]
     assert ("mujoco", "pinocchio-mjcf") in {c.backends for c in result.checks} and "dynamics" not in result.sections
-    assert not [n for n in result.notes if n.startswith("dynamics")]  # not asked for: nothing to say
+    assert result.notes == ["MJCF: 1 mesh geoms and their assets skipped, their files are absent"]  # the reading's own
+    assert result.duration_s > 0
     assert result.model_info["audit"] == {"file": "MJCF", "libraries": ["mujoco", "pinocchio-mjcf"], "reference": "mujoco"}
     assert result.model_info["files"] == {"mjcf": str(path)} and list(result.sections)[0] == "audit"
 
