@@ -25,6 +25,7 @@ from kinverify.filemode.findings.table import finding
 from kinverify.filemode.read.describe_urdf import describe_urdf
 from kinverify.filemode.read.loading import load_urdf
 from kinverify.filemode.read.prepare import prepare_urdf
+from kinverify.filemode.usd_audit import ONLY_READER as USD_ONLY
 from kinverify.filemode.compare.crosscheck import QUIRK_ISSUE
 from kinverify.run import VerifyOptions
 from tests.filemode.pairs import generated_pair, ignored_by_drake, turned_world
@@ -499,3 +500,88 @@ def test_an_sdformat_audit_is_drakes_reading_alone_and_says_so(tmp_path):
     assert statuses(result) == {"drake-sdf": "reference"} and result.verdict == "pass"
     assert result.sections["audit"].summary == f"{path} read by 1 library (drake-sdf); reference drake-sdf; 0 disagreement(s)."
     assert result.model_info["audit"] == {"file": "SDF", "libraries": ["drake-sdf"], "reference": "drake-sdf"}
+
+
+MIMIC = (
+    '<robot name="m"><link name="base"/>'
+    + "".join(
+        f'<link name="l{i}"><inertial><mass value="1"/><origin xyz="0.1 0 0"/>'
+        '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+        for i in (1, 2)
+    )
+    + '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 1 0"/>'
+    '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint>'
+    '<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.2 0 0"/><axis xyz="0 1 0"/>'
+    '<limit lower="-1" upper="1" effort="10" velocity="1"/><mimic joint="j1" multiplier="0.5"/></joint></robot>'
+)
+
+
+def test_dynamics_of_one_file_cover_every_joint_a_follower_too(tmp_path):
+    path = tmp_path / "m.urdf"
+    path.write_text(MIMIC)
+    result = audit_file(str(path), "urdf", dataclasses.replace(OPTIONS, backends=["pinocchio-urdf", "mujoco-urdf"]))
+    dynamics = [c for c in result.checks if c.property.startswith("dynamics.")]
+    assert {c.property for c in dynamics} >= {"dynamics.mass_matrix", "dynamics.gravity", "dynamics.forward"}
+    assert all(c.passed for c in dynamics) and not result.internal_errors and result.notes == []
+    assert result.command == "" and "dynamics" in result.timings and "dynamics" in result.sections
+    alone = audit_file(str(path), "urdf", dataclasses.replace(OPTIONS, backends=["yourdfpy"]), command="kinverify verify")
+    assert alone.notes == ["dynamics not compared: pinocchio-urdf, mujoco-urdf did not read the file"]
+    assert alone.command == "kinverify verify" and "dynamics" not in alone.sections
+
+
+def test_every_free_base_is_named(tmp_path):
+    path = tmp_path / "two.sdf"
+    path.write_text(
+        '<sdf version="1.9"><model name="m"><link name="a"/><link name="b"><inertial><mass>1</mass></inertial></link>'
+        '<link name="c"><inertial><mass>1</mass></inertial></link><joint name="j" type="revolute"><parent>a</parent>'
+        "<child>b</child><axis><xyz>0 0 1</xyz><limit><lower>-1</lower><upper>1</upper></limit></axis></joint></model></sdf>"
+    )
+    (free,) = audit_file(str(path), "sdf", OPTIONS).findings
+    assert free.message.startswith("the SDF's free base (a, c) is held at the identity pose") and free.values["bodies"] == [
+        "a",
+        "c",
+    ]
+
+
+USDA = """#usda 1.0
+(
+    upAxis = "Z"
+)
+def Xform "r"
+{
+    def Xform "b0" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI", "PhysicsArticulationRootAPI"])
+    {
+        float physics:mass = 1
+    }
+    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
+    {
+        float physics:mass = 2
+    }
+    def PhysicsFixedJoint "root"
+    {
+        rel physics:body1 = </r/b0>
+    }
+    def PhysicsRevoluteJoint "j1"
+    {
+        uniform token physics:axis = "Z"
+        rel physics:body0 = </r/b0>
+        rel physics:body1 = </r/b1>
+        point3f physics:localPos0 = (0, 0, 0.1)
+    }
+}
+"""
+
+
+def test_a_usd_audit_is_usd_cores_reading_with_what_the_file_states(tmp_path):
+    pytest.importorskip("pxr")
+    path = tmp_path / "r.usda"
+    path.write_text(USDA)
+    result = audit_file(str(path), "usd", OPTIONS)
+    assert result.notes[0] == USD_ONLY and list(result.sections)[:2] == ["audit", "usd"]
+    assert (
+        "dynamics not compared: usd-core reads the USD's kinematics and inertials, no USD dynamics library is here"
+        in result.notes
+    )
+    assert [r[0] for r in result.sections["usd"].tables[0].rows] == ["j1"]
+    assert result.model_info["audit"]["file"] == "USD" and result.model_info["files"] == {"usd": str(path)}
+    assert result.sections["audit"].title == "One-file audit: every library reading the USD"
