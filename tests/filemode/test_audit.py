@@ -585,3 +585,15 @@ def test_a_usd_audit_is_usd_cores_reading_with_what_the_file_states(tmp_path):
     assert [r[0] for r in result.sections["usd"].tables[0].rows] == ["j1"]
     assert result.model_info["audit"]["file"] == "USD" and result.model_info["files"] == {"usd": str(path)}
     assert result.sections["audit"].title == "One-file audit: every library reading the USD"
+
+
+def test_what_the_reference_reading_leaves_out_is_a_note_naming_the_file(tmp_path):
+    path = tmp_path / "b.xml"
+    path.write_text(
+        '<mujoco model="b"><worldbody><body name="base"><geom size="0.1"/><body name="arm" pos="0.2 0 0">'
+        '<joint name="j" axis="0 0 1" range="-1 1"/><geom size="0.05"/><body name="tip" pos="0.2 0 0">'
+        '<joint name="ball" type="ball"/><geom size="0.05"/></body></body></body></worldbody></mujoco>'
+    )
+    options = dataclasses.replace(OPTIONS, backends=["mujoco", "pinocchio-mjcf"], suites=["kinematics"])
+    result = audit_file(str(path), "mjcf", options)
+    assert result.notes == ["MJCF: ball: mjJNT_BALL joints are not compared (held at 0)"] and result.verdict == "pass"
