@@ -150,6 +150,8 @@ def test_a_library_reading_the_file_differently_fails_naming_the_library_and_the
     assert wrong.kind == "parser_disagreement" and wrong.values["backend"] == "yourdfpy"
     assert (wrong.subject_type, wrong.subject, wrong.values["joint"]) == ("link", joint[2], joint[1])
     assert not wrong.values["at_zero"] and "yourdfpy" in wrong.message and joint[2] in wrong.message
+    assert {"pinocchio-urdf", "mujoco-urdf"} <= set(wrong.values["agree"]) and "yourdfpy" not in wrong.values["agree"]
+    assert wrong.message.endswith(" agree with each other, yourdfpy stands apart")  # the majority, named
     failed = {c.backends for c in result.failed}
     assert failed == {("pinocchio-urdf", "yourdfpy")}  # MuJoCo's URDF import agrees with Pinocchio
     assert statuses(result)["yourdfpy"] == "reads it differently"
@@ -484,6 +486,7 @@ def test_a_free_base_is_held_fixed_and_said_so(tmp_path):
     assert result.duration_s > 0
     assert result.model_info["audit"] == {"file": "MJCF", "libraries": ["mujoco", "pinocchio-mjcf"], "reference": "mujoco"}
     assert result.model_info["files"] == {"mjcf": str(path)} and list(result.sections)[0] == "audit"
+    assert result.source == str(path) and result.model == "f"
 
 
 def test_an_sdformat_audit_is_drakes_reading_alone_and_says_so(tmp_path):
