@@ -152,7 +152,7 @@ def _read_asset(path: Path, budget: Budget | None = None) -> Path:
     """An asset the model references is an input of the run: no output may replace it. The
     libraries read it themselves: a regular file whose size is exact, bounded here."""
     path = path.resolve()
-    size = check_file(path, "a mesh the model references:", max(budget.data, 0) if budget else MAX_DATA_BYTES)
+    size = check_file(path, "a mesh the model references", max(budget.data, 0) if budget else MAX_DATA_BYTES)
     if budget:
         budget.data -= size
     return path

@@ -290,8 +290,9 @@ def test_the_meshes_of_a_model_share_one_budget(package):
     assert resolve_asset("../meshes/a.stl", base, budget=budget) == mesh and budget.data == 0
     for left in (0, size - 1, -size):  # spent: nothing more, not even what a negative budget would wrap to
         budget.data = left
-        with pytest.raises(InputError, match="a mesh the model references"):
+        with pytest.raises(InputError) as err:
             resolve_asset("../meshes/a.stl", base, budget=budget)
+        assert str(err.value).startswith(f"a mesh the model references: {mesh} is ")  # the file named once
     one_byte = base / "one.bin"
     one_byte.write_bytes(b"x")
     budget.data = 0
@@ -638,8 +639,8 @@ def test_mjcf_absent_meshes_are_dropped_present_ones_kept_and_the_body_still_loa
         '<geom mesh="cube"/><geom mesh="gone"/><geom type="capsule" size="0.1" mesh="gone"/>',
         '<mesh name="cube" file="cube.stl"/><mesh name="gone" file="gone.stl"/>',
     )
-    loaded = load_mjcf(write(meshes, "m.xml", text))
-    assert (loaded.kind, loaded.name, loaded.original, loaded.path) == ("mjcf", "m", text, str(meshes / "m.xml"))
+    loaded = load_mjcf(write(meshes, "robot.xml", text))
+    assert (loaded.kind, loaded.name, loaded.original, loaded.path) == ("mjcf", "m", text, str(meshes / "robot.xml"))
     assert loaded.warnings == (
         "MJCF: 2 mesh geoms (2 of them primitives fitted to a mesh, whose size came from it) and their assets skipped, "
         "their files are absent",  # the one present is kept: not among those skipped
