@@ -600,3 +600,14 @@ def test_what_the_reference_reading_leaves_out_is_a_note_naming_the_file(tmp_pat
     options = dataclasses.replace(OPTIONS, backends=["mujoco", "pinocchio-mjcf"], suites=["kinematics"])
     result = audit_file(str(path), "mjcf", options)
     assert result.notes == ["MJCF: ball: mjJNT_BALL joints are not compared (held at 0)"] and result.verdict == "pass"
+
+
+def test_dynamics_alone_on_at_most_the_dynamics_samples(tmp_path):
+    path = tmp_path / "m.urdf"
+    path.write_text(MIMIC)
+    only = VerifyOptions(samples=150, backends=["pinocchio-urdf", "mujoco-urdf"], suites=["dynamics"])
+    result = audit_file(str(path), "urdf", only)
+    assert {c.property.split(".")[0] for c in result.checks} == {"dynamics"}  # no kinematics asked for
+    assert {c.samples for c in result.checks if c.property == "dynamics.mass_matrix"} == {100}  # the default cap
+    fewer = audit_file(str(path), "urdf", dataclasses.replace(only, extra={"dynamics_samples": 7}))
+    assert {c.samples for c in fewer.checks if c.property == "dynamics.mass_matrix"} == {7}
