@@ -410,6 +410,24 @@ def test_an_sdformat_file_is_named_after_its_model_else_its_file(tmp_path):
     assert load_sdf(write(tmp_path, "w.sdf", '<sdf version="1.9"><world name="w"/></sdf>')).name == "w"
 
 
+def test_sdformat_packages_come_from_the_call_else_from_the_block(tmp_path):
+    write(tmp_path, "pkg/inner.sdf", '<sdf version="1.9"><model name="inner"><link name="x"/></model></sdf>')
+    path = write(
+        tmp_path,
+        "main/m.sdf",
+        '<sdf version="1.9"><model name="m"><include><uri>package://p/inner.sdf</uri></include></model></sdf>',
+    )
+    with pytest.raises(InputError, match="package://p/inner.sdf"):
+        load_sdf(path)
+    given = {"p": str(tmp_path / "pkg")}
+    with given_packages(given):
+        inner = ET.fromstring(load_sdf(path).text).findtext("model/include/uri")
+    assert inner.endswith("-inner.sdf") and "package://" not in inner
+    assert ET.fromstring(load_sdf(path, packages=given).text).findtext("model/include/uri").endswith("-inner.sdf")
+    with given_packages(given), pytest.raises(InputError, match="package://p/inner.sdf"):
+        load_sdf(path, packages={})
+
+
 # --- MJCF: meshes resolved and dropped -------------------------------------------------------------
 
 
