@@ -734,3 +734,14 @@ def test_load_mjcf_routes_mujocos_warnings(meshes):
         assert mujoco.get_mju_user_warning() is _mujoco_warning
     finally:
         mujoco.set_mju_user_warning(before)
+
+
+def test_mjcf_bodies_of_unknown_mass_or_centre_are_all_named(meshes):
+    bodies = "".join(
+        f'<body name="{name}"><joint axis="0 0 1"/><geom type="mesh" mesh="gone"{mass}/></body>'
+        for name, mass in (("u1", ""), ("u2", ""), ("c1", ' mass="1"'), ("c2", ' mass="2"'))
+    )
+    text = f'<mujoco><asset><mesh name="gone" file="gone.stl"/></asset><worldbody>{bodies}</worldbody></mujoco>'
+    loaded = load_mjcf(write(meshes, "four.xml", text))
+    assert loaded.warnings[-2:] == (MASSLESS + "u1, u2", APPROXIMATE + "c1, c2")
+    assert (loaded.unknown_mass, loaded.unknown_com) == (("u1", "u2"), ("c1", "c2"))
