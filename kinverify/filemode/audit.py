@@ -65,8 +65,10 @@ ONLY_READER = (
 )
 
 
-def _describe(kind: str, loaded, findings: list):
-    """(the text the libraries load, the primary reader's description, the free bodies held fixed)."""
+def _describe(kind: str, loaded):
+    """(the text the libraries load, the primary reader's description, the free bodies held fixed).
+    A URDF Pinocchio refuses is described through MuJoCo's URDF import (the refusal is one finding,
+    made where the libraries are built)."""
     if kind == "usd":
         desc = describe_usd(loaded.robot)
         return loaded.text, desc, [loaded.robot.names[loaded.robot.root]] if loaded.robot.floating else []
@@ -88,15 +90,8 @@ def _describe(kind: str, loaded, findings: list):
     text = prepare_urdf(loaded.text)
     try:
         return text, describe_urdf(loaded.text), []
-    except (ValueError, RuntimeError) as err:  # described through MuJoCo's URDF import instead
-        findings.append(
-            finding(
-                "parser_refused",
-                f"pinocchio-urdf refuses the URDF: {library_reason(err)}",
-                {"file": "URDF", "backend": "pinocchio-urdf"},
-            )
-        )
-
+    except (ValueError, RuntimeError):  # described through MuJoCo's URDF import instead
+        pass
     try:
         desc = describe_mjcf(urdf_for_mujoco(text))
     except ValueError as err:
@@ -275,7 +270,7 @@ def audit_file(path: str, kind: str, options=None, command: str = "", packages=N
             if kind == "sdf"
             else load_mjcf(path, keep_meshes=False)
         )
-    text, desc, free = _describe(kind, loaded, findings)
+    text, desc, free = _describe(kind, loaded)
     if not desc.joints:
         raise InputError(f"--{kind}: {path} has no movable 1-DOF joints (hinge or slide) to compare")
     matching = match(desc, desc)  # every joint and frame with itself: the readings are compared, not two files

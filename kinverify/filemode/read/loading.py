@@ -152,7 +152,7 @@ def _read_asset(path: Path, budget: Budget | None = None) -> Path:
     """An asset the model references is an input of the run: no output may replace it. The
     libraries read it themselves: a regular file whose size is exact, bounded here."""
     path = path.resolve()
-    size = check_file(path, "a mesh the model references:", max(budget.data, 0) if budget else MAX_DATA_BYTES)
+    size = check_file(path, "a mesh the model references", max(budget.data, 0) if budget else MAX_DATA_BYTES)
     if budget:
         budget.data -= size
     return path
@@ -298,7 +298,7 @@ def _mujoco_warning(message: str) -> None:
 
 
 def _resolve_mesh_assets(root: ET.Element, found: dict, keep: bool = True) -> tuple[set[str], int]:
-    """Names of the mesh assets kept (their files exist, ``keep``) and how many exist: each file
+    """Names of the mesh assets kept (their files exist, ``keep``) and how many exist not kept: each file
     found (:func:`~kinverify.io.references.mjcf_files`) rewritten as an absolute path, so the text
     loads from anywhere (``<model>`` and ``<flexcomp>`` files too)."""
     kept, present = set(), 0
@@ -307,10 +307,11 @@ def _resolve_mesh_assets(root: ET.Element, found: dict, keep: bool = True) -> tu
         if element.tag in ("model", "flexcomp"):
             element.set(name, str(target))
         elif id(element) in meshes:
-            present += 1
             if keep:
                 kept.add(element.get("name") or Path(element.get("file")).stem)
                 element.set("file", str(target))
+            else:  # present, not loaded
+                present += 1
     return kept, present
 
 
@@ -319,10 +320,11 @@ PLACEHOLDER_MASS, PLACEHOLDER_INERTIA = 1e-6, 1e-12  # kg, kg·m²: a body whose
 
 def _mesh_of(geom: ET.Element, parents: dict, defaults: dict) -> tuple[str | None, bool]:
     """The mesh a geom uses (its own ``mesh`` or its default class's), and whether the geom is a
-    primitive fitted to that mesh (``type="capsule" mesh="..."``: MuJoCo sizes it from the mesh)."""
+    primitive fitted to that mesh (``type="capsule" mesh="..."``: MuJoCo sizes it from the mesh;
+    no type at all is MuJoCo's default, a sphere, fitted the same way)."""
     mesh = attribute(geom, "mesh", parents, defaults)
     kind = attribute(geom, "type", parents, defaults)
-    return mesh, mesh is not None and kind is not None and kind != "mesh"
+    return mesh, mesh is not None and kind != "mesh"
 
 
 def _weighs(geom: ET.Element, parents: dict, defaults: dict) -> bool:
