@@ -20,6 +20,7 @@ from kinverify.filemode.pipeline import _failed, _guarded, _readers, add_map, di
 from kinverify.generate import generate_sdf
 from kinverify.model.specfile import load_spec
 from kinverify.results import VerifyResult
+from kinverify.model.floating import BASE_COORDINATES
 from kinverify.run import VerifyOptions
 from kinverify.suites.base import Check, Finding, Section, Table
 from tests.filemode.pairs import write_pair
@@ -415,14 +416,19 @@ def arm3_files(tmp_path_factory) -> tuple[str, str, str]:
 
 
 @pytest.fixture(scope="module")
-def floating(tmp_path_factory) -> dict:
-    """diagnose_files on arm3 with its root joint floating (the MJCF's base free)."""
+def floating_files(tmp_path_factory) -> tuple[str, str]:
+    """arm3 with its root joint floating (the MJCF's base free), written once."""
     urdf, mjcf = P.generated_pair("arm3")
     urdf = P.sub_once(r'<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">', urdf)
     mjcf = P.sub_once(r'<body name="world_mount">\s*<inertial[^>]*/>\s*', "", mjcf)
     end = mjcf.rindex("</body>")
     mjcf = P.sub_once(r'(<body name="base" pos="[^"]*">)', r"\1<freejoint/>", mjcf[:end] + mjcf[end + len("</body>") :])
-    return diagnose_files(*write_pair(tmp_path_factory.mktemp("floating"), urdf, mjcf))
+    return write_pair(tmp_path_factory.mktemp("floating"), urdf, mjcf)
+
+
+@pytest.fixture(scope="module")
+def floating(floating_files) -> dict:
+    return diagnose_files(*floating_files)
 
 
 ARM3_LIMITS = ([-math.pi, -math.pi / 2, -3 * math.pi / 4], [math.pi, math.pi / 2, 3 * math.pi / 4])  # models/arm3.toml
@@ -437,6 +443,13 @@ def test_a_floating_base_samples_six_base_coordinates_first_pitch_kept_off_its_p
     assert floating["info"].base_coordinates and floating["reference"] == "pinocchio-urdf"
     assert 'type="floating"' in floating["urdf_text"] and "<freejoint" in floating["mjcf_text"]  # the files as they float
     assert "world" not in [a for a, _, _ in floating["matching"].frames]  # the URDF's link above the floating root
+
+
+def test_a_floating_runs_coordinates_are_the_six_base_ones_then_the_joints(floating_files):
+    result = verify_files(*floating_files, LIMITS)
+    assert result.joint_names == [*BASE_COORDINATES, "joint1", "joint2", "joint3"]
+    assert result.lower[4] == pytest.approx(-math.pi / 2 + 1e-3, abs=1e-12) and result.upper[6:] == pytest.approx(ARM3_LIMITS[1])
+    assert result.passed and not result.internal_errors
 
 
 def test_the_notes_say_each_sides_written_precision(floating):
