@@ -76,18 +76,18 @@ ROBOT = """<mujoco model="m"><compiler angle="radian"/><option gravity="0 0 -3"/
    <body name="b3" pos="0 0 0.3"><joint name="ball" type="ball"/><geom type="sphere" size="0.05" mass="0.5"/></body>
    <body pos="0 0 -0.3"><joint type="ball"/><geom type="sphere" size="0.02" mass="0.1"/></body>
   </body>
-  <body name="ub" pos="0 0.3 0"><joint type="hinge" axis="1 0 0"/><geom type="sphere" size="0.05" mass="1"/>
+  <body name="ub" pos="0 0.3 0" gravcomp="0.3"><joint type="hinge" axis="1 0 0"/><geom type="sphere" size="0.05" mass="1"/>
     <body name="ubchild"><geom type="sphere" size="0.05" mass="1"/><site name="ubsite"/></body></body>
  </body>
- <body name="massless" pos="1 0 0"/>
+ <body name="massless" pos="1 0 0" gravcomp="1"/>
 </worldbody>
 <tendon><fixed name="tn"><joint joint="h1" coef="2"/><joint joint="s1" coef="-0.5"/></fixed></tendon>
 <actuator>
+ <motor site="tip" ctrlrange="-1 1"/>
  <motor name="m1" joint="h1" ctrlrange="-1 1" gear="3"/>
  <position name="p1" joint="h1" kp="10"/>
  <motor name="m2" joint="s1" forcerange="-4 6" forcelimited="true" ctrlrange="-100 100"/>
  <motor tendon="tn" ctrlrange="-2 2" gear="1"/>
- <motor site="tip" ctrlrange="-1 1"/>
 </actuator>
 <equality><joint joint1="h2" joint2="s1" polycoef="0 1 0.5 0 0"/><joint joint1="h1" joint2="s1" active="false"/></equality>
 </mujoco>"""
@@ -129,15 +129,29 @@ def test_a_joints_force_cap_below_its_actuators_bound_is_its_effort(robot):
 
 
 def test_each_actuator_on_a_joint_is_kept_and_the_largest_bounds_it(robot):
-    """s1: m2's forcerange 6 (not its ctrlrange), the tendon's |coef -0.5| × ctrl 2 = 1; a site actuator is none."""
+    """s1: m2's forcerange 6 (not its ctrlrange), the tendon's |coef -0.5| × ctrl 2 = 1; the site actuator
+    (the first, #0) drives no joint."""
     s1, h2 = robot.joints[1], robot.joints[2]
     assert s1.effort == 6.0
     assert s1.effort_each == (
         (6.0, "m2: forcerange ±6"),
-        (1.0, "actuator #3 on tendon tn (coef -0.5): ctrlrange ±2 × gain 1"),
+        (1.0, "actuator #4 on tendon tn (coef -0.5): ctrlrange ±2 × gain 1"),
     )
-    assert s1.effort_how == "m2: forcerange ±6; actuator #3 on tendon tn (coef -0.5): ctrlrange ±2 × gain 1"
+    assert s1.effort_how == "m2: forcerange ±6; actuator #4 on tendon tn (coef -0.5): ctrlrange ±2 × gain 1"
     assert (h2.effort, h2.effort_how, h2.effort_each) == (None, "no actuator in the MJCF", ())
+
+
+def test_a_joint_force_cap_bounds_a_joint_without_actuators_and_ties_keep_the_actuators_word():
+    """a: a motor 1 × gear 7 and the cap ±7: the motor's bound says it; b: no actuator, the cap
+    (-3, 2) bounds it at 3 (the larger side)."""
+    text = two_hinges('<actuator><motor name="ma" joint="a" ctrlrange="-1 1" gear="7"/></actuator>')
+    text = text.replace('ref="0.0"/>', 'ref="0.0" actuatorfrcrange="-7 7" actuatorfrclimited="true"/>', 1)
+    text = text.replace(
+        'range="-1 1" ref="0.0"/>', 'range="-1 1" ref="0.0" actuatorfrcrange="-3 2" actuatorfrclimited="true"/>', 1
+    )
+    a, b = describe_mjcf(text).joints
+    assert (a.effort, a.effort_how, a.effort_each) == (7.0, "ma: ctrlrange ±1 × gain 1 × gear 7", ())  # one actuator: no list
+    assert (b.effort, b.effort_how, b.effort_each) == (3.0, "joint actuatorfrcrange ±3", ())
 
 
 def test_actuator_bounds_gear_gain_servos_and_the_joint_in_parent_transmission():
@@ -209,7 +223,7 @@ def test_bodies_with_mass_their_inertial_in_the_world_and_their_own_frame(robot)
 def test_gravity_gravity_compensation_and_couplings(robot):
     """h2 = s1 + 0.5 (h2's ref) with a quadratic term: nonlinear; the inactive equality is none."""
     assert list(robot.gravity) == [0.0, 0.0, -3.0]
-    assert robot.gravcomp == {"b2": 0.5}
+    assert robot.gravcomp == {"b2": 0.5}  # not the massless body's, nor the unnamed hinge's body's
     (c,) = robot.couplings
     assert (c.follower, c.leader, c.multiplier, c.source, c.nonlinear) == ("h2", "s1", 1.0, "<equality joint>", True)
     assert c.offset == pytest.approx(0.5, abs=1e-12)
