@@ -13,6 +13,7 @@ pytest.importorskip("pydrake")
 
 from kinverify.filemode.pipeline import verify_files  # noqa: E402
 from kinverify.filemode.read.describe_sdf import describe_sdf  # noqa: E402
+from kinverify.errors import BackendError  # noqa: E402
 from kinverify.filemode.read.model import INF  # noqa: E402
 from kinverify.generate import generate_sdf, generate_urdf  # noqa: E402
 from kinverify.model.specfile import load_spec  # noqa: E402
@@ -213,3 +214,15 @@ def test_a_urdf_read_by_drake_names_its_source_and_drakes_warnings():
     assert (j.lower, j.upper, k.lower, k.upper) == (-1.0, 1.0, -INF, INF)
     (warning,) = d.skipped
     assert warning.startswith("Drake: ") and "friction" in warning
+
+
+def test_a_two_coordinate_joint_is_held_and_a_file_drake_refuses_is_named_by_its_reader():
+    universal = """<sdf version="1.9"><model name="m"><link name="a"/><link name="b"/>
+      <joint name="u" type="universal"><parent>a</parent><child>b</child><axis><xyz>0 0 1</xyz></axis>
+      <axis2><xyz>0 1 0</xyz></axis2></joint></model></sdf>"""
+    d = describe_sdf(universal)
+    assert d.held == ["u"] and d.joints == []
+    assert d.skipped[0] == "u: universal joint with 2 coordinates; only 1-DOF joints are compared (held at 0)"
+    assert [s for s in d.skipped[1:] if not s.startswith("Drake: ")] == []
+    with pytest.raises(BackendError, match=r"^drake-sdf: cannot load the SDF: .*nope"):
+        describe_sdf(universal.replace("<child>b</child>", "<child>nope</child>"))
