@@ -443,6 +443,9 @@ def test_a_floating_base_samples_six_base_coordinates_first_pitch_kept_off_its_p
     assert floating["info"].base_coordinates and floating["reference"] == "pinocchio-urdf"
     assert 'type="floating"' in floating["urdf_text"] and "<freejoint" in floating["mjcf_text"]  # the files as they float
     assert "world" not in [a for a, _, _ in floating["matching"].frames]  # the URDF's link above the floating root
+    base = floating["findings"][0]  # said first, with what floats in each file
+    assert (base.kind, base.severity) == ("floating_base", "info")
+    assert base.values == {"urdf": "floating", "urdf_root": "world", "mjcf_free_bodies": ["base"]}
 
 
 def test_a_floating_runs_coordinates_are_the_six_base_ones_then_the_joints(floating_files):
