@@ -426,7 +426,7 @@ def floating_files(tmp_path_factory) -> tuple[str, str]:
     return write_pair(tmp_path_factory.mktemp("floating"), urdf, mjcf)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture  # per test: mutmut credits a call only to the test that makes it
 def floating(floating_files) -> dict:
     return diagnose_files(*floating_files)
 

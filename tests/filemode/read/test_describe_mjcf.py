@@ -93,7 +93,7 @@ ROBOT = """<mujoco model="m"><compiler angle="radian"/><option gravity="0 0 -3"/
 </mujoco>"""
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture  # per test: mutmut credits a call only to the test that makes it
 def robot():
     return describe_mjcf(ROBOT)
 

@@ -124,7 +124,7 @@ TURNED = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # +90°
 DIAG = np.diag([0.01, 0.02, 0.03])
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture  # per test: mutmut credits a call only to the test that makes it
 def robot():
     return describe_sdf(ROBOT)
 

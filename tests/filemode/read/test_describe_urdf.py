@@ -35,7 +35,7 @@ def rot_z(angle: float) -> np.ndarray:
 # l3 -(j4 mimic of j1, ×-2 +0.1)- l4, l3 -(j5 mimic of j1, defaults)- l5, l3 -(j6, limits ±1e308)- l6
 # base -(floating)- float; l2 -(fixed)- empty (no inertial); l2 -(fixed)- dust (1e-13 kg)
 ROBOT = f"""<robot name="r" xmlns:drake="http://drake.mit.edu">
-<link name="base">{inertial(2.0, "0 0 0.05")}</link>
+<link name="base">{inertial(0.8, "0 0 0.05")}</link>
 <link name="mount">{inertial(0.5, "0.1 0 0")}</link>
 <joint name="base_mount" type="fixed"><parent link="base"/><child link="mount"/><origin xyz="0 0 0.2"/></joint>
 <link name="l1">{inertial(1.0, "0 0.1 0", "0 0 0.5")}</link>
@@ -81,7 +81,7 @@ TOOL = L1 + TURNED @ [0.3, 0.0, 0.0]  # (0, 0.3, 0.3)
 L2 = TOOL + [0.0, 0.0, 0.05]  # (0, 0.3, 0.35); l3 ... l6 sit there too
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture  # per test: mutmut credits a call only to the test that makes it
 def desc():
     return describe_urdf(ROBOT)
 
@@ -197,7 +197,7 @@ def test_link_frames_their_owner_joint_and_depth(desc):
 
 def test_each_link_with_mass_has_its_own_inertial_and_massless_ones_none(desc):
     assert [(b.name, b.owner, b.mass) for b in desc.bodies] == [
-        ("base", None, 2.0),  # the root link: its inertia stays on its own frame
+        ("base", None, 0.8),  # the root link (under 1 kg): its inertia stays on its own frame
         ("mount", None, 0.5),  # a fixed link: its own, not fused into the base
         ("l1", "j1", pytest.approx(1.0, rel=1e-12)),  # j1's inertia without the tool fused into it
         ("tool", "j1", 0.25),
