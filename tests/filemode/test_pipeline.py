@@ -23,6 +23,7 @@ from kinverify.results import VerifyResult
 from kinverify.model.floating import BASE_COORDINATES
 from kinverify.run import VerifyOptions
 from kinverify.suites.base import Check, Finding, Section, Table
+from kinverify.versions import library_versions
 from tests.filemode.pairs import write_pair
 from tests.paths import MODELS
 import kinverify.filemode.align.run as align_stage
@@ -517,6 +518,7 @@ def test_a_failed_run_names_both_files_and_exits_3():
     assert (result.model, result.source, result.seed, result.command) == ("x-vs-y", "a/x.urdf + b/y.sdf", 7, "kinverify verify")
     assert result.internal_errors == ["boom"] and result.model_info == {"files": {"urdf": "a/x.urdf", "sdf": "b/y.sdf"}}
     assert (result.verdict, result.exit_code, result.samples, result.checks) == ("error", 3, 0, [])
+    assert result.versions == library_versions()  # what the report names of the libraries
     assert _failed("x.urdf", "y.xml", VerifyOptions(), [], "").model_info == {"files": {"urdf": "x.urdf", "mjcf": "y.xml"}}
 
 
@@ -608,6 +610,8 @@ def test_three_files_are_two_pairs_in_one_result_the_mjcf_pair_first(arm3_files)
     assert any("the MJCF writes" in n for n in result.notes) and any("the SDF writes" in n for n in result.notes)
     assert {"mujoco", "drake-sdf"} <= set(result.backends) and len(result.backends) == len(set(result.backends))
     assert {c.backends for c in result.checks} == {("urdf", "mjcf"), ("urdf", "sdf")}  # each pair's checks, relabelled
+    armature = [f.message.split(" gives")[0] for f in result.findings if f.kind == "inexpressible"]
+    assert armature == ["the MJCF", "the SDF"]  # each pair's findings, the MJCF's first
     assert result.verdict == "pass" and not result.internal_errors
 
 
