@@ -211,6 +211,7 @@ def test_a_urdf_read_by_drake_names_its_source_and_drakes_warnings():
     assert (d.kind, d.library, [b.name for b in d.bodies]) == ("urdf", "drake", ["b", "c"])
     j, k = d.joints
     assert (j.effort, j.effort_how, j.velocity, j.damping, j.friction) == (None, "no actuator in Drake's model", 2.0, 0.1, None)
+    assert j.armature == 0.0  # no actuator: no reflected inertia
     assert (j.lower, j.upper, k.lower, k.upper) == (-1.0, 1.0, -INF, INF)
     (warning,) = d.skipped
     assert warning.startswith("Drake: ") and "friction" in warning

@@ -33,7 +33,7 @@ def rot_z(angle: float) -> np.ndarray:
 # base -(fixed, +0.2 z)- mount -(j1 revolute, +0.1 z, turned +90° about z, axis x)- l1
 # l1 -(fixed, +0.3 x in l1)- tool -(j2 prismatic, +0.05 z, axis -2 z)- l2 -(j3 continuous, axis y)- l3
 # l3 -(j4 mimic of j1, ×-2 +0.1)- l4, l3 -(j5 mimic of j1, defaults)- l5, l3 -(j6, limits ±1e308)- l6
-# base -(floating)- float; l2 -(fixed)- empty (no inertial); l2 -(fixed)- dust (1e-13 kg)
+# base -(floating)- float; l2 -(fixed)- empty (no inertial); l2 -(fixed)- dust (1e-12 kg)
 ROBOT = f"""<robot name="r" xmlns:drake="http://drake.mit.edu">
 <link name="base">{inertial(0.8, "0 0 0.05")}</link>
 <link name="mount">{inertial(0.5, "0.1 0 0")}</link>
@@ -62,7 +62,7 @@ ROBOT = f"""<robot name="r" xmlns:drake="http://drake.mit.edu">
 <joint name="free" type="floating"><parent link="base"/><child link="float"/></joint>
 <link name="empty"/>
 <joint name="l2_empty" type="fixed"><parent link="l2"/><child link="empty"/></joint>
-<link name="dust"><inertial><mass value="1e-13"/><inertia ixx="1e-9" iyy="1e-9" izz="1e-9" ixy="0" ixz="0" iyz="0"/>
+<link name="dust"><inertial><mass value="1e-12"/><inertia ixx="1e-9" iyy="1e-9" izz="1e-9" ixy="0" ixz="0" iyz="0"/>
   </inertial></link>
 <joint name="l3_dust" type="fixed"><parent link="l3"/><child link="dust"/><origin xyz="0 0 0.4"/></joint>
 <transmission name="t1"><joint name="j1"/><actuator name="a1">
@@ -207,7 +207,7 @@ def test_each_link_with_mass_has_its_own_inertial_and_massless_ones_none(desc):
         ("l5", "j5", 0.1),
         ("l6", "j6", 0.1),
         ("float", None, 0.2),
-    ]  # empty (no inertial) and dust (1e-13 kg) are no inertial
+    ]  # empty (no inertial) and dust (1e-12 kg, the bound) are no inertial
 
 
 def test_a_moving_links_inertial_is_its_own_once_the_fused_fixed_link_is_removed(desc):

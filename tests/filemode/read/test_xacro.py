@@ -5,6 +5,7 @@ arm; what xacro cannot resolve is one line naming the file."""
 from __future__ import annotations
 
 import json
+import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -13,6 +14,7 @@ import pytest
 from kinverify.errors import InputError
 from kinverify.filemode.read.xacro import XACRO_NAMESPACE, _compile, _out_of_memory, compile_xacro, is_xacro, parse_pairs
 from kinverify.io.plan import output_plan
+from xacrodoc import packages as xpackages
 from kinverify.generate import generate_mjcf, generate_urdf
 from kinverify.model.specfile import load_spec
 from tests.paths import MODELS, ROOT
@@ -165,7 +167,10 @@ def _xacro_file(tmp_path, body: str) -> Path:
 
 
 def test_compiling_gives_the_text_what_xacro_printed_and_every_file_it_read():
+    xpackages.reset()  # no package known: $(find) and package:// are resolved by walking up from the file
     text, printed, read = _compile(XACRO, {"table_height": "0.5"})
+    xpackages.reset()
+    assert "package://" not in text and f"file://{PACKAGE}/meshes/base.stl" in text
     assert 'xyz="0.0 0.0 0.5"' in text and printed == ""
     assert read == [str(XACRO), str(PACKAGE / "urdf" / "macros.xacro")]
 
@@ -241,3 +246,26 @@ def test_the_xacro_namespace_counts_in_the_files_first_4096_characters_only():
     ) and not is_xacro("r.urdf")
     assert not is_xacro("r.urdf", declared + '<!-- <xacro:macro name="m"/> ${a} --><link name="b"/></robot>')
     assert is_xacro(Path("r.xacro")) and not is_xacro(Path("r.urdf"), None)
+
+
+def test_an_included_file_kinverify_will_not_read_is_the_input_error_its_reader_gives(tmp_path):
+    os.mkfifo(tmp_path / "pipe.xacro")
+    path = _xacro_file(tmp_path, f'<xacro:include filename="{tmp_path}/pipe.xacro"/>')
+    with pytest.raises(InputError) as info:
+        _compile(path, {})
+    assert str(info.value).startswith(f"{path}: xacro include: {tmp_path}/pipe.xacro is a FIFO")
+    assert type(info.value) is InputError and info.value.__suppress_context__
+
+
+def test_an_expression_that_runs_out_of_memory_is_a_memory_error_then_one_line(tmp_path):
+    """[0] × 10^15 asks for 8 PB: refused at once, in this process a MemoryError, through
+    compile_xacro (its child) one line naming the file."""
+    path = _xacro_file(tmp_path, '<link name="${len([0] * (10**15))}"/>')
+    with pytest.raises(MemoryError) as info:
+        _compile(path, {})
+    assert info.value.__suppress_context__
+    with pytest.raises(InputError) as line:
+        compile_xacro(path)
+    message = str(line.value)
+    assert message.startswith(f"{path}: xacro cannot compile it: its evaluation needed more than")
+    assert message.endswith("(see docs/robustness.md)") and "\n" not in message
