@@ -63,6 +63,7 @@ def test_a_flexcomps_bodies_are_named_and_left_out():
 # hinge with ``ref``; a ball joint (named and not); a body moved by an unnamed hinge; a site.
 ROBOT = """<mujoco model="m"><compiler angle="radian"/><option gravity="0 0 -3"/>
 <worldbody>
+ <body name="massless" pos="1 0 0" gravcomp="1"/>
  <body name="b1" pos="0 0 0.1">
   <joint name="h1" type="hinge" axis="0 0 1" range="-1 2" damping="0.2" frictionloss="0.3" armature="0.04"
     stiffness="5" actuatorfrcrange="-7 7" actuatorfrclimited="true"/>
@@ -79,7 +80,6 @@ ROBOT = """<mujoco model="m"><compiler angle="radian"/><option gravity="0 0 -3"/
   <body name="ub" pos="0 0.3 0" gravcomp="0.3"><joint type="hinge" axis="1 0 0"/><geom type="sphere" size="0.05" mass="1"/>
     <body name="ubchild"><geom type="sphere" size="0.05" mass="1"/><site name="ubsite"/></body></body>
  </body>
- <body name="massless" pos="1 0 0" gravcomp="1"/>
 </worldbody>
 <tendon><fixed name="tn"><joint joint="h1" coef="2"/><joint joint="s1" coef="-0.5"/></fixed></tendon>
 <actuator>
@@ -263,10 +263,19 @@ def test_free_joint_values_are_the_nonzero_largest_of_its_dofs():
 
 
 def test_a_flexcomp_is_left_out_of_the_description():
+    """Two of them: both objects' bodies left out, each named."""
+    flex = (
+        '<flexcomp name="{}" type="grid" count="2 2 1" spacing="0.1 0.1 0.1" radius="0.01" dim="2" mass="0.1">'
+        '<edge damping="0.1"/></flexcomp>'
+    )
     d = describe_mjcf(
         '<mujoco><worldbody><body name="arm"><joint name="j"/><geom size="0.1" mass="1"/></body>'
-        '<flexcomp name="cloth" type="grid" count="2 2 1" spacing="0.1 0.1 0.1" radius="0.01" dim="2" mass="0.1"><edge damping="0.1"/></flexcomp>'
-        "</worldbody></mujoco>"
+        + flex.format("cloth")
+        + flex.format("sheet")
+        + "</worldbody></mujoco>"
     )
     assert list(d.frames) == ["arm"] and [b.name for b in d.bodies] == ["arm"] and [j.name for j in d.joints] == ["j"]
-    assert d.skipped == ["flex cloth: a deformable object of 4 bodies (<flexcomp>), not part of the robot: not compared"]
+    assert d.skipped == [
+        f"flex {name}: a deformable object of 4 bodies (<flexcomp>), not part of the robot: not compared"
+        for name in ("cloth", "sheet")
+    ]
