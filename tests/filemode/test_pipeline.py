@@ -587,6 +587,10 @@ def test_an_sdf_pair_is_relabelled_noted_and_its_files_named(arm3_files):
     assert set(result.sections) == {"filemode", "limits", "map"}  # limits asked for: no kinematics, no inertia
     assert "drake-sdf" in result.backends and result.duration_s > 0
     assert not any("MJCF" in f.message for f in result.findings)
+    every = verify_files(urdf, sdf, dataclasses.replace(LIMITS, backends=None, suites=None), kinds=("urdf", "sdf"))
+    assert sorted(every.timings) == ["inertia", "kinematics", "limits"] and every.passed  # no dynamics, no drawings
+    asked = dataclasses.replace(LIMITS, backends=None, suites=["limits", "dynamics", "pictures"])
+    assert sorted(verify_files(urdf, sdf, asked, kinds=("urdf", "sdf")).timings) == ["limits"]
 
 
 def test_files_naming_their_robot_differently_name_the_run_after_both(tmp_path):
