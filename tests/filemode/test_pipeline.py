@@ -624,3 +624,42 @@ def test_three_files_without_a_urdf_anchor_on_the_sdf(arm3_files):
     result = verify_three(None, mjcf, sdf, dataclasses.replace(LIMITS, backends=None))
     assert result.source == f"{mjcf} + {sdf}" and result.model_info["files"] == {"mjcf": mjcf, "sdf": sdf}
     assert set(result.sections) == {"filemode", "limits", "map"} and result.notes.count(SDF_NOTE) == 1
+
+
+def test_a_site_moved_is_an_error_and_a_frame_at_the_same_place_is_paired_with_its_unnamed_twin(tmp_path):
+    """The MJCF's end_effector site 1 cm off the URDF's (a named frame: an error, not a convention);
+    a URDF frame tcp where the MJCF has a site tool_center: paired, and aligned as one frame."""
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = mjcf.replace('<site name="end_effector" pos="0.0 0.0 0.05"', '<site name="end_effector" pos="0.0 0.01 0.05"')
+    mjcf = P.sub_once(r'(<body name="link3"[^>]*>)', r'\1<site name="tool_center" pos="0 0 0.2"/>', mjcf)
+    urdf = urdf.replace(
+        "</robot>",
+        '<link name="tcp"/><joint name="tcp_mount" type="fixed"><parent link="link3"/><child link="tcp"/>'
+        '<origin xyz="0 0 0.2"/></joint></robot>',
+    )
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf))
+    pair = ("tcp", "tool_center", "same place (no same-named twin)")
+    assert diag["matching"].frames[-1] == pair and not diag["internal"]
+    assert [(f.urdf, f.mjcf, f.why) for f in diag["alignment"].frames][-1] == pair
+    moved = [f for f in diag["findings"] if f.kind in ("frame_offset", "frame_convention")]
+    assert [(f.kind, f.severity, f.subject) for f in moved] == [("frame_offset", "error", "end_effector")]
+    assert moved[0].magnitude == pytest.approx(0.01, abs=1e-12)
+    assert [(f.kind, f.subject) for f in diag["findings"] if f.kind == "frame_twin"] == [("frame_twin", "tcp")]
+
+
+def test_three_files_read_the_accepted_differences_given(tmp_path, arm3_files):
+    """The MJCF's joint2 range ends at 1.4 rad: a failing difference, accepted in a file given
+    (not beside the URDF): the two pairs pass."""
+    urdf, _, sdf = arm3_files
+    mjcf = tmp_path / "narrow.xml"
+    mjcf.write_text(
+        P.generated_pair("arm3")[1].replace(
+            'range="-1.5707963267948966 1.5707963267948966"', 'range="-1.5707963267948966 1.4"', 1
+        )
+    )
+    accepted = tmp_path / "accepted.toml"
+    options = dataclasses.replace(LIMITS, backends=None)
+    first = verify_files(urdf, str(mjcf), options, write_accepted=str(accepted))
+    assert first.verdict == "fail" and [f.kind for f in first.failing_findings] == ["limit_difference"]
+    result = verify_three(urdf, str(mjcf), sdf, options, accept=str(accepted))
+    assert result.verdict == "pass" and [f.kind for f in result.findings if f.accepted] == ["limit_difference"]
