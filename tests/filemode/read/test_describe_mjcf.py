@@ -89,7 +89,7 @@ ROBOT = """<mujoco model="m"><compiler angle="radian"/><option gravity="0 0 -3"/
  <motor name="m2" joint="s1" forcerange="-4 6" forcelimited="true" ctrlrange="-100 100"/>
  <motor tendon="tn" ctrlrange="-2 2" gear="1"/>
 </actuator>
-<equality><joint joint1="h2" joint2="s1" polycoef="0 1 0.5 0 0"/><joint joint1="h1" joint2="s1" active="false"/></equality>
+<equality><joint joint1="h1" joint2="s1" active="false"/><joint joint1="h2" joint2="s1" polycoef="0 1 0.5 0 0"/></equality>
 </mujoco>"""
 
 
@@ -232,11 +232,14 @@ def test_gravity_gravity_compensation_and_couplings(robot):
 def test_an_equality_on_a_joint_not_compared_is_no_coupling():
     """c is named but rides on a body an unnamed hinge moves: not compared, so neither is its coupling."""
     text = """<mujoco><worldbody><body name="l1"><joint name="a" axis="0 0 1"/><geom size="0.1" mass="1"/>
-      <body name="u"><joint axis="0 0 1"/><geom size="0.1" mass="1"/>
+      <body name="l2"><joint name="e" axis="0 1 0"/><geom size="0.1" mass="1"/></body>
+        <body name="u"><joint axis="0 0 1"/><geom size="0.1" mass="1"/>
         <body name="l3"><joint name="c" axis="0 0 1"/><geom size="0.1" mass="1"/></body></body></body></worldbody>
-      <equality><joint joint1="c" joint2="a"/><joint joint1="a" joint2="c"/></equality></mujoco>"""
+      <equality><joint joint1="c" joint2="a"/><joint joint1="a" joint2="c"/><joint joint1="e" joint2="a"/></equality>
+      </mujoco>"""
     d = describe_mjcf(text)
-    assert [j.name for j in d.joints] == ["a"] and d.couplings == []
+    assert [j.name for j in d.joints] == ["a", "e"]
+    assert [(c.follower, c.leader) for c in d.couplings] == [("e", "a")]  # the one between joints compared
 
 
 def test_principal_axes_and_a_centre_of_mass_the_compiler_snapped_to_the_body_frame():

@@ -269,3 +269,10 @@ def test_an_expression_that_runs_out_of_memory_is_a_memory_error_then_one_line(t
     message = str(line.value)
     assert message.startswith(f"{path}: xacro cannot compile it: its evaluation needed more than")
     assert message.endswith("(see docs/robustness.md)") and "\n" not in message
+
+
+@pytest.mark.parametrize("item", ["=1", " =1", "a=", "a"])
+def test_a_pair_needs_a_name_an_equals_sign_and_a_value(item):
+    with pytest.raises(InputError, match=f"--xacro-arg: expected NAME=VALUE, got {item!r}"):
+        parse_pairs([item], "--xacro-arg")
+    assert parse_pairs([" a =1"], "--xacro-arg") == {"a": "1"} and parse_pairs(None, "--xacro-arg") == {}
