@@ -4,6 +4,7 @@ is not a failure; bad input is one line (exit 2); kinverify's own failure exits 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from pathlib import Path
@@ -14,10 +15,17 @@ import pytest
 import tests.filemode.pairs as P
 from kinverify.cli import main
 from kinverify.errors import InputError
-from kinverify.filemode.pipeline import diagnose_files, verify_files
+from kinverify.backends import names_reading
+from kinverify.filemode.pipeline import _failed, _guarded, _readers, add_map, diagnose_files, relabel, verify_files, verify_three
+from kinverify.generate import generate_sdf
+from kinverify.model.specfile import load_spec
 from kinverify.results import VerifyResult
+from kinverify.model.floating import BASE_COORDINATES
 from kinverify.run import VerifyOptions
+from kinverify.suites.base import Check, Finding, Section, Table
+from kinverify.versions import library_versions
 from tests.filemode.pairs import write_pair
+from tests.paths import MODELS
 import kinverify.filemode.align.run as align_stage
 
 FAST = VerifyOptions(
@@ -388,3 +396,272 @@ def test_diagnose_files_reports_the_alignment_before_any_suite_runs(tmp_path):
     diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf))
     assert np.allclose(diag["alignment"].T[:3, :3], np.diag([-1, -1, 1]), atol=1e-12)
     assert diag["reference"] == "pinocchio-urdf" and [f.kind for f in diag["findings"]][:1] == ["base_transform"]
+
+
+# --- the pipeline's own decisions, on cheap runs (limits only) and its helpers called directly ---
+
+LIMITS = VerifyOptions(samples=4, fd_samples=2, suites=["limits"], backends=["pinocchio-urdf", "mujoco"])
+SDF_NOTE = (
+    "SDF: read by Drake, its only reader here; compared: kinematics, limits and inertials (dynamics and the "
+    "drawings need Pinocchio and MuJoCo on both files)"
+)
+
+
+@pytest.fixture(scope="module")
+def arm3_files(tmp_path_factory) -> tuple[str, str, str]:
+    """The generated arm3 URDF, MJCF and SDF, written once."""
+    folder = tmp_path_factory.mktemp("arm3")
+    urdf, mjcf = write_pair(folder, *P.generated_pair("arm3"))
+    (folder / "arm3.sdf").write_text(generate_sdf(load_spec(MODELS / "arm3.toml")))
+    return urdf, mjcf, str(folder / "arm3.sdf")
+
+
+@pytest.fixture(scope="module")
+def floating_files(tmp_path_factory) -> tuple[str, str]:
+    """arm3 with its root joint floating (the MJCF's base free), written once."""
+    urdf, mjcf = P.generated_pair("arm3")
+    urdf = P.sub_once(r'<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">', urdf)
+    mjcf = P.sub_once(r'<body name="world_mount">\s*<inertial[^>]*/>\s*', "", mjcf)
+    end = mjcf.rindex("</body>")
+    mjcf = P.sub_once(r'(<body name="base" pos="[^"]*">)', r"\1<freejoint/>", mjcf[:end] + mjcf[end + len("</body>") :])
+    return write_pair(tmp_path_factory.mktemp("floating"), urdf, mjcf)
+
+
+@pytest.fixture  # per test: mutmut credits a call only to the test that makes it
+def floating(floating_files) -> dict:
+    return diagnose_files(*floating_files)
+
+
+ARM3_LIMITS = ([-math.pi, -math.pi / 2, -3 * math.pi / 4], [math.pi, math.pi / 2, 3 * math.pi / 4])  # models/arm3.toml
+
+
+def test_a_floating_base_samples_six_base_coordinates_first_pitch_kept_off_its_poles(floating):
+    """x, y, z within ±1 m of the home position (0), roll and yaw over ±π, pitch ±(π/2 − 1e-3), then the joints."""
+    margin = math.pi / 2 - 1e-3
+    assert floating["lower"] == pytest.approx([-1, -1, -1, -math.pi, -margin, -math.pi, *ARM3_LIMITS[0]], abs=1e-12)
+    assert floating["upper"] == pytest.approx([1, 1, 1, math.pi, margin, math.pi, *ARM3_LIMITS[1]], abs=1e-12)
+    assert floating["revolute"] == [False, False, False, True, True, True, True, True, True]
+    assert floating["info"].base_coordinates and floating["reference"] == "pinocchio-urdf"
+    assert 'type="floating"' in floating["urdf_text"] and "<freejoint" in floating["mjcf_text"]  # the files as they float
+    assert "world" not in [a for a, _, _ in floating["matching"].frames]  # the URDF's link above the floating root
+    base = floating["findings"][0]  # said first, with what floats in each file
+    assert (base.kind, base.severity) == ("floating_base", "info")
+    assert base.values == {"urdf": "floating", "urdf_root": "world", "mjcf_free_bodies": ["base"]}
+
+
+def test_a_floating_runs_coordinates_are_the_six_base_ones_then_the_joints(floating_files):
+    result = verify_files(*floating_files, LIMITS)
+    assert result.joint_names == [*BASE_COORDINATES, "joint1", "joint2", "joint3"]
+    assert result.lower[4] == pytest.approx(-math.pi / 2 + 1e-3, abs=1e-12) and result.upper[6:] == pytest.approx(ARM3_LIMITS[1])
+    assert result.passed and not result.internal_errors
+
+
+def test_the_notes_say_each_sides_written_precision(floating):
+    assert floating["notes"] == [
+        "written precision: the URDF writes masses and inertias to 16 significant digits (0.0003333543964724129), "
+        "joint limits to 15 decimals (-3.141592653589793); the MJCF writes masses and inertias to 16 significant "
+        "digits (0.0003333543964724129), joint limits to 15 decimals (-3.141592653589793)"
+    ]
+
+
+def test_each_sides_joints_not_compared_are_notes_naming_the_side(tmp_path):
+    """A planar joint in the URDF and a ball joint in the MJCF (each on its own extra body): notes prefixed by their file."""
+    urdf, mjcf = P.generated_pair("arm3")
+    urdf = urdf.replace(
+        "</robot>",
+        '<link name="slider"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" '
+        'iyz="0"/></inertial></link><joint name="plane" type="planar"><parent link="link3"/><child link="slider"/>'
+        '<axis xyz="0 0 1"/></joint></robot>',
+    )
+    mjcf = P.sub_once(
+        r'(<body name="link3"[^>]*>)',
+        r'\1<body name="knob"><joint name="knob_ball" type="ball"/><inertial pos="0 0 0" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>',
+        mjcf,
+    )
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf))
+    notes = diag["notes"]
+    assert "URDF: plane: JointModelPlanar has 4 coordinates; only 1-DOF joints are compared (held at neutral)" in notes
+    assert "MJCF: knob_ball: mjJNT_BALL joints are not compared (held at 0)" in notes
+    assert notes[-1].startswith("written precision: the URDF writes")
+    assert diag["lower"] == pytest.approx(ARM3_LIMITS[0]) and diag["upper"] == pytest.approx(ARM3_LIMITS[1])
+    assert diag["revolute"] == [True, True, True]
+
+
+def test_readers_put_each_formats_own_library_first_and_yourdfpy_last():
+    assert _readers("urdf")[0] == "pinocchio-urdf" and _readers("urdf")[-1] == "yourdfpy"
+    assert sorted(_readers("urdf")) == sorted(names_reading("urdf"))
+    assert _readers("mjcf")[0] == "mujoco" and "yourdfpy" not in _readers("mjcf")
+
+
+def test_guarded_returns_the_value_or_records_kinverifys_own_failure():
+    internal: list[str] = []
+    assert _guarded(internal, "step", lambda: 5, 0) == 5 and internal == []
+    assert _guarded(internal, "step", lambda: 1 / 0, "fallback") == "fallback"
+    assert internal == ["file mode, step: ZeroDivisionError: division by zero"]
+
+    def bad_input():
+        raise InputError("x.urdf: bad")
+
+    with pytest.raises(InputError, match="x.urdf: bad"):  # the user's error is not kinverify's
+        _guarded(internal, "step", bad_input, None)
+
+    def interrupted():
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        _guarded(internal, "step", interrupted, None)
+    assert len(internal) == 1
+
+
+def test_a_failed_run_names_both_files_and_exits_3():
+    result = _failed("a/x.urdf", "b/y.sdf", VerifyOptions(seed=7), ["boom"], "kinverify verify", ("urdf", "sdf"))
+    assert (result.model, result.source, result.seed, result.command) == ("x-vs-y", "a/x.urdf + b/y.sdf", 7, "kinverify verify")
+    assert result.internal_errors == ["boom"] and result.model_info == {"files": {"urdf": "a/x.urdf", "sdf": "b/y.sdf"}}
+    assert (result.verdict, result.exit_code, result.samples, result.checks) == ("error", 3, 0, [])
+    assert result.versions == library_versions()  # what the report names of the libraries
+    assert _failed("x.urdf", "y.xml", VerifyOptions(), [], "").model_info == {"files": {"urdf": "x.urdf", "mjcf": "y.xml"}}
+
+
+def _labelled_result() -> VerifyResult:
+    message = "the MJCF's body b has a free joint; the MJCF's free joint says q_mjcf = −q_urdf; its free body's pos/quat; URDFs"
+    return VerifyResult(
+        model="m",
+        source="s",
+        seed=0,
+        samples=1,
+        joint_names=[],
+        frames=[],
+        backends=[],
+        checks=[Check("limits.position", "j", ("urdf", "mjcf"), 0.0, 0.0, 1.0, True, (), note="the MJCF is wider")],
+        versions={},
+        notes=["MJCF: a note", "MJCFX"],
+        sections={"s": Section("URDF vs MJCF", "the URDF", [Table("MJCF", ["URDF", "x"], [["MJCF", 1.0]])], notes=["q_urdf"])},
+        findings=[Finding("base_transform", "error", message, values={"file": "MJCF", "files": ["URDF", 2]})],
+    )
+
+
+def test_relabel_names_each_side_by_its_format_in_every_text():
+    result = _labelled_result()
+    relabel(result, ("sdf", "mjcf"))
+    (f,) = result.findings
+    assert f.message == (
+        "the MJCF's body b has a free joint; the MJCF's free joint says q_mjcf = −q_sdf; its free body's pos/quat; URDFs"
+    )
+    assert f.values == {"file": "MJCF", "files": ["SDF", 2]}
+    (c,) = result.checks
+    assert c.backends == ("sdf", "mjcf") and c.note == "the MJCF is wider"
+    s = result.sections["s"]
+    assert (s.title, s.summary, s.notes) == ("SDF vs MJCF", "the SDF", ["q_sdf"])
+    assert (s.tables[0].title, s.tables[0].columns, s.tables[0].rows) == ("MJCF", ["SDF", "x"], [["MJCF", 1.0]])
+    assert result.notes == ["MJCF: a note", "MJCFX"]
+
+
+def test_relabel_says_how_a_usd_side_floats():
+    result = _labelled_result()
+    relabel(result, ("urdf", "usd"))
+    assert result.findings[0].message == (
+        "the USD's body b has no joint to the world; the USD's root body with no joint to the world says "
+        "q_usd = −q_urdf; its root body's xform; URDFs"
+    )
+    assert result.checks[0].backends == ("urdf", "usd") and result.notes == ["USD: a note", "MJCFX"]
+
+
+def test_the_map_section_or_a_note_saying_why_it_was_not_made(arm3_files):
+    urdf, mjcf, _ = arm3_files
+    result = _failed(urdf, mjcf, VerifyOptions(), [], "")
+    add_map(result, [urdf, mjcf])
+    assert "map" in result.sections and result.notes == [] and result.internal_errors == []
+    add_map(result, [urdf, urdf])
+    assert result.notes == [f"sim-to-sim map not made: {urdf} is given twice"] and result.internal_errors == []
+    add_map(result, [None, 1])  # type: ignore[list-item]  # kinverify's own bug: not a note
+    assert len(result.notes) == 1 and result.internal_errors[0].startswith("file mode, the sim-to-sim map: ")
+
+
+def test_an_sdf_pair_is_relabelled_noted_and_its_files_named(arm3_files):
+    urdf, _, sdf = arm3_files
+    result = verify_files(urdf, sdf, dataclasses.replace(LIMITS, backends=None), command="cmd", kinds=("urdf", "sdf"))
+    assert result.verdict == "pass" and not result.internal_errors and result.command == "cmd"
+    assert (result.model, result.source) == ("arm3", f"{urdf} + {sdf}")
+    assert result.model_info["files"] == {"urdf": urdf, "sdf": sdf}
+    assert result.notes.count(SDF_NOTE) == 1 and "the SDF writes exact values" in result.notes[-2]
+    assert set(result.sections) == {"filemode", "limits", "map"}  # limits asked for: no kinematics, no inertia
+    assert "drake-sdf" in result.backends and result.duration_s > 0
+    assert not any("MJCF" in f.message for f in result.findings)
+    every = verify_files(urdf, sdf, dataclasses.replace(LIMITS, backends=None, suites=None), kinds=("urdf", "sdf"))
+    assert sorted(every.timings) == ["inertia", "kinematics", "limits"] and every.passed  # no dynamics, no drawings
+    asked = dataclasses.replace(LIMITS, backends=None, suites=["limits", "dynamics", "pictures"])
+    assert sorted(verify_files(urdf, sdf, asked, kinds=("urdf", "sdf")).timings) == ["limits"]
+
+
+def test_files_naming_their_robot_differently_name_the_run_after_both(tmp_path):
+    urdf, mjcf = P.generated_pair("arm3")
+    result = verify_files(*write_pair(tmp_path, urdf, mjcf.replace('<mujoco model="arm3"', '<mujoco model="other"', 1)), LIMITS)
+    assert result.model == "arm3-vs-other" and result.passed and "sdf" not in result.model_info.get("files", {})
+    assert set(result.sections) == {"filemode", "limits", "map"} and not any(n.startswith("SDF:") for n in result.notes)
+
+
+def test_three_files_are_two_pairs_in_one_result_the_mjcf_pair_first(arm3_files):
+    urdf, mjcf, sdf = arm3_files
+    result = verify_three(urdf, mjcf, sdf, dataclasses.replace(LIMITS, backends=None), command="cmd")
+    assert result.source == f"{urdf} + {mjcf} + {sdf}" and result.command == "cmd"
+    assert result.model_info["files"] == {"urdf": urdf, "mjcf": mjcf, "sdf": sdf}
+    assert set(result.sections) == {"filemode", "limits", "map", "sdf:filemode", "sdf:limits", "sdf:map"}
+    assert [result.sections[k].title for k in ("filemode", "sdf:filemode")] == [
+        "File mode: URDF vs MJCF",
+        "File mode: URDF vs SDF",
+    ]
+    assert result.notes.count(SDF_NOTE) == 1 and len(result.notes) == len(set(result.notes))
+    assert any("the MJCF writes" in n for n in result.notes) and any("the SDF writes" in n for n in result.notes)
+    assert {"mujoco", "drake-sdf"} <= set(result.backends) and len(result.backends) == len(set(result.backends))
+    assert {c.backends for c in result.checks} == {("urdf", "mjcf"), ("urdf", "sdf")}  # each pair's checks, relabelled
+    armature = [f.message.split(" gives")[0] for f in result.findings if f.kind == "inexpressible"]
+    assert armature == ["the MJCF", "the SDF"]  # each pair's findings, the MJCF's first
+    assert result.verdict == "pass" and not result.internal_errors
+
+
+def test_three_files_without_a_urdf_anchor_on_the_sdf(arm3_files):
+    _, mjcf, sdf = arm3_files
+    result = verify_three(None, mjcf, sdf, dataclasses.replace(LIMITS, backends=None))
+    assert result.source == f"{mjcf} + {sdf}" and result.model_info["files"] == {"mjcf": mjcf, "sdf": sdf}
+    assert set(result.sections) == {"filemode", "limits", "map"} and result.notes.count(SDF_NOTE) == 1
+
+
+def test_a_site_moved_is_an_error_and_a_frame_at_the_same_place_is_paired_with_its_unnamed_twin(tmp_path):
+    """The MJCF's end_effector site 1 cm off the URDF's (a named frame: an error, not a convention);
+    a URDF frame tcp where the MJCF has a site tool_center: paired, and aligned as one frame."""
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = mjcf.replace('<site name="end_effector" pos="0.0 0.0 0.05"', '<site name="end_effector" pos="0.0 0.01 0.05"')
+    mjcf = P.sub_once(r'(<body name="link3"[^>]*>)', r'\1<site name="tool_center" pos="0 0 0.2"/>', mjcf)
+    urdf = urdf.replace(
+        "</robot>",
+        '<link name="tcp"/><joint name="tcp_mount" type="fixed"><parent link="link3"/><child link="tcp"/>'
+        '<origin xyz="0 0 0.2"/></joint></robot>',
+    )
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf))
+    pair = ("tcp", "tool_center", "same place (no same-named twin)")
+    assert diag["matching"].frames[-1] == pair and not diag["internal"]
+    assert [(f.urdf, f.mjcf, f.why) for f in diag["alignment"].frames][-1] == pair
+    moved = [f for f in diag["findings"] if f.kind in ("frame_offset", "frame_convention")]
+    assert [(f.kind, f.severity, f.subject) for f in moved] == [("frame_offset", "error", "end_effector")]
+    assert moved[0].magnitude == pytest.approx(0.01, abs=1e-12)
+    assert [(f.kind, f.subject) for f in diag["findings"] if f.kind == "frame_twin"] == [("frame_twin", "tcp")]
+
+
+def test_three_files_read_the_accepted_differences_given(tmp_path, arm3_files):
+    """The MJCF's joint2 range ends at 1.4 rad: a failing difference, accepted in a file given
+    (not beside the URDF): the two pairs pass."""
+    urdf, _, sdf = arm3_files
+    mjcf = tmp_path / "narrow.xml"
+    mjcf.write_text(
+        P.generated_pair("arm3")[1].replace(
+            'range="-1.5707963267948966 1.5707963267948966"', 'range="-1.5707963267948966 1.4"', 1
+        )
+    )
+    accepted = tmp_path / "accepted.toml"  # joint2's upper limits 1.4 rad and π/2 apart
+    accepted.write_text(
+        f'[[accepted]]\nkind = "limit_difference"\nsubject = "joint2"\nmagnitude = {math.pi / 2 - 1.4!r}\nunit = "rad"\n'
+        'reason = "the MJCF keeps joint2 off its stop"\n'
+    )
+    options = dataclasses.replace(LIMITS, backends=None)
+    result = verify_three(urdf, str(mjcf), sdf, options, accept=str(accepted))
+    assert result.verdict == "pass" and [f.kind for f in result.findings if f.accepted] == ["limit_difference"]

@@ -51,9 +51,8 @@ def describe_mjcf(mjcf_text: str) -> ModelDesc:
         frames[name], owner[name] = _pose(d.xpos[b], d.xmat[b]), body_owner(b)
         depth[name], kind[name] = _body_depth(m, b), "link"
     for s in range(m.nsite):
-        name = m.site(s).name
-        if name and name not in frames:
-            b = m.site_bodyid[s]
+        name, b = m.site(s).name, int(m.site_bodyid[s])
+        if name and name not in frames and b not in flex:  # a site on a body not compared is not compared
             frames[name], owner[name] = _pose(d.site_xpos[s], d.site_xmat[s]), body_owner(b)
             depth[name], kind[name] = _body_depth(m, b) + 1, "site"
     actuation = actuator_efforts(m)
