@@ -519,3 +519,17 @@ def test_lengths_a_constant_multiple_apart_are_a_units_finding():
     )
     assert "(inches as metres in the URDF?)" in scaled(1 / 0.0254)[0].message
     assert scaled(1.0) == [] and scaled(1.005) == [] and scaled(1.5) == [] and scaled(0.0) == []
+
+
+def test_a_zero_offset_is_judged_with_the_limits_tolerance_and_the_couplings_written_alike():
+    """a's zero 0.25 further, its range [−1, 2] and the coupling b = 1·a written alike in each file:
+    the offset sets both apart (said in its finding); with a limits tolerance of 0.5 the range's
+    0.25 is no difference to explain."""
+    u = D.desc("urdf", [D.joint("a"), D.joint("b", "a")], [D.couple("b", "a")])
+    m = D.desc("mjcf", [D.joint("A"), D.joint("B", "A")], [D.couple("B", "A", source="<equality joint>")])
+    al = D.alignment([JointMap("a", "A", "revolute", 1, 0.25), JointMap("b", "B", "revolute")])
+    match = D.matching([("a", "A"), ("b", "B")])
+    (zero,) = [f for f in alignment_findings(u, m, match, al, COMPARED, tol) if f.kind == "zero_offset"]
+    assert zero.values["range_written_alike"] and zero.values["couplings_written_alike"] == ["b"]
+    (loose,) = [f for f in alignment_findings(u, m, match, al, COMPARED, tol, 0.5) if f.kind == "zero_offset"]
+    assert "range_written_alike" not in loose.values and loose.values["couplings_written_alike"] == ["b"]
