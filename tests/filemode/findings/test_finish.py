@@ -154,3 +154,15 @@ def test_the_report_keeps_the_files_the_joint_and_frame_pairs_and_the_notes(tmp_
     assert [n for n in result.notes if n.startswith("written precision: the URDF writes")]
     section = result.sections["filemode"]
     assert [f["kind"] for f in section.data["findings"]] == [f.kind for f in result.findings]
+
+
+def test_a_mass_from_an_absent_mesh_leaves_the_dynamics_uncompared(tmp_path):
+    """The MJCF's link2 states no <inertial> and its geom is a mesh file that is absent: its mass is
+    not known, so no dynamics are compared (a placeholder mass would make them meaningless)."""
+    mjcf = P.sub_once(r'(<body name="link2"[^>]*>.*?)<inertial [^>]*/>', lambda m: m[1], MJCF)
+    mjcf = P.sub_once(r'<geom name="link2_geom"[^>]*/>', '<geom name="link2_mesh" type="mesh" mesh="link2"/>', mjcf)
+    mjcf = P.sub_once(r"<worldbody>", '<asset><mesh name="link2" file="absent/link2.stl"/></asset><worldbody>', mjcf)
+    result = run(tmp_path, mjcf=mjcf.replace(' inertiafromgeom="false"', ""), suites=["dynamics"])
+    dynamics = result.sections["dynamics"]
+    assert dynamics.summary == "not compared: the masses of link2 come from mesh files that are absent (see mass_unknown)"
+    assert not [c for c in result.checks if c.property.startswith("dynamics.")] and "dynamics" not in result.timings
