@@ -56,8 +56,8 @@ FINDINGS = [
 ]
 
 
-@pytest.fixture(scope="module")
-def section():
+@pytest.fixture
+def section():  # built in each test (a few ms): mutation testing credits a function to the tests that call it
     return build_section(*FILES, comparison(), FINDINGS, ["a note"], [["arm.urdf", "pinocchio, mujoco", 1e-12]])
 
 
