@@ -202,3 +202,11 @@ def test_a_reversed_axis_with_its_range_reversed_too_or_beside_an_offset_says_no
     moved = sign_flip_finding(*pair(), JointMap("a", "b", "revolute", -1, 0.5), [], NAMES, TOL)
     assert moved.values == {"sign": -1, "moves": []}
     assert moved.message.endswith("q_mjcf = −q_urdf + 0.5")
+
+
+def test_a_zero_offset_with_an_end_changed_besides_says_no_range():
+    """[−1, 2] against [−1, 2.5] with an offset of 0.25: the upper end differs as written too, so the
+    offset does not explain the range (the limits check reports it)."""
+    u, m = pair(mlo=-1.0, mup=2.5)
+    f = zero_offset_finding(u, m, JointMap("a", "b", "revolute", 1, 0.25), [], NAMES, TOL, {})
+    assert "range_written_alike" not in f.values and "range" not in f.message
