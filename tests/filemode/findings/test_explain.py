@@ -207,3 +207,18 @@ def test_dynamics_behind_a_kinematic_error_or_a_finding_that_lists_them_are_thei
     out, findings = explain(STATE, [damping], frames_info())
     assert findings == [damping] and out[1].note == "explained by damping_difference on joint j2"
     assert out[0].kind == "agreement"  # gravity: nothing lists it, no kinematic error to blame
+
+
+def test_the_rounding_finding_without_a_culprit_says_each_files_angles_and_lengths_only():
+    def written(file: str) -> Precision:
+        p = Precision(file)
+        p.note("angle", 5e-6, "0.70711")
+        p.note("length", 5e-5, "0.1235")
+        p.note("relative", 1e-3, "1.23")  # masses: not what FK agrees to
+        return p
+
+    where = FileModeInfo(None, None, FRAMES, None, Floors(), (written("URDF"), written("MJCF")))
+    f = rounding_finding([mk("fk.position", "link3", 2e-5)], where, [])
+    urdf, mjcf = (written(x).describe(["angle", "length"]) for x in ("URDF", "MJCF"))
+    assert f.message.endswith(f"({urdf}; {mjcf})")
+    assert mjcf.startswith("the MJCF writes") and "0.70711" in mjcf and "0.1235" in mjcf and "1.23" not in mjcf
