@@ -13,6 +13,7 @@ import pytest
 
 import tests.filemode.pairs as P
 from kinverify.filemode.pipeline import verify_files
+from kinverify.pipeline.sampling import Samples
 from kinverify.run import VerifyOptions
 
 BASE = VerifyOptions(samples=4, fd_samples=2, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 4})
@@ -83,9 +84,22 @@ def test_the_tolerances_the_user_sets_decide_what_is_substituted_and_what_differ
 
 
 def test_a_damping_difference_of_several_joints_substitutes_each(tmp_path):
-    result = run(tmp_path, mjcf=damped(damped(MJCF), "joint3", "0.2"), suites=["dynamics"])
+    """joint2 and joint3 both damped 0.3 in the MJCF: one finding for the two, each substituted."""
+    result = run(tmp_path, mjcf=damped(damped(MJCF), "joint3"), suites=["dynamics"])
+    assert kinds(result) == [("damping_difference", "joint2, joint3")]
     assert result.sections["dynamics"].notes[0].endswith("the MJCF's damping of joint2, joint3.")
     assert all(c.passed or c.kind == "explained" for c in result.checks)
+
+
+def test_the_dynamics_are_sampled_as_many_times_as_asked_at_least_once(tmp_path):
+    """One sample asked (``--samples 1``): the dynamics see the joint ranges' edge configurations
+    and one uniform draw, as many as the sampler makes for these ranges and that count."""
+    lower, upper = [-math.pi, -math.pi / 2, -3 * math.pi / 4], [math.pi, math.pi / 2, 3 * math.pi / 4]
+    expected = len(Samples(lower, upper, [True] * 3, 1, seed=3))
+    opts = dataclasses.replace(BASE, suites=["dynamics"], samples=1, seed=3, extra={"dynamics_samples": 1000})
+    result = verify_files(*P.write_pair(tmp_path, URDF, EDITED), opts)
+    (mass,) = [c for c in result.checks if c.property == "dynamics.mass_matrix"]
+    assert mass.samples == expected and mass.passed
 
 
 def test_the_total_mass_is_said_beside_a_mass_difference(tmp_path):
@@ -166,3 +180,17 @@ def test_a_mass_from_an_absent_mesh_leaves_the_dynamics_uncompared(tmp_path):
     dynamics = result.sections["dynamics"]
     assert dynamics.summary == "not compared: the masses of link2 come from mesh files that are absent (see mass_unknown)"
     assert not [c for c in result.checks if c.property.startswith("dynamics.")] and "dynamics" not in result.timings
+
+
+def test_an_accepted_difference_without_a_property_must_have_its_size_exactly(tmp_path):
+    """link3 1 mm higher in the MJCF: joint3's moved frame accepted at 1 mm passes; at 2 mm it is
+    another difference (no property's tolerance to allow for: the size as recorded)."""
+    mjcf = P.body_attr(MJCF, "link3", "pos", lambda v: "0.0 0.0 0.251")
+    path = tmp_path / "accepted.toml"
+    for size, accepted in ((0.001, True), (0.002, False)):
+        path.write_text(
+            f'[[accepted]]\nkind = "joint_origin_moved"\nsubject = "joint3"\nmagnitude = {size!r}\nreason = "as built"\n'
+        )
+        result = run(tmp_path, mjcf=mjcf, accept=str(path))
+        (f,) = [f for f in result.findings if f.kind == "joint_origin_moved"]
+        assert (f.property, f.accepted, result.verdict) == ("", accepted, "pass" if accepted else "fail")
