@@ -86,11 +86,21 @@ def test_the_findings_table_shows_acceptance_magnitudes_with_units_and_labels(se
 def test_the_joint_map_frames_and_parser_tables(section):
     joints = table(section, "Joint map")
     assert joints.title == "Joint map (q_mjcf = sign · q_urdf + offset)"
+    assert joints.columns == ["URDF joint", "MJCF joint", "matched by", "sign", "offset"]
     assert joints.rows == [["a", "A", "name", 1, 0.0], ["b", "B", "position", -1, 0.25]]
     frames = table(section, "Frames after alignment")
+    assert frames.title == "Frames after alignment (max over the fit's configurations)"
     assert frames.rows == [["a_link / A_link", "moves with a", 1e-3, 2e-3, [3e-4, 4e-4], True]]
-    assert len(frames.columns) == 6
+    assert frames.columns == [
+        "frame (URDF / MJCF)",
+        "why compared",
+        "position [m]",
+        "rotation [rad]",
+        "after removing a constant [m, rad]",
+        "in the fit",
+    ]
     parsers = table(section, "Each file read by two libraries")
+    assert parsers.columns == ["file", "backends", "max position [m]", "max rotation [rad]", "note"]
     assert parsers.rows == [["arm.urdf", "pinocchio, mujoco", 1e-12, "", ""]]  # padded to the five columns
 
 
