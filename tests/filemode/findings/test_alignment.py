@@ -276,8 +276,10 @@ def test_a_world_moved_only_or_turned_only_is_a_difference_and_below_double_prec
     assert f.magnitude == pytest.approx(2e-9) and f.values["rotation_rad"] == 0.0
     turned = np.eye(4)
     turned[:3, :3] = [[1.0, 0.0, 0.0], [0.0, math.cos(2e-9), -math.sin(2e-9)], [0.0, math.sin(2e-9), math.cos(2e-9)]]
+    turned[:3, 3] = [1e-10, 0.0, 0.0]  # below double precision: no move
     (g,) = found(D.alignment(maps(), T=turned))
-    assert g.values["translation_m"] == 0.0 and g.magnitude == pytest.approx(2e-9, rel=1e-6)
+    assert g.values["translation_m"] == 0.0 and g.values["xyz"] == [0.0, 0.0, 0.0]
+    assert g.magnitude == pytest.approx(2e-9, rel=1e-6) and g.values["T_mjcf_from_urdf"][0][3] == 0.0
     tiny = np.eye(4)
     tiny[:3, 3] = [5e-10, 0.0, 0.0]
     assert found(D.alignment(maps(), T=tiny)) == []
