@@ -128,15 +128,19 @@ def test_fk_agreeing_to_the_written_precision_is_one_rounding_note_naming_the_ro
     assert raised and all(c.passed for c in raised)
 
 
-def test_a_difference_no_finding_explains_starts_where_the_chain_first_differs(tmp_path):
-    """link3 1 mm higher in the MJCF with the end effector where it was: the frames from link3 on
-    differ, said once where they start; no frame convention claimed there."""
+def test_the_kinematics_a_moved_joint_frame_fails_are_its_findings(tmp_path):
+    """link3 1 mm higher in the MJCF (the end effector with it): one moved frame, joint3's; every
+    kinematics check it fails is marked explained by it, so nothing else is said (no disagreement
+    starting there, no frame convention)."""
     mjcf = P.body_attr(MJCF, "link3", "pos", lambda v: "0.0 0.0 0.251")
     result = run(tmp_path, mjcf=mjcf, suites=["kinematics"])
-    starts = [f for f in result.findings if f.kind in ("disagreement_starts", "joint_origin_moved")]
-    assert [f.subject for f in starts] == ["joint3"] and starts[0].magnitude == pytest.approx(1e-3, rel=1e-6)
-    assert not [f for f in result.findings if f.kind == "frame_convention"]
-    assert all(c.passed or c.kind == "explained" for c in result.checks)
+    assert kinds(result) == [("joint_origin_moved", "joint3")]
+    (moved,) = [f for f in result.findings if f.kind == "joint_origin_moved"]
+    assert moved.magnitude == pytest.approx(1e-3, rel=1e-6)
+    assert not [f for f in result.findings if f.kind in ("frame_convention", "disagreement_starts")]
+    explained = [c for c in result.checks if c.kind == "explained"]
+    assert explained and all(c.note.endswith("explained by joint_origin_moved on joint joint3") for c in explained)
+    assert all(c.passed for c in result.checks if c.kind != "explained") and result.verdict == "fail"
 
 
 def test_accepted_differences_are_written_for_review_and_then_accept_the_finding(tmp_path):
