@@ -13,8 +13,11 @@ import pytest
 
 import tests.filemode.pairs as P
 from kinverify.filemode.pipeline import verify_files
+from kinverify.generate.usd import generate_usd
+from kinverify.model.specfile import load_spec
 from kinverify.pipeline.sampling import Samples
 from kinverify.run import VerifyOptions
+from tests.paths import MODELS
 
 BASE = VerifyOptions(samples=4, fd_samples=2, backends=["pinocchio-urdf", "mujoco"], extra={"dynamics_samples": 4})
 URDF, MJCF = P.generated_pair("arm3")
@@ -198,3 +201,15 @@ def test_an_accepted_difference_without_a_property_must_have_its_size_exactly(tm
         result = run(tmp_path, mjcf=mjcf, accept=str(path))
         (f,) = [f for f in result.findings if f.kind == "joint_origin_moved"]
         assert (f.property, f.accepted, result.verdict) == ("", accepted, "pass" if accepted else "fail")
+
+
+def test_a_usd_side_has_no_xml_to_find_rounded_constants_in(tmp_path):
+    """The arm as USD beside its URDF: the rounded constants are looked for in the URDF alone, and
+    the findings are made (no internal error from reading a USD as XML)."""
+    pytest.importorskip("pxr")
+    (tmp_path / "arm.urdf").write_text(URDF)
+    (tmp_path / "arm.usda").write_text(generate_usd(load_spec(MODELS / "arm3.toml")))
+    opts = dataclasses.replace(BASE, backends=["pinocchio-urdf", "usd"], suites=[])
+    result = verify_files(str(tmp_path / "arm.urdf"), str(tmp_path / "arm.usda"), opts, kinds=("urdf", "usd"))
+    assert result.internal_errors == [] and result.verdict == "pass"
+    assert result.model_info["files"] == {"urdf": str(tmp_path / "arm.urdf"), "usd": str(tmp_path / "arm.usda")}
