@@ -535,3 +535,11 @@ def test_a_zero_offset_is_judged_with_the_limits_tolerance_and_the_couplings_wri
     assert zero.values["range_written_alike"] and zero.values["couplings_written_alike"] == ["b"]
     (loose,) = [f for f in alignment_findings(u, m, match, al, COMPARED, tol, 0.5) if f.kind == "zero_offset"]
     assert "range_written_alike" not in loose.values and loose.values["couplings_written_alike"] == ["b"]
+
+
+def test_a_joint_below_one_of_another_type_is_measured_in_its_own_right():
+    u, m = chain(mtypes=("revolute", "prismatic", "revolute"))
+    al = D.alignment(maps(), attribution={"c": Attribution("c", np.eye(4), axis=(0.0, 2e-6))})
+    (kind, axis) = found(al, u, m)
+    assert (kind.kind, axis.kind, axis.subject) == ("type_difference", "axis_position", "c")
+    assert axis.message.endswith("apart in its own right, after what b changes above it")

@@ -295,3 +295,9 @@ def test_a_coupling_written_alike_under_a_fitted_offset_is_the_offsets_and_beyon
     assert f.message.endswith("in the MJCF; 0.025 m apart beyond the zero offsets (read in each file's own zero: 1·a + 0.125)")
     (g,), _ = tables([D.couple("b", "a", 1.0, 0.1)], [D.couple("B", "A", 1.0, 0.375, EQ)], maps, type="prismatic")
     assert g.magnitude == pytest.approx(0.025) and "beyond the zero offsets" not in g.message  # carried is the closer
+
+
+def test_offsets_that_cancel_in_a_coupling_leave_nothing_for_the_zero_offset_to_say():
+    """Leader and follower both 0.25 further (signs +1): b = a + 0.1 read either way is b = a + 0.1."""
+    found, alike = tables([D.couple("b", "a", 1.0, 0.1)], [D.couple("B", "A", 1.0, 0.1, EQ)], {"a": (1, 0.25), "b": (1, 0.25)})
+    assert found == [] and alike == {}

@@ -140,14 +140,14 @@ def test_what_no_finding_explains_starts_where_the_chain_first_differs():
     checks = [
         mk("fk.position", "link3", 4e-3),
         mk("fk.rotation", "link2", 2e-3, unit="rad"),
-        mk("jacobian.linear", "tool", 9.0),
+        mk("jacobian.linear", "end", 9.0),  # not a matched frame: last, whatever its name
         mk("fk.position", "link1", 1e-9),  # passes
         mk("fk.position", "link1", 5.0, kind="performance"),  # does not count
     ]
     out, findings = explain(checks, [], frames_info())
     (f,) = findings
     assert (f.kind, f.subject, f.other, f.magnitude, f.unit) == ("disagreement_starts", "link2", "L2", 4e-3, "m|rad")
-    assert f.values == {"position_m": 4e-3, "rotation_rad": 2e-3, "frames": ["link2", "link3", "tool"]}
+    assert f.values == {"position_m": 4e-3, "rotation_rad": 2e-3, "frames": ["link2", "link3", "end"]}
     assert f.message.startswith(
         "forward kinematics differ from frame link2 on, by up to 0.004 m and 0.002 rad after alignment (3 frames;"
     )
@@ -222,3 +222,10 @@ def test_the_rounding_finding_without_a_culprit_says_each_files_angles_and_lengt
     urdf, mjcf = (written(x).describe(["angle", "length"]) for x in ("URDF", "MJCF"))
     assert f.message.endswith(f"({urdf}; {mjcf})")
     assert mjcf.startswith("the MJCF writes") and "0.70711" in mjcf and "0.1235" in mjcf and "1.23" not in mjcf
+
+
+def test_a_disagreement_in_rotation_only_is_no_position():
+    (f,) = explain([mk("fk.rotation", "link3", 2e-3, unit="rad")], [], frames_info())[1]
+    assert f.values == {"position_m": 0.0, "rotation_rad": 2e-3, "frames": ["link3"]} and f.magnitude == 2e-3
+    (g,) = explain([mk("fk.position", "link3", 2e-3)], [], frames_info())[1]
+    assert (g.values["position_m"], g.values["rotation_rad"]) == (2e-3, 0.0)

@@ -213,3 +213,12 @@ def test_a_usd_side_has_no_xml_to_find_rounded_constants_in(tmp_path):
     result = verify_files(str(tmp_path / "arm.urdf"), str(tmp_path / "arm.usda"), opts, kinds=("urdf", "usd"))
     assert result.internal_errors == [] and result.verdict == "pass"
     assert result.model_info["files"] == {"urdf": str(tmp_path / "arm.urdf"), "usd": str(tmp_path / "arm.usda")}
+
+
+def test_a_frame_convention_where_nothing_differs_is_kept(tmp_path):
+    """link1's frame turned a quarter turn about its own joint (z) in the MJCF, all it holds turned
+    back: the same robot, another choice of frame; said as a convention, and a pass."""
+    result = run(tmp_path, mjcf=P.reframed_body(MJCF, "link1", math.pi / 2), suites=["kinematics"])
+    (f,) = [f for f in result.findings if f.kind == "frame_convention"]
+    assert f.subject == "link1" and f.magnitude == pytest.approx(math.pi / 2, rel=1e-9)
+    assert result.verdict == "pass" and kinds(result) == []
