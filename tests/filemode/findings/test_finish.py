@@ -222,3 +222,16 @@ def test_a_frame_convention_where_nothing_differs_is_kept(tmp_path):
     (f,) = [f for f in result.findings if f.kind == "frame_convention"]
     assert f.subject == "link1" and f.magnitude == pytest.approx(math.pi / 2, rel=1e-9)
     assert result.verdict == "pass" and kinds(result) == []
+
+
+def test_an_accepted_size_may_move_by_its_propertys_tolerance(tmp_path):
+    """A damping tolerance of 0.1 set by the user: joint2's 0.2 difference accepted at 0.25 is the
+    same difference (0.05 apart, within 0.1); at 0.35 it is another."""
+    path = tmp_path / "accepted.toml"
+    for size, accepted in ((0.25, True), (0.35, False)):
+        path.write_text(
+            f'[[accepted]]\nkind = "damping_difference"\nsubject = "joint2"\nmagnitude = {size!r}\nreason = "tuned"\n'
+        )
+        result = run(tmp_path, accept=str(path), tolerances={"dynamics.damping": 0.1})
+        (f,) = [f for f in result.findings if f.kind == "damping_difference"]
+        assert (f.property, f.accepted) == ("dynamics.damping", accepted)
