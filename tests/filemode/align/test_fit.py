@@ -790,3 +790,54 @@ def test_floating_files_keep_their_base_frames_unless_a_world_transform_explains
     assert world.candidate != "base frames" and world.T == pytest.approx(MOVED, abs=1e-9) and world.unexplained == 0
     both = solved(ARM3[0], moved(P.sub_once(*EE_MOVED, ARM3[1])), samples=Q3, base_fixes_frame=True)
     assert both.candidate == "base frames" and np.array_equal(both.T, np.eye(4)) and both.unexplained > 1
+
+
+def tool_at(xyz) -> str:
+    return P.sub_once(r'(<site name="tool" pos=")0.0 0.0 0.0|(<site name="tool" pos=")0.05 0.02 0.0', lambda m: (m[1] or m[2]) + " ".join(map(repr, xyz)), BENT[1])  # fmt: skip
+
+
+def test_a_zero_offset_is_read_on_the_points_that_keep_their_distance_from_the_axis():
+    # j4 carries its centre of mass and the tool; the MJCF's tool sits 1.5 times further out: only
+    # the centre of mass says j4's offset, and it is whole
+    mjcf = remap_joint(tool_at([0.075, 0.03, 0.0]), "j4", 1, 0.4)
+    assert aligner(BENT[0], mjcf).solve_joints(np.eye(4))[1]["j4"] == pytest.approx(0.4, abs=1e-12)
+
+
+def test_no_zero_offset_where_what_a_joint_carries_disagrees_on_one():
+    # the MJCF's tool turned 0.2 rad about j4's axis, its centre of mass not: no one turn explains both
+    c, s = math.cos(0.2), math.sin(0.2)
+    mjcf = tool_at([0.05 * c - 0.02 * s, 0.05 * s + 0.02 * c, 0.0])
+    assert aligner(BENT[0], mjcf).solve_joints(np.eye(4))[1]["j4"] == 0.0
+
+
+def test_no_shift_where_what_a_slide_carries_disagrees_on_one():
+    # the MJCF's lift slides 0.1 m further at the same q, its platform site 0.1 m lower on the
+    # carriage: the carriage's frame and centre of mass say 0.1 m, the platform 0
+    urdf, mjcf = P.generated_pair("lift")
+    mjcf = P.sub_once(r'(<site name="platform" pos=")0.0 0.0 0.05', r"\g<1>0.0 0.0 -0.05", remap_joint(mjcf, "lift", 1, 0.1))
+    assert aligner(urdf, mjcf).solve_joints(np.eye(4))[1] == {"lift": 0.0}
+
+
+def test_a_next_axis_parallel_to_a_slide_says_nothing_of_its_shift():
+    # j2 slides along x and carries j3, which turns about x: the MJCF's j2 slides 5 cm further at
+    # the same q and its j3 axis sits 1 cm aside (a difference of its own); j2's frame and
+    # centre of mass still say the shift
+    def joint(name, kind, axis, xyz):
+        limits = {"lower": -0.5, "upper": 0.5, "unit": "rad" if kind == "revolute" else "m"}
+        return {"name": name, "type": kind, "xyz": xyz, "rpy": [0.0, 0.0, 0.0], "axis": axis, "limits": limits,
+                "link": {"name": "l" + name[1:], "mass": 1.0}}  # fmt: skip
+
+    spec = spec_from_dict(
+        {
+            "name": "slider",
+            "joints": [
+                joint("j1", "revolute", [0, 0, 1], [0.0, 0.0, 0.1]),
+                joint("j2", "prismatic", [1, 0, 0], [0.1, 0.0, 0.1]),
+                joint("j3", "revolute", [1, 0, 0], [0.1, 0.05, 0.0]),
+            ],
+            "tools": [{"name": "tool", "parent": "l3", "xyz": [0.05, 0.02, 0.03], "rpy": [0.0, 0.0, 0.0]}],
+        }
+    )
+    mjcf = P.sub_once(r'(<joint name="j3" )', r'\1pos="0 0.01 0" ', remap_joint(generate_mjcf(spec), "j2", 1, 0.05))
+    offsets = aligner(generate_urdf(spec), mjcf).solve_joints(np.eye(4))[1]
+    assert offsets == {"j1": 0.0, "j2": pytest.approx(0.05, abs=1e-12), "j3": 0.0}
