@@ -227,19 +227,52 @@ def test_a_world_the_fit_moved_is_kept_where_the_base_has_a_frame_in_both_files(
     assert unmoved_world(same, poses, Q3) is same
 
 
-def test_a_world_the_fit_moved_where_the_mjcf_merges_the_base_is_the_first_joints_frame(tmp_path):
-    urdf = tmp_path / "arm.urdf"
-    urdf.write_text(ARM)
-    mujoco.mj_saveLastXML(str(tmp_path / "arm.xml"), mujoco.MjModel.from_xml_path(str(urdf)))
-    text = (tmp_path / "arm.xml").read_text().replace(FIRST, '<body name="link1" pos="0.003 -0.004 0.1">')
-    info, poses = info_of(ARM, text, np.array([[0.3, -0.4], [1.0, 0.5]]))
+TWO = ARM.replace(
+    "</robot>",
+    '<link name="link1b"><inertial><origin xyz="0 0.05 0"/><mass value="0.5"/>'
+    '<inertia ixx="0.002" iyy="0.002" izz="0.002" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+    '<joint name="joint1b" type="revolute"><parent link="base_link"/><child link="link1b"/><origin xyz="0.2 0 0.1"/>'
+    '<axis xyz="1 0 0"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint></robot>',
+)
+SECOND = '<body name="link1b" pos="0.2 0 0.1">'
+
+
+@pytest.fixture(scope="module")
+def merged(tmp_path_factory):
+    """The MJCF MuJoCo writes from ARM and from TWO (ARM with a second chain on its base link)."""
+    out = []
+    for name, urdf in (("arm", ARM), ("two", TWO)):
+        path = tmp_path_factory.mktemp(name) / f"{name}.urdf"
+        path.write_text(urdf)
+        mujoco.mj_saveLastXML(str(path.with_suffix(".xml")), mujoco.MjModel.from_xml_path(str(path)))
+        out.append(path.with_suffix(".xml").read_text())
+    return out
+
+
+def test_a_world_the_fit_moved_where_the_mjcf_merges_the_base_is_the_first_joints_frame(merged):
+    q = np.array([[0.3, -0.4], [1.0, 0.5]])
+    info, poses = info_of(ARM, merged[0].replace(FIRST, '<body name="link1" pos="0.003 -0.004 0.1">'), q)
     assert not base_in_both(info) and info.alignment.T[:3, 3] == pytest.approx([0.003, -0.004, 0.0], abs=1e-9)
-    kept = unmoved_world(info, poses, np.array([[0.3, -0.4], [1.0, 0.5]]))
+    kept = unmoved_world(info, poses, q)
     assert kept is not info and np.array_equal(kept.alignment.T, np.eye(4)) and kept.alignment.candidate == "identity"
     assert kept.notes == ["a note"] and kept.notes is not info.notes and kept.u is info.u
     assert kept.poses_u["link1"][:3, 3] == pytest.approx([0.0, 0.0, 0.1], abs=1e-12)
     assert kept.poses_m["link1"][:3, 3] == pytest.approx([0.003, -0.004, 0.1], abs=1e-12)
     assert info.alignment.attribution == {}  # counting the findings leaves the alignment as it was
+    # the same files, nothing moved: nothing to weigh
+    same, poses = info_of(ARM, merged[0], q)
+    assert unmoved_world(same, poses, q) is same
+
+
+def test_a_world_that_explains_what_the_first_joints_frames_would_each_say_is_kept(merged):
+    # two chains on the merged base, both first bodies moved alike: one world transform rather
+    # than two first joints' frames moved
+    shift = merged[1].replace(FIRST, '<body name="link1" pos="0.003 -0.004 0.1">')
+    shift = shift.replace(SECOND, '<body name="link1b" pos="0.203 -0.004 0.1">')
+    q = np.array([[0.3, -0.4, 0.5], [1.0, 0.5, -0.2]])
+    info, poses = info_of(TWO, shift, q)
+    assert not base_in_both(info) and info.alignment.T[:3, 3] == pytest.approx([0.003, -0.004, 0.0], abs=1e-9)
+    assert unmoved_world(info, poses, q) is info
 
 
 def test_only_a_frame_no_joint_moves_in_either_file_is_a_base_of_its_own():
