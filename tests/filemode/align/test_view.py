@@ -124,6 +124,7 @@ def test_a_library_that_drives_a_coupling_itself_is_given_the_other_joints_only(
     assert view.poses(q) == pytest.approx(pinned.poses(q), abs=1e-9)
     assert view.evaluate(q).jacobians == pytest.approx(pinned.jacobians(q), abs=1e-6)
     assert view.jacobians(q) == pytest.approx(pinned.jacobians(q), abs=1e-6)
+    assert view.evaluate(q, with_jacobians=False).jacobians is None
 
 
 def test_a_views_library_traits_are_its_inners(urdf_side):
