@@ -841,3 +841,27 @@ def test_a_next_axis_parallel_to_a_slide_says_nothing_of_its_shift():
     mjcf = P.sub_once(r'(<joint name="j3" )', r'\1pos="0 0.01 0" ', remap_joint(generate_mjcf(spec), "j2", 1, 0.05))
     offsets = aligner(generate_urdf(spec), mjcf).solve_joints(np.eye(4))[1]
     assert offsets == {"j1": 0.0, "j2": pytest.approx(0.05, abs=1e-12), "j3": 0.0}
+
+
+def test_gauss_newton_weighs_an_axis_direction_by_its_rotation_tolerance():
+    # points on x fix all but a turn about x; two axes along y disagree on it (0.1 rad, or none),
+    # the second with a 1000× tighter tolerance: the turn θ minimises w_a·|R(θ)y − R(0.1)y|² +
+    # w_b·|R(θ)y − y|² (weights 1 and 1e6), where w_a·sin(θ − 0.1) + w_b·sin θ = 0
+    on_x = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    y, at = np.array([[0.0, 1.0, 0.0]]), np.array([[0.0, 0.0, 0.0]])
+    feats = [
+        point_feature("x", on_x, np.eye(4), (1.0, 1.0)),
+        line_feature("a", pose(turn([1, 0, 0], 0.1)), y, at, tol=(1.0, 1.0)),
+        line_feature("b", np.eye(4), y, at, tol=(1.0, 1e-3)),
+    ]
+    t = _gauss_newton(feats, np.eye(4), iterations=20)
+    angle = math.atan2(t[2, 1], t[1, 1])
+    assert angle == pytest.approx(math.atan2(math.sin(0.1), 1e6 + math.cos(0.1)), rel=1e-9)
+    assert t[:3, 3] == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)
+
+
+def test_identical_files_are_aligned_by_the_identity_candidate_with_nothing_to_explain(arm3):
+    al = arm3.solve()
+    assert al.candidate == "identity" and np.array_equal(al.T, np.eye(4)) and al.unexplained == 0
+    assert joint_map(al) == {j: (1, 0.0) for j in ONES} and all(f.in_fit for f in al.frames)
+    assert al.residual == pytest.approx((0.0, 0.0), abs=1e-12)
