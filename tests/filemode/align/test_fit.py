@@ -395,15 +395,20 @@ def point_feature(name, a, t, tol=(1.0, 1.0)):
     return (name, "point", a, _apply(t, a), tol)
 
 
+def line_feature(name, t, ua, up, slide=0.0, tol=(1.0, 1.0)):
+    ma = ua @ t[:3, :3].T
+    return (name, "line", (ua, up), (ma, _apply(t, up) + slide * ma), tol)
+
+
 def test_gauss_newton_recovers_a_transform_from_points_and_from_lines():
     true = pose(turn([1, 2, 3], 0.4), (0.1, -0.2, 0.3))
     a = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.5], [0.3, -0.2, 1.0]])
     assert _gauss_newton([point_feature("p", a, true)], np.eye(4)) == pytest.approx(true, abs=1e-12)
-    # three axis lines (directions and a point each), the MJCF's points slid along its lines
+    # three axis lines (directions and a point each), the MJCF's points slid along its lines; each
+    # row and its residual scaled alike by the line's tolerances (1 mm, 2 mrad)
     ua = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     up = np.array([[0.0, 0.2, 0.0], [0.0, 0.0, 0.3], [0.4, 0.0, 0.0]])
-    ma = ua @ true[:3, :3].T
-    lines = [("l", "line", (ua[i : i + 1], up[i : i + 1]), (ma[i : i + 1], _apply(true, up[i : i + 1]) + 0.7 * ma[i : i + 1]), (1.0, 1.0)) for i in range(3)]  # fmt: skip
+    lines = [line_feature("l", true, ua[i : i + 1], up[i : i + 1], 0.7, (1e-3, 2e-3)) for i in range(3)]
     assert _gauss_newton(lines, np.eye(4)) == pytest.approx(true, abs=1e-10)
 
 
@@ -669,11 +674,6 @@ def test_a_least_squares_world_needs_three_frame_origins():
     tool = {"name": "tool", "parent": "l1", "xyz": [0.1, 0.0, 0.0], "rpy": [0.0, 0.0, 0.0]}
     labels = [label for label, _ in aligner(*one_joint([tool])).candidates()]
     assert labels[:2] == ["identity", "least squares over frame origins"]
-
-
-def line_feature(name, t, ua, up, slide=0.0, tol=(1.0, 1.0)):
-    ma = ua @ t[:3, :3].T
-    return (name, "line", (ua, up), (ma, _apply(t, up) + slide * ma), tol)
 
 
 def test_a_features_residual_is_its_largest_error_over_its_tolerance():
