@@ -620,6 +620,8 @@ def test_an_axis_tilted_or_moved_is_its_angle_and_its_distance():
     apart = max(np.linalg.norm((turn(tilted, q) - turn([0, 1, 0], q)) @ tool) for q in Q3[:, 2])
     assert bad == 3 and fits[3].position == pytest.approx(0.0, abs=1e-12)
     assert fits[4].position == pytest.approx(apart, rel=1e-9)
+    # the tool's constant is read at the zero, where the tilt moves nothing: none
+    assert fits[4].constant == pytest.approx(np.eye(4), abs=1e-12) and fits[4].residual_position == pytest.approx(apart, rel=1e-9)
     # joint 3's axis 1 cm along x at the zero (its body placed there), the body's axis line too
     b = arm3_edited(r'(<joint name="joint3" )', r'\1pos="0.01 0 0" ')
     bad, fits, errors = b.evaluate(np.eye(4), ONES, ZEROS)
@@ -865,3 +867,10 @@ def test_identical_files_are_aligned_by_the_identity_candidate_with_nothing_to_e
     assert al.candidate == "identity" and np.array_equal(al.T, np.eye(4)) and al.unexplained == 0
     assert joint_map(al) == {j: (1, 0.0) for j in ONES} and all(f.in_fit for f in al.frames)
     assert al.residual == pytest.approx((0.0, 0.0), abs=1e-12)
+
+
+def test_identical_files_need_no_sign_and_no_zero_offset():
+    # bent: every joint's offset is seen (points off its axis); one joint carrying nothing off its
+    # axis: nothing says an offset
+    for urdf, mjcf, joints in ((*BENT, ("j1", "j2", "j3", "j4")), (*one_joint(), ("j1",))):
+        assert aligner(urdf, mjcf).solve_joints(np.eye(4)) == ({j: 1 for j in joints}, {j: 0.0 for j in joints})
