@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from kinverify.filemode.align.fit import TOL, Aligner, _apply, _carry, _crossing, _gauss_newton, _is_identity, _line_local, align
-from kinverify.filemode.align.match import match
+from kinverify.filemode.align.match import Matching, match
 from kinverify.filemode.align.result import Alignment, PairPoses
 from kinverify.filemode.pipeline import verify_files
 from kinverify.filemode.read.precision import Floors
@@ -874,3 +874,11 @@ def test_identical_files_need_no_sign_and_no_zero_offset():
     # axis: nothing says an offset
     for urdf, mjcf, joints in ((*BENT, ("j1", "j2", "j3", "j4")), (*one_joint(), ("j1",))):
         assert aligner(urdf, mjcf).solve_joints(np.eye(4)) == ({j: 1 for j in joints}, {j: 0.0 for j in joints})
+
+
+def test_a_pair_sharing_no_joint_and_no_frame_is_left_as_it_is_with_no_residual():
+    u, m = describe_urdf(ARM3[0]), describe_mjcf(ARM3[1])
+    nothing = Matching([], [], [], [])
+    al = align(PairPoses(u, m, nothing, *ARM3), nothing, Floors(), np.zeros((0, 0)))
+    assert (al.candidate, al.unexplained, al.residual, al.joints, al.frames) == ("identity", 0, (0.0, 0.0), [], [])
+    assert np.array_equal(al.T, np.eye(4))
