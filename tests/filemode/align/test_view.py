@@ -168,3 +168,17 @@ def test_a_floating_base_in_another_world_is_given_the_base_pose_there(floating_
     assert ev.jacobians == pytest.approx(numeric(view, B), abs=1e-6)
     # the joints' columns are as without the base's conjugation (a turn of the whole world)
     assert ev.jacobians[..., 6:] == pytest.approx(numeric(view, B)[..., 6:], abs=1e-6)
+
+
+def test_a_library_given_some_joints_only_differentiates_through_those(urdf_side):
+    # an analytic library given joints 1 and 2 (joint 3 held at its zero): its Jacobian's column
+    # for joint 3 is zero, the others its own
+    al = Alignment(np.eye(4), [JointMap(j, j, "revolute") for j in JOINTS], {}, JOINTS)
+    inner = PinocchioBackend.from_urdf(URDF, JOINTS[:2], FRAMES)
+    view = AlignedBackend(inner, al, FRAMES, "urdf", pick=JOINTS[:2])
+    assert view.cols == [0, 1] and view.joint_names == tuple(JOINTS)
+    assert view.poses(Q) == pytest.approx(urdf_side.poses(Q * [1, 1, 0]), abs=1e-12)
+    jac = view.evaluate(Q).jacobians
+    assert jac[..., :2] == pytest.approx(inner.jacobians(Q[:, :2]), abs=1e-12)
+    assert np.array_equal(jac[..., 2], np.zeros_like(jac[..., 2]))
+    assert jac == pytest.approx(numeric(view, Q), abs=1e-7)
