@@ -11,6 +11,7 @@ import pytest
 
 import tests.filemode.pairs as P
 from kinverify.backends.base import finite_difference_jacobians
+from kinverify.backends.function import FunctionBackend
 from kinverify.backends.mujoco_ import MujocoBackend
 from kinverify.backends.pinocchio_ import PinocchioBackend
 from kinverify.backends.yourdfpy_ import YourdfpyBackend
@@ -182,3 +183,11 @@ def test_a_library_given_some_joints_only_differentiates_through_those(urdf_side
     assert jac[..., :2] == pytest.approx(inner.jacobians(Q[:, :2]), abs=1e-12)
     assert np.array_equal(jac[..., 2], np.zeros_like(jac[..., 2]))
     assert jac == pytest.approx(numeric(view, Q), abs=1e-7)
+
+
+def test_a_library_that_says_nothing_of_a_floating_base_has_none(urdf_side):
+    inner = FunctionBackend("by hand", urdf_side.poses, JOINTS, FRAMES, jacobians=True)  # no ``floating`` of its own
+    view = AlignedBackend(inner, coupled(), FRAMES, "urdf")
+    assert not view.floating and view.joint_names == ("joint1", "joint2") and view.jacobian_method == "finite-difference"
+    q = np.array([[0.3, -0.4]])
+    assert view.poses(q) == pytest.approx(urdf_side.poses(np.array([[0.3, -0.4, -0.7]])), abs=1e-12)
