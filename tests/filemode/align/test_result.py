@@ -120,6 +120,7 @@ def test_the_second_side_is_posed_by_its_kinds_library(descs, reference, kind, b
     second = dataclasses.replace(u, kind=kind, frames=robot(u))  # the second file's frames, named as the URDF's
     poses = PairPoses(u, second, matching, URDF, text)
     assert poses.mb.name == backend and poses.mframes == list(robot(u))
+    assert poses.ub.name == "pinocchio-urdf"  # the URDF's reader unless told otherwise
     assert poses.mi == {f: i for i, f in enumerate(robot(u))}
     assert poses.mjcf(Q[1])[0, [poses.mi[f] for f in ("base", "link1", "link2", "link3", "end_effector")]] == pytest.approx(
         reference[1], abs=1e-9
