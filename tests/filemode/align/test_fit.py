@@ -752,6 +752,7 @@ def test_the_solved_alignment_is_the_world_transform_with_its_residual():
     al = aligner(ARM3[0], moved(P.sub_once(*EE_MOVED, ARM3[1])), samples=Q3).solve()
     assert al.T == pytest.approx(MOVED, abs=1e-9)
     assert joint_map(al) == {j: (1, 0.0) for j in ONES}
+    assert [(j.urdf, j.mjcf, j.type) for j in al.joints] == [(j, j, "revolute") for j in ONES]
     assert al.unexplained == 1  # the end effector, left out of the fit and reported on its own
     assert [(f.urdf, f.in_fit) for f in al.frames] == [("base", True), ("link1", True), ("link2", True), ("link3", True), ("end_effector", False)]  # fmt: skip
     assert al.frames[-1].position == pytest.approx(0.01, abs=1e-9)
