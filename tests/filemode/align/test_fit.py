@@ -883,3 +883,13 @@ def test_a_pair_sharing_no_joint_and_no_frame_is_left_as_it_is_with_no_residual(
     al = align(PairPoses(u, m, nothing, *ARM3), nothing, Floors(), np.zeros((0, 0)))
     assert (al.candidate, al.unexplained, al.residual, al.joints, al.frames) == ("identity", 0, (0.0, 0.0), [], [])
     assert np.array_equal(al.T, np.eye(4))
+
+
+def test_a_fit_far_from_its_start_is_seeded_by_the_weighted_kabsch_estimate():
+    # 2.5 rad away: Gauss-Newton alone from the start would not get there in its few iterations
+    t = pose(turn([1, 1, 1], 2.5), (0.3, -0.2, 0.1))
+    a = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    ua, up = np.array([[0.0, 1.0, 0.0]]), np.array([[0.5, 0.0, 0.0]])
+    feats = [point_feature("p", a, t, (1e-3, 2e-3)), line_feature("l", t, ua, up, 0.4, (3e-3, 4e-3))]
+    assert Aligner._fit(feats, np.eye(4)) == pytest.approx(t, abs=1e-9)
+    assert not np.allclose(_gauss_newton(feats, np.eye(4)), t, atol=1e-6)
