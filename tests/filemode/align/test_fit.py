@@ -893,3 +893,11 @@ def test_a_fit_far_from_its_start_is_seeded_by_the_weighted_kabsch_estimate():
     feats = [point_feature("p", a, t, (1e-3, 2e-3)), line_feature("l", t, ua, up, 0.4, (3e-3, 4e-3))]
     assert Aligner._fit(feats, np.eye(4)) == pytest.approx(t, abs=1e-9)
     assert not np.allclose(_gauss_newton(feats, np.eye(4)), t, atol=1e-6)
+
+
+def test_the_refit_keeps_a_frame_within_its_rounding():
+    # the end effector 1 mm off, both files' rounding allowing 2 mm there: it agrees and is fitted
+    mjcf = moved(P.sub_once(EE_MOVED[0], r"\g<1>0.0 0.0 0.051", ARM3[1]))
+    a = aligner(ARM3[0], mjcf, samples=Q3, floors=Floors(frames={"end_effector": (1e-3, 0.0)}))
+    t, used = a.refit(np.eye(4), ONES, ZEROS)
+    assert used == ["base", "link1", "link2", "link3", "end_effector"]
