@@ -283,6 +283,8 @@ def test_only_a_frame_no_joint_moves_in_either_file_is_a_base_of_its_own():
         return dataclasses.replace(info, matching=dataclasses.replace(matching, frames=list(frames)))
 
     assert base_in_both(info)
-    assert not base_in_both(framed(("ghost", "ghost", "same name")))  # a frame neither file knows is no base
+    assert not base_in_both(framed(("ghost", "ghost", "same name")))  # a frame a file does not know is no base
+    assert not base_in_both(framed(("ghost", "base", "same name")))
+    assert not base_in_both(framed(("base", "ghost", "same name")))
     assert not base_in_both(framed(("base", "link1", "x"), ("link1", "base", "x")))
     assert base_in_both(framed(("link1", "link1", "x"), ("base", "base", "x")))
