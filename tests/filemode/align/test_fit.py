@@ -901,3 +901,27 @@ def test_the_refit_keeps_a_frame_within_its_rounding():
     a = aligner(ARM3[0], mjcf, samples=Q3, floors=Floors(frames={"end_effector": (1e-3, 0.0)}))
     t, used = a.refit(np.eye(4), ONES, ZEROS)
     assert used == ["base", "link1", "link2", "link3", "end_effector"]
+
+
+def test_a_lines_residual_is_its_worst_configuration():
+    # two configurations: the point 3 mm, then 4 mm off the other file's line (along x): 4 mm, not 5
+    ua, up = np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    line = ("l", "line", (ua, up), (ua, up + [[0.0, 3e-3, 0.0], [0.0, 0.0, 4e-3]]), (1e-3, 1.0))
+    assert Aligner._residual(line, np.eye(4)) == pytest.approx(4.0, rel=1e-9)
+
+
+def test_a_feature_one_and_a_half_tolerances_off_is_left_out(arm3):
+    a = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    feats = [point_feature(f"f{i}", a + i, np.eye(4), (1e-6, 1e-6)) for i in range(3)]
+    feats.append(("loose", "point", a[:1], a[:1] + [[1.5e-3, 0.0, 0.0]], (1e-3, 1e-3)))
+    _, keep = arm3._eliminate(feats, [0, 1, 2, 3], np.eye(4))
+    assert keep == [0, 1, 2]
+
+
+def test_the_other_files_axis_line_is_read_in_its_own_frame_names():
+    # the MJCF calls joint 2's body "forearm": its line is read there
+    renamed = ARM3[1].replace('<body name="link2"', '<body name="forearm"')
+    a = aligner(ARM3[0], renamed, samples=Q3)
+    pm = a.mjcf_poses(ONES, ZEROS)
+    assert a.line("m", "joint2", pm)[1] == pytest.approx(a.line("u", "joint2", a.pu)[1], abs=1e-12)
+    assert a.line("m", "joint2", pm)[0] == pytest.approx(a.line("u", "joint2", a.pu)[0], abs=1e-12)
