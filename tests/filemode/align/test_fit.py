@@ -925,3 +925,13 @@ def test_the_other_files_axis_line_is_read_in_its_own_frame_names():
     pm = a.mjcf_poses(ONES, ZEROS)
     assert a.line("m", "joint2", pm)[1] == pytest.approx(a.line("u", "joint2", a.pu)[1], abs=1e-12)
     assert a.line("m", "joint2", pm)[0] == pytest.approx(a.line("u", "joint2", a.pu)[0], abs=1e-12)
+
+
+def test_one_world_turn_that_explains_a_first_joints_offset_too_is_preferred_to_two_explanations():
+    # the MJCF's world turned 0.5 rad about z and joint 1's zero 0.05 rad back: a world turned by
+    # 0.55 rad alone leaves nothing unexplained (the base frame's own orientation is a choice),
+    # one explanation rather than a turn and an offset
+    mjcf = remap_joint(move_world(ARM3[1], [0.0, 0.0, 0.0], [0.0, 0.0, 0.5]), "joint1", 1, -0.05)
+    al = aligner(ARM3[0], mjcf, samples=Q3).solve()
+    assert al.T == pytest.approx(pose(turn([0, 0, 1], 0.55)), abs=1e-9)
+    assert joint_map(al) == {j: (1, 0.0) for j in ONES} and al.unexplained == 0
