@@ -242,6 +242,8 @@ def _dynamics(result, kind: str, text: str, top, sources, al, opts, kept: dict, 
     result.findings += out.findings
     if out.section is not None:
         result.sections["dynamics"] = out.section
+        if out.section.summary.startswith("skipped: "):  # the suite's own skip: its reason in full, as a note
+            notes.append(f"dynamics not compared: {out.section.summary.removeprefix('skipped: ')}")
 
 
 def audit_file(path: str, kind: str, options=None, command: str = "", packages=None, xacro_args=None):

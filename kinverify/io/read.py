@@ -36,19 +36,30 @@ class InputFileError(InputError):
         super().__init__(f"{label}: {path} {reason}" if label else f"{path} {reason}")
 
 
-def _size_text(size: int) -> str:
-    return f"{size / 2**20:.1f} MB"
+def size_text(size: int) -> str:
+    """``512 bytes``, ``1.5 kB`` or ``2.0 MB`` (1 kB = 1024 bytes, 1 MB = 1024 kB): a unit that shows the size."""
+    if size < 2**10:
+        return f"{size} byte{'s' * (size != 1)}"
+    return f"{size / 2**10:.1f} kB" if size < 2**20 else f"{size / 2**20:.1f} MB"
 
 
-def read_bytes(path, label: str = "", limit: int = MAX_MODEL_BYTES, register: bool = True) -> bytes:
+def _limit_text(limit: int) -> str:
+    return f"{limit // 2**20} MB" if limit and limit % 2**20 == 0 else size_text(limit)
+
+
+def read_bytes(
+    path, label: str = "", limit: int = MAX_MODEL_BYTES, register: bool = True, shared: tuple[int, str] | None = None
+) -> bytes:
     """The content of the regular file ``path``, at most ``limit`` bytes; :class:`InputFileError`
     otherwise. ``register``: record it as an input of the run (False for a file about to be
-    replaced, e.g. the previous baseline that ``baseline save`` checks first)."""
+    replaced, e.g. the previous baseline that ``baseline save`` checks first). ``shared``: ``limit``
+    is what remains of a budget of ``(bytes, files)`` that several files share, e.g.
+    ``(MAX_DATA_BYTES, "all meshes of the model")``: the refusal says so."""
     path = os.fspath(path)
     fd, size = _open(path, label)
     try:
         if size > limit:  # a regular file's size is exact: refuse before reading
-            raise _too_large(path, label, limit, size)
+            raise _too_large(path, label, limit, size, shared)
         if register:
             note_input(path, label)
         chunks, total = [], 0
@@ -63,7 +74,7 @@ def read_bytes(path, label: str = "", limit: int = MAX_MODEL_BYTES, register: bo
     finally:
         os.close(fd)
     if total > limit:
-        raise _too_large(path, label, limit, None)
+        raise _too_large(path, label, limit, None, shared)
     return b"".join(chunks)
 
 
@@ -76,15 +87,18 @@ def read_text(path, label: str = "", limit: int = MAX_MODEL_BYTES, register: boo
         raise InputFileError(path, f"is not UTF-8 text (byte {err.start})", label) from None
 
 
-def check_file(path, label: str = "", limit: int = MAX_DATA_BYTES, register: bool = True) -> int:
+def check_file(
+    path, label: str = "", limit: int = MAX_DATA_BYTES, register: bool = True, shared: tuple[int, str] | None = None
+) -> int:
     """The size of ``path`` when a library may open it: a regular file (the same refusals as
     :func:`read_bytes`, made on a non-blocking descriptor) of at most ``limit`` bytes (a regular
-    file's size is exact: nothing is read); recorded as an input of the run."""
+    file's size is exact: nothing is read); recorded as an input of the run. ``shared``: as
+    :func:`read_bytes`'s."""
     path = os.fspath(path)
     fd, size = _open(path, label)
     os.close(fd)
     if size > limit:
-        raise _too_large(path, label, limit, size)
+        raise _too_large(path, label, limit, size, shared)
     if register:
         note_input(path, label)
     return size
@@ -128,11 +142,14 @@ def _regular(path: str, label: str, mode: int) -> None:
         raise InputFileError(path, f"is {kind}, not a regular file: kinverify reads regular files only", label)
 
 
-def _too_large(path: str, label: str, limit: int, size: int | None) -> InputFileError:
-    what = _size_text(size) if size is not None else f"more than {_size_text(limit)}"
-    return InputFileError(
-        path, f"is {what}, above the {limit // 2**20} MB kinverify reads (see docs/robustness.md)", label, too_large=True
-    )
+def _too_large(path: str, label: str, limit: int, size: int | None, shared: tuple[int, str] | None) -> InputFileError:
+    what = size_text(size) if size is not None else f"more than {size_text(limit)}"
+    if shared is None:
+        reason = f"is {what}, above the {_limit_text(limit)} kinverify reads"
+    else:  # ``limit`` is what the files read before it left of the budget
+        total, files = shared
+        reason = f"is {what}, which would exceed the {_limit_text(total)} {files} share: {size_text(total - limit)} already read"
+    return InputFileError(path, f"{reason} (see docs/robustness.md)", label, too_large=True)
 
 
 def _system(path: str, label: str, err: OSError) -> InputFileError:
@@ -144,20 +161,23 @@ def _system(path: str, label: str, err: OSError) -> InputFileError:
 
 
 @contextlib.contextmanager
-def library_reads(modules, label: str, limit: int = MAX_MODEL_BYTES, record: list | None = None) -> Iterator[None]:
+def library_reads(
+    modules, label: str, limit: int = MAX_MODEL_BYTES, record: list | None = None, files: str = "the files the library opens"
+) -> Iterator[None]:
     """Within the block, a library module that opens files itself (xacro, for its includes) reads
     them through :func:`read_bytes`: ``open(name)`` in each of ``modules`` returns the bounded
     content (the files together within ``limit`` bytes), a FIFO or device is refused, and each
     file is an input of the run. A missing file is still ``FileNotFoundError`` (the library's
     own optional includes rely on it). Opening for writing is left alone. ``record``: a list each
-    file read is appended to (a child process's reads, to record in the parent's plan)."""
+    file read is appended to (a child process's reads, to record in the parent's plan); ``files``:
+    what shares ``limit``, as a refusal names it."""
     budget = [limit]
 
     def bounded_open(file, mode="r", *args, **kwargs):
         if any(flag in mode for flag in "wax+"):
             return builtins.open(file, mode, *args, **kwargs)
         try:
-            data = read_bytes(file, label, max(budget[0], 0))
+            data = read_bytes(file, label, max(budget[0], 0), shared=(limit, files))
         except InputFileError as err:
             if err.errno in (errno.ENOENT, errno.ENOTDIR):
                 raise FileNotFoundError(err.errno, os.strerror(err.errno), os.fspath(file)) from None

@@ -40,11 +40,20 @@ from kinverify.io.read import InputFileError, check_file, read_bytes
 from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_INCLUDE_DEPTH, MAX_LINKS, MAX_MODEL_BYTES
 
 
+DATA_FILES = "all meshes, textures and other data files of the model"  # what shares ``MAX_DATA_BYTES``
+
+
 class Budget:
     """Bytes still allowed: ``text`` for model files, ``data`` for meshes and images."""
 
     def __init__(self, used_text: int = 0) -> None:
         self.text, self.data = MAX_MODEL_BYTES - used_text, MAX_DATA_BYTES
+
+    def check_data(self, path, label: str) -> int:
+        """:func:`check_file` against the data budget, which it is charged: the size of ``path``."""
+        size = check_file(path, label, max(self.data, 0), shared=(MAX_DATA_BYTES, DATA_FILES))
+        self.data -= size
+        return size
 
 
 def package_file(filename: str, base: Path, packages: dict[str, str] | None = None) -> Path | None:
@@ -68,13 +77,6 @@ def _local(uri: str, base: Path, packages) -> Path | None:
         return package_file(uri, base, packages)
     uri = uri[len("file://") :] if uri.startswith("file://") else uri
     return Path(uri) if Path(uri).is_absolute() else base / uri
-
-
-def _checked(path: Path, label: str, budget: Budget) -> int:
-    """:func:`check_file` against the data budget, which it is charged."""
-    size = check_file(path, label, max(budget.data, 0))
-    budget.data -= size
-    return size
 
 
 def _read_text(path: Path, label: str, budget: Budget) -> bytes:
@@ -238,7 +240,7 @@ def mjcf_files(root: ET.Element, path, budget: Budget | None = None, chain: tupl
             continue  # absent (or a link to nothing): the caller drops it
         except OSError:
             pass  # a symbolic-link loop...: refused by the check, naming the file
-        _checked(target, f"{path}: <{el.tag} {attribute}={name!r}>", budget)
+        budget.check_data(target, f"{path}: <{el.tag} {attribute}={name!r}>")
         found[(el, attribute)] = target.resolve()
     for el in root.iter("model"):
         name = el.get("file")

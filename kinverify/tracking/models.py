@@ -36,6 +36,8 @@ from kinverify.model.transforms import matrix_to_quat
 
 
 class PinocchioDynamics:
+    library, reads = "pinocchio-urdf", "URDF"  # the backend named in its errors, and the format it reads
+
     def __init__(self, urdf: str, joint_names, armature) -> None:
         self.model = self.build_model(urdf)
         m = self.model
@@ -45,16 +47,20 @@ class PinocchioDynamics:
             root = next((i for i in range(1, m.njoints) if m.parents[i] == 0), None)
             if root is None or m.joints[root].shortname() != "JointModelFreeFlyer":
                 raise BackendError(
-                    "pinocchio-urdf", "the configuration has a floating base but the URDF's root joint is not floating"
+                    self.library, f"the configuration has a floating base but the {self.reads}'s root joint is not floating"
                 )
             self._ff = (m.joints[root].idx_q, m.joints[root].idx_v, m.jointPlacements[root].inverse().homogeneous)
             joint_names = joint_names[6:]
         missing = [j for j in joint_names if not m.existJointName(j)]
         if missing:
             raise UnknownNameError("joint", missing[0], [m.names[i] for i in range(1, m.njoints)])
-        if m.nv != len(joint_names) + 6 * self.floating:
+        compared = len(joint_names) + 6 * self.floating
+        if m.nv != compared:
             raise BackendError(
-                "pinocchio-urdf", f"dynamics needs exactly the compared joints ({len(joint_names)}), model has {m.nv} dofs"
+                self.library,
+                f"dynamics needs the model to move by the compared joints only ({compared} degree{'s' * (compared != 1)} "
+                f"of freedom), "
+                f"the {self.reads} has {m.nv}",
             )
         self.idx_v = np.array([m.joints[m.getJointId(j)].idx_v for j in joint_names])
         self.idx_q = np.array([m.joints[m.getJointId(j)].idx_q for j in joint_names])
@@ -84,13 +90,13 @@ class PinocchioDynamics:
         other.data = m.createData()
         return other
 
-    @staticmethod
-    def build_model(urdf: str):
+    @classmethod
+    def build_model(cls, urdf: str):
         """Pinocchio's model of the text (a subclass may read another format)."""
         try:
             return build_urdf_model(urdf)
         except ValueError as err:
-            raise BackendError("pinocchio-urdf", f"cannot load URDF: {library_reason(err)}") from None
+            raise BackendError(cls.library, f"cannot load URDF: {library_reason(err)}") from None
 
     def _in(self, x) -> np.ndarray:
         out = np.empty(len(self.idx_v))
@@ -160,11 +166,13 @@ RIGID_BODY_DISABLED = ("mjDSBL_CONSTRAINT", "mjDSBL_SPRING", "mjDSBL_ACTUATION")
 
 
 class MujocoDynamics:
-    def __init__(self, mjcf: str, joint_names, rigid: bool = False) -> None:
+    def __init__(self, mjcf: str, joint_names, rigid: bool = False, library: str = "mujoco", reads: str = "MJCF") -> None:
+        """``library``, ``reads``: the backend named in its errors and the format it read (MuJoCo's
+        URDF import: ``mujoco-urdf`` and ``URDF``, ``mjcf`` then being the URDF's MJCF)."""
         try:
             self.model = mujoco.MjModel.from_xml_string(mjcf)
         except ValueError as err:
-            raise BackendError("mujoco", f"cannot load MJCF: {library_reason(err)}") from None
+            raise BackendError(library, f"cannot load {reads}: {library_reason(err)}") from None
         m = self.model
         if rigid:  # no constraints, springs, actuators or gravity compensation (a passive force)
             for flag in RIGID_BODY_DISABLED:
@@ -180,8 +188,8 @@ class MujocoDynamics:
             ]
             if len(free) != 1:
                 raise BackendError(
-                    "mujoco",
-                    f"the configuration has a floating base but the MJCF has {len(free)} free "
+                    library,
+                    f"the configuration has a floating base but the {reads} has {len(free)} free "
                     "joints on top-level bodies (expected one)",
                 )
             self._free = (int(m.jnt_qposadr[free[0]]), int(m.jnt_dofadr[free[0]]))
@@ -191,7 +199,7 @@ class MujocoDynamics:
             joint_names = joint_names[6:]
         ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joint_names]
         if min(ids) < 0:
-            raise BackendError("mujoco", f"MJCF lacks joint {joint_names[ids.index(min(ids))]!r}")
+            raise BackendError(library, f"{reads} lacks joint {joint_names[ids.index(min(ids))]!r}")
         self.qadr = np.array([m.jnt_qposadr[i] for i in ids])
         self.vadr = np.array([m.jnt_dofadr[i] for i in ids])
         self.armature = np.array(m.dof_armature)[self.vadr]

@@ -619,3 +619,20 @@ def test_dynamics_alone_on_at_most_the_dynamics_samples(tmp_path):
     assert {c.samples for c in result.checks if c.property == "dynamics.mass_matrix"} == {100}  # the default cap
     fewer = audit_file(str(path), "urdf", dataclasses.replace(only, extra={"dynamics_samples": 7}))
     assert {c.samples for c in fewer.checks if c.property == "dynamics.mass_matrix"} == {7}
+
+
+def test_dynamics_the_suite_skips_is_a_note_naming_the_library_that_read_the_file(tmp_path):
+    """A ball joint (not compared) gives the MJCF more degrees of freedom than the compared joints:
+    Pinocchio's MJCF parser declines its dynamics, and the note says so in full (the terminal shows
+    only the section summary's first clause)."""
+    mjcf = """<mujoco model="ball"><worldbody>
+      <body name="a"><joint name="j1" axis="0 0 1"/><geom type="sphere" size="0.05" mass="1"/>
+        <body name="b" pos="0.2 0 0"><joint name="j2" type="ball"/><geom type="sphere" size="0.05" mass="1"/></body>
+      </body></worldbody></mujoco>"""
+    path = tmp_path / "ball.xml"
+    path.write_text(mjcf)
+    result = audit_file(str(path), "mjcf", dataclasses.replace(OPTIONS, backends=["mujoco", "pinocchio-mjcf"]))
+    reason = "pinocchio-mjcf: dynamics needs the model to move by the compared joints only (1 degree of freedom), the MJCF has 4"
+    assert result.sections["dynamics"].summary == f"skipped: {reason}"
+    assert f"dynamics not compared: {reason}" in result.notes
+    assert f"dynamics not compared: {reason}" in result.sections["audit"].notes

@@ -13,7 +13,7 @@ import pytest
 
 from kinverify.errors import InputError
 from kinverify.io.plan import output_plan
-from kinverify.io.read import InputFileError, check_file, library_reads, read_bytes, read_head, read_text
+from kinverify.io.read import InputFileError, check_file, library_reads, read_bytes, read_head, read_text, size_text
 from kinverify.io.write import write_atomic
 
 MB = 1 << 20
@@ -44,7 +44,7 @@ def test_a_file_that_reports_no_size_is_bounded_by_reading():
     status = read_bytes("/proc/self/status", limit=MB)
     assert status.startswith(b"Name:") and len(status) > 100
     err = refused(read_bytes, "/proc/self/status", limit=100)
-    assert str(err) == f"/proc/self/status is more than 0.0 MB, above the 0 MB {TAIL}" and err.too_large
+    assert str(err) == f"/proc/self/status is more than 100 bytes, above the 100 bytes {TAIL}" and err.too_large
     limits = read_bytes("/proc/self/limits", limit=MB)  # also 0 bytes, and unchanging (status counts context switches)
     assert read_bytes("/proc/self/limits", limit=len(limits)) == limits and len(limits) > 100
     assert str(refused(read_bytes, "/proc/self/status", "--in", limit=100)).startswith("--in: /proc/self/status is more")
@@ -149,7 +149,11 @@ def test_library_reads_bounded_by_one_budget_and_recorded(tmp_path):
         assert module.open(str(tmp_path / "b.xml"), "rb").read() == b"bbb"
         assert module.open(tmp_path / "c.xml", encoding="latin-1").read() == "c"  # 8 bytes of 8 spent
         err = refused(module.open, tmp_path / "c.xml")
-        assert str(err) == f"--urdf: {tmp_path / 'c.xml'} is 0.0 MB, above the 0 MB {TAIL}"
+        # the limit is what the files read before it left of the 8 bytes they share
+        assert str(err) == (
+            f"--urdf: {tmp_path / 'c.xml'} is 1 byte, which would exceed the 8 bytes the files the library opens share: "
+            "8 bytes already read (see docs/robustness.md)"
+        )
         with pytest.raises(FileNotFoundError) as missing:
             module.open(tmp_path / "none.xml")
         assert (missing.value.errno, missing.value.filename) == (errno.ENOENT, str(tmp_path / "none.xml"))
@@ -165,3 +169,33 @@ def test_library_reads_bounded_by_one_budget_and_recorded(tmp_path):
     (tmp_path / "u.xml").write_bytes("é".encode())
     with library_reads([module], "--urdf"):
         assert module.open(tmp_path / "u.xml").read() == "é"  # UTF-8 unless told
+
+
+def test_a_size_is_given_in_a_unit_that_shows_it():
+    assert [size_text(n) for n in (0, 1, 1023, 1024, 1536, MB - 1, MB, 256 * MB - 100)] == [
+        "0 bytes",
+        "1 byte",
+        "1023 bytes",
+        "1.0 kB",
+        "1.5 kB",
+        "1024.0 kB",
+        "1.0 MB",
+        "256.0 MB",
+    ]
+
+
+def test_a_file_over_what_a_shared_budget_has_left_names_the_budget_and_what_was_read(tmp_path):
+    path = tmp_path / "a.stl"
+    path.write_bytes(b"x" * 3000)
+    shared = (256 * MB, "all meshes of the model")
+    left = 1000  # 256 MB less 1000 bytes already read
+    err = refused(check_file, path, "<mesh>", limit=left, shared=shared)
+    assert err.too_large and str(err) == (
+        f"<mesh>: {path} is 2.9 kB, which would exceed the 256 MB all meshes of the model share: "
+        "256.0 MB already read (see docs/robustness.md)"
+    )
+    err = refused(read_bytes, path, limit=0, shared=(2 * MB + 512, "the files the library opens"))
+    assert str(err) == (
+        f"{path} is 2.9 kB, which would exceed the 2.0 MB the files the library opens share: 2.0 MB already read (see docs/robustness.md)"
+    )
+    assert check_file(path, limit=3000, shared=shared) == 3000  # within what is left: read

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from kinverify.errors import InputError
-from kinverify.io.references import mjcf_files, sdf_for_drake
+from kinverify.io.references import Budget, mjcf_files, sdf_for_drake
 
 SDF = "<sdf version='1.9'><model name='{}'><link name='{}'/>{}</model></sdf>"
 
@@ -81,3 +81,18 @@ def test_a_model_files_include_errors_name_the_model_file(tmp_path):
     with pytest.raises(InputError) as err:
         mjcf_files(ET.fromstring('<mujoco><asset><model file="sub.xml"/></asset></mujoco>'), main)
     assert str(err.value) == f"{main}: <model file='sub.xml'>: {tmp_path / 'sub.xml'}: an <include> has no file"
+
+
+def test_a_file_over_what_the_models_data_files_left_names_the_shared_budget(tmp_path):
+    (tmp_path / "a.stl").write_bytes(b"x" * 200)
+    (tmp_path / "b.png").write_bytes(b"x" * 100)
+    text = '<mujoco><asset><mesh file="a.stl"/><texture name="t" type="2d" file="b.png"/></asset></mujoco>'
+    budget = Budget()
+    budget.data = 250  # 256 MB less 250 bytes already read: a.stl fits, b.png then does not
+    with pytest.raises(InputError) as err:
+        mjcf_files(ET.fromstring(text), tmp_path / "m.xml", budget)
+    assert str(err.value) == (
+        f"{tmp_path / 'm.xml'}: <texture file='b.png'>: {tmp_path / 'b.png'} is 100 bytes, which would exceed the "
+        "256 MB all meshes, textures and other data files of the model share: 256.0 MB already read "
+        "(see docs/robustness.md)"
+    )

@@ -29,9 +29,10 @@ PAIRS = {"urdf": ("pinocchio-urdf", "mujoco-urdf"), "mjcf": ("mujoco", "pinocchi
 class PinocchioMjcfDynamics(PinocchioDynamics):
     """:class:`PinocchioDynamics` on Pinocchio's MJCF parser's model."""
 
-    @staticmethod
-    def build_model(mjcf: str):
+    library, reads = "pinocchio-mjcf", "MJCF"
 
+    @classmethod
+    def build_model(cls, mjcf: str):
         return PinocchioBackend.from_mjcf(mjcf, (), ()).model  # the backend's reading of the text
 
 
@@ -45,7 +46,7 @@ class AuditDynamicsSuite(DynamicsSuite):
     def models(self, ctx: VerifyContext):
         joints = ctx.sources.joint_names
         if self.kind == "urdf":
-            mj = MujocoDynamics(urdf_for_mujoco(self.text), joints, rigid=True)
+            mj = MujocoDynamics(urdf_for_mujoco(self.text), joints, rigid=True, library="mujoco-urdf", reads="URDF")
             return PinocchioDynamics(self.text, joints, mj.armature), mj, "MuJoCo's URDF import"
         mj = MujocoDynamics(self.text, joints, rigid=True)
         pin = PinocchioMjcfDynamics(self.text, joints, mj.armature)

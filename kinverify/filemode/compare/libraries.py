@@ -71,6 +71,7 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
                 raise
             side = LABELS[kinds[0] if name in first else kinds[1]]
             text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {library_reason(err)}"
+            text = text.removeprefix(f"{name}: ")  # a backend's error starts with its name: said once
             findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}", {"file": side, "backend": name}))
     findings += refusal_findings(out, kinds)
     return out

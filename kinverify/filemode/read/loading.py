@@ -25,9 +25,9 @@ from kinverify.filemode.read.stated import attribute, class_defaults
 from kinverify.filemode.read.xacro import compile_xacro, is_xacro
 from kinverify.io.formats import xml_parse
 from kinverify.io.models import check_mjcf_numbers, check_urdf_numbers, check_urdf_tree, expand_includes
-from kinverify.io.read import check_file, read_bytes
+from kinverify.io.read import read_bytes
 from kinverify.io.references import Budget, mjcf_files, package_file, sdf_for_drake, sdf_meshes
-from kinverify.pipeline.limits import MAX_DATA_BYTES, MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
+from kinverify.pipeline.limits import MAX_JOINTS, MAX_LINKS, MAX_MODEL_BYTES
 
 
 @dataclass(frozen=True)
@@ -152,9 +152,7 @@ def _read_asset(path: Path, budget: Budget | None = None) -> Path:
     """An asset the model references is an input of the run: no output may replace it. The
     libraries read it themselves: a regular file whose size is exact, bounded here."""
     path = path.resolve()
-    size = check_file(path, "a mesh the model references", max(budget.data, 0) if budget else MAX_DATA_BYTES)
-    if budget:
-        budget.data -= size
+    (budget or Budget()).check_data(path, "a mesh the model references")
     return path
 
 

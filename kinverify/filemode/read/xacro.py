@@ -89,7 +89,9 @@ def _compile(path, args) -> tuple[str, str, list[str]]:
         with (
             contextlib.redirect_stderr(printed),
             contextlib.redirect_stdout(printed),
-            library_reads((xacro, xacrodoc.xacrodoc), f"{path}: xacro include", record=read),
+            library_reads(
+                (xacro, xacrodoc.xacrodoc), f"{path}: xacro include", record=read, files="the xacro file and its includes"
+            ),
         ):
             text = XacroDoc.from_file(str(path), subargs=dict(args or {}), walk_up=True).to_urdf_string()
     except InputError as err:

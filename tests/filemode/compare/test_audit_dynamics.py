@@ -12,6 +12,7 @@ import pytest
 
 import tests.filemode.pairs as P
 from kinverify.backends import ModelSources
+from kinverify.errors import BackendError
 from kinverify.filemode.compare.audit_dynamics import AuditDynamicsSuite, _relabel, inertial_findings
 from kinverify.filemode.compare.crosscheck import top_level_pose
 from kinverify.filemode.read.describe_urdf import describe_urdf
@@ -195,3 +196,30 @@ def test_a_centre_of_mass_within_the_models_scale_leaves_the_inertia_to_be_named
     desc = describe_urdf(inertial(urdf, "link2", xyz="0.0 0.0 0.13500001", ixx=repr(0.004842168172904483 + 2e-6)))
     (f,) = inertial_findings(urdf, desc, scale=1000.0)  # 1e-8 m apart: within 1e-6 m on this scale
     assert (f.subject, f.property) == ("link2", "inertia.tensor")
+
+
+BALL_MJCF = """<mujoco model="ball"><worldbody>
+  <body name="a"><joint name="j1" axis="0 0 1"/><geom type="sphere" size="0.05" mass="1"/>
+    <body name="b" pos="0.2 0 0"><joint name="j2" type="ball"/><geom type="sphere" size="0.05" mass="1"/></body>
+  </body></worldbody></mujoco>"""
+
+
+def test_a_model_moved_by_a_joint_not_compared_is_refused_by_the_library_that_read_it():
+    """An MJCF's ball joint (3 degrees of freedom, not compared): Pinocchio's MJCF parser read it,
+    and is the one named, with the format it read."""
+    ctx = VerifyContext(ModelSources("ball", ("j1",), (), (-1.0,), (1.0,), (True,)), {}, Q[:, :1], OPTIONS)
+    with pytest.raises(BackendError) as err:
+        AuditDynamicsSuite("mjcf", BALL_MJCF).models(ctx)
+    assert err.value.backend == "pinocchio-mjcf"
+    assert str(err.value) == (
+        "pinocchio-mjcf: dynamics needs the model to move by the compared joints only (1 degree of freedom), the MJCF has 4"
+    )
+
+
+def test_mujocos_urdf_import_is_named_when_it_lacks_a_joint(arm3):
+    ctx = VerifyContext(
+        ModelSources("arm3", ("joint1", "nowhere"), (), (-1.0,) * 2, (1.0,) * 2, (True,) * 2), {}, Q[:, :2], OPTIONS
+    )
+    with pytest.raises(BackendError) as err:
+        AuditDynamicsSuite("urdf", arm3[0]).models(ctx)
+    assert str(err.value) == "mujoco-urdf: URDF lacks joint 'nowhere'"

@@ -296,8 +296,13 @@ def test_the_meshes_of_a_model_share_one_budget(package):
     one_byte = base / "one.bin"
     one_byte.write_bytes(b"x")
     budget.data = 0
-    with pytest.raises(InputError):
+    with pytest.raises(InputError) as err:
         resolve_asset("one.bin", base, budget=budget)
+    # what is left of the budget all meshes share, in a unit that shows each size
+    assert str(err.value) == (
+        f"a mesh the model references: {one_byte.resolve()} is 1 byte, which would exceed the 256 MB all meshes, "
+        "textures and other data files of the model share: 256.0 MB already read (see docs/robustness.md)"
+    )
 
 
 # --- given_packages and load_urdf ------------------------------------------------------------------
