@@ -84,6 +84,10 @@ def _compile(path, args) -> tuple[str, str, list[str]]:
     """The URDF text, what xacro printed and the files it read (run in the child)."""
     read: list[str]
     printed, read = io.StringIO(), []  # xacro prints its warnings: keep them for the report, off the terminal
+    # xacro resolves a relative include beside the file on top of its module-global stack: start it
+    # with this file, as the xacro command does (else beside the working folder, or beside the file
+    # of an earlier compile that failed inside an include)
+    xacro.init_stacks(str(path))
     try:
         # the file and everything it includes are read by kinverify's reader (bounded, no FIFO)
         with (

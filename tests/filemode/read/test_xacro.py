@@ -257,6 +257,20 @@ def test_an_included_file_kinverify_will_not_read_is_the_input_error_its_reader_
     assert type(info.value) is InputError and info.value.__suppress_context__
 
 
+def test_a_relative_include_is_read_beside_the_file_whatever_compiled_before(tmp_path):
+    """xacro keeps the stack of files it is in as a module global: a relative include is found
+    beside the file on top, the working folder when the stack is empty (a file compiled from
+    elsewhere failed), or the file of an earlier compile that failed inside an include."""
+    first, second = tmp_path / "first", tmp_path / "second"
+    first.mkdir(), second.mkdir()
+    (first / "part.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro">${undefined}</robot>')
+    (second / "part.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><link name="b"/></robot>')
+    with pytest.raises(InputError, match="undefined"):
+        _compile(_xacro_file(first, '<xacro:include filename="part.xacro"/>'), {})
+    text, _, read = _compile(_xacro_file(second, '<xacro:include filename="part.xacro"/>'), {})
+    assert '<link name="b"' in text and read == [str(second / "r.urdf.xacro"), str(second / "part.xacro")]
+
+
 def test_an_expression_that_runs_out_of_memory_is_a_memory_error_then_one_line(tmp_path):
     """[0] × 10^15 asks for 8 PB: refused at once, in this process a MemoryError, through
     compile_xacro (its child) one line naming the file."""
