@@ -18,6 +18,7 @@ from kinverify.errors import InputError
 from kinverify.backends import names_reading
 from kinverify.filemode.pipeline import _failed, _guarded, _readers, add_map, diagnose_files, relabel, verify_files, verify_three
 from kinverify.generate import generate_sdf
+from kinverify.generate.usd import generate_usd
 from kinverify.model.specfile import load_spec
 from kinverify.results import VerifyResult
 from kinverify.model.floating import BASE_COORDINATES
@@ -665,3 +666,16 @@ def test_three_files_read_the_accepted_differences_given(tmp_path, arm3_files):
     options = dataclasses.replace(LIMITS, backends=None)
     result = verify_three(urdf, str(mjcf), sdf, options, accept=str(accepted))
     assert result.verdict == "pass" and [f.kind for f in result.findings if f.accepted] == ["limit_difference"]
+
+
+def test_a_usd_side_is_read_by_the_usd_library_from_its_own_text(tmp_path):
+    pytest.importorskip("pxr")
+    urdf, _ = P.generated_pair("arm3")
+    (tmp_path / "arm3.urdf").write_text(urdf)
+    (tmp_path / "arm3.usda").write_text(generate_usd(load_spec(MODELS / "arm3.toml")))
+    options = dataclasses.replace(FAST, backends=["pinocchio-urdf", "usd"], suites=["kinematics"])
+    result = verify_files(str(tmp_path / "arm3.urdf"), str(tmp_path / "arm3.usda"), options, kinds=("urdf", "usd"))
+    assert not result.internal_errors and all(c.passed for c in result.checks)
+    assert {c.backends for c in result.checks if "finite-difference" not in c.backends} == {("pinocchio-urdf", "usd")}
+    # the one thing the pair states apart: the USD's armature, which a URDF cannot state
+    assert [(f.kind, f.severity) for f in result.findings if f.severity != "info"] == [("inexpressible", "warning")]

@@ -324,6 +324,14 @@ def test_joints_match_by_name_then_prefix_then_number_in_urdf_order():
     assert (free_u, free_m) == ([], [])
 
 
+def test_a_joint_paired_by_name_is_not_paired_again_by_its_place_in_the_tree():
+    # the URDF's second joint at the base has nothing to pair with: the MJCF's only joint there is
+    # already paired by name, and stays paired once
+    u, m = d([j("shoulder"), j("mount_tilt")]), d([j("shoulder")])
+    pairs, free_u, free_m = match_joints(u, m)
+    assert pairs == [("shoulder", "shoulder", "name")] and (free_u, free_m) == (["mount_tilt"], [])
+
+
 def test_given_joint_pairs_come_first():
     u, m = d([j("a"), j("b", "a")]), d([j("a"), j("b", "a")])
     assert pairs_of(u, m, ["a=b", "b=a"]) == {"a": ("b", "given"), "b": ("a", "given")}

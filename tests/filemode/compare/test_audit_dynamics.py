@@ -66,6 +66,17 @@ def test_an_mjcf_is_read_by_pinocchios_parser_with_gravity_turned_into_the_top_b
     assert np.abs(unturned.gravity(q) - mj.gravity(q)).max() > 0.1
 
 
+def test_an_mjcfs_springs_and_friction_are_left_out_of_its_rigid_body_dynamics(arm3):
+    """MuJoCo's inverse dynamics adds a joint's spring and friction loss (passive and constraint
+    forces) that Pinocchio's rigid bodies do not have: the audit compares rigid bodies alike."""
+    sprung = P.joint_attr(arm3[1], "joint2", "frictionloss", lambda _: "2")
+    sprung = P.sub_once(r'<joint name="joint2"', '<joint name="joint2" stiffness="40" springref="0.3"', sprung)
+    pin, mj, _ = AuditDynamicsSuite("mjcf", sprung).models(context())
+    v, a = np.full(3, 0.4), np.full(3, -0.7)
+    for q in Q:
+        assert pin.inverse(q, v, a) == pytest.approx(mj.inverse(q, v, a), abs=1e-9)
+
+
 @pytest.mark.parametrize(
     "kind, pair, note",
     [
