@@ -79,11 +79,13 @@ def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
 
 
 def equivalent_names() -> set[str]:
-    """Mutant names listed under the "Sampled mutants judged equivalent" heading of docs/testing.md."""
+    """Mutant names listed under the "Sampled mutants judged equivalent" heading of docs/testing.md:
+    the names a line starts with (one or more, each in backquotes, before the reason)."""
     text = (ROOT / "docs" / "testing.md").read_text()
     _, _, section = text.partition(EQUIVALENT_HEADING)
     section = re.split(r"\n#{1,3} ", section)[0]
-    return set(re.findall(r"^- `([^`]+__mutmut_\d+)`", section, flags=re.M))
+    heads = [line.partition("`: ")[0] for line in section.splitlines() if line.startswith("- `")]
+    return {name for head in heads for name in re.findall(r"`([^`]+__mutmut_\d+)", head + "`")}
 
 
 def run_module(module: str, tests: str, names: list[str]) -> dict[str, str]:

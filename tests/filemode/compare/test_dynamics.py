@@ -391,6 +391,14 @@ def test_the_mjcf_inertial_and_damping_a_finding_reports_are_substituted_and_the
     assert list(pin.damping) == [0.1, 0.1, 0.1] and list(mj.damping) == [0.1, 0.5, 0.1]
 
 
+def test_a_reported_body_no_compared_joint_moves_does_not_stop_the_next_from_being_substituted(changed_pair):
+    info = changed_pair[0]
+    link2 = info.m.body("link2")
+    pin, mj, _ = file_models(changed_pair, {"(base)": link2, "link9": link2, "joint2": link2}, {"joint2"})
+    for q, _, _ in STATES:
+        assert pin.mass(q) == pytest.approx(mj.mass(q), abs=1e-9)
+
+
 def test_without_a_finding_nothing_is_substituted(changed_pair):
     info = changed_pair[0]
     pin, mj, _ = file_models(changed_pair, {"link9": info.m.body("link2"), "(base)": info.m.body("link2")}, {"joint1"})
