@@ -98,6 +98,32 @@ def test_a_damping_difference_of_several_joints_substitutes_each(tmp_path):
     assert all(c.passed or c.kind == "explained" for c in result.checks)
 
 
+def test_a_damping_the_urdf_leaves_unset_is_substituted_too(tmp_path):
+    """joint2 without <dynamics damping> in the URDF (0 by default), 0.1 in the MJCF: a warning
+    naming the silent file, and the MJCF's damping substituted like a difference's."""
+    urdf = P.sub_once(r'(<joint name="joint2".*?<dynamics) damping="0.1"', lambda m: m[1], URDF)
+    result = run(tmp_path, urdf=urdf, mjcf=MJCF, suites=["dynamics"])
+    assert kinds(result) == [("damping_unset", "joint2")]
+    assert result.sections["dynamics"].notes[0].endswith(": the MJCF's damping of joint2.")
+    (damping,) = [c for c in result.checks if c.property == "dynamics.damping"]
+    assert damping.kind == "explained" and damping.note.endswith("explained by damping_unset on joint joint2")
+
+
+def test_a_centre_of_mass_mujoco_moves_to_the_body_origin_is_substituted_and_said(tmp_path):
+    """Both files put link3's centre of mass 0.5 µm above its origin; MuJoCo's compiler puts it at
+    the origin (within about 1e-6 m): the files agree, yet the MJCF's inertial is substituted, so
+    that both libraries hold what MuJoCo runs, and the note says why."""
+    urdf = P.sub_once(r'(<link name="link3">\s*<inertial>\s*<origin xyz=")0.0 0.0 0.05', lambda m: m[1] + "0.0 0.0 5e-07", URDF)
+    mjcf = P.sub_once(r'(<inertial pos=")0.0 0.0 0.05(" mass="0.0335)', lambda m: m[1] + "0.0 0.0 5e-07" + m[2], MJCF)
+    result = run(tmp_path, urdf=urdf, mjcf=mjcf, suites=["dynamics"])
+    assert (
+        result.sections["dynamics"]
+        .notes[0]
+        .endswith(": the MJCF's inertial of link3 (MuJoCo aligned its principal axes with the body frame).")
+    )
+    assert kinds(result) == [] and result.verdict == "pass"
+
+
 def test_the_dynamics_are_sampled_as_many_times_as_asked_at_least_once(tmp_path):
     """One sample asked (``--samples 1``): the dynamics see the joint ranges' edge configurations
     and one uniform draw, as many as the sampler makes for these ranges and that count."""
