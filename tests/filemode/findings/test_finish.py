@@ -194,6 +194,22 @@ def test_the_total_mass_is_said_beside_a_mass_difference(tmp_path):
     assert kinds(result) == [("mass_difference", "link2")]
 
 
+def test_a_base_welded_to_the_world_is_sized_by_its_mass_beyond_the_mass_tolerance_else_by_its_inertia(tmp_path):
+    """The MJCF's base 0.1 kg heavier with its centre of mass 1 cm up, beside the MJCF's 1 kg world
+    mount: one warning for the base (it cannot move), sized 1.1 kg; with a mass tolerance of 2 kg
+    the masses agree, so it is sized by its inertia and no total mass is said."""
+    mjcf = P.sub_once(
+        r'<inertial pos="0.0 0.0 0.0" mass="1.5707963267948968"', '<inertial pos="0.0 0.0 0.01" mass="1.6707963267948968"', MJCF
+    )
+    for tolerances, unit in (({}, "kg"), ({"inertia.mass": 2.0}, "kg·m²")):
+        result = run(tmp_path, mjcf=mjcf, tolerances=tolerances)
+        (f,) = [f for f in result.findings if f.kind == "base_inertial_difference"]
+        assert (f.subject, f.severity, f.unit) == ("base", "warning", unit)
+        assert f.magnitude == pytest.approx(1.1 if unit == "kg" else f.values["inertia_kgm2"], rel=1e-9)
+        total = [f.magnitude for f in result.findings if f.kind == "total_mass"]
+        assert total == ([pytest.approx(1.1, rel=1e-9)] if unit == "kg" else [])
+
+
 def test_fk_agreeing_to_the_written_precision_is_one_rounding_note_naming_the_rounded_number(tmp_path):
     """Both files turn link3 a quarter turn about x; the URDF writes it rpy 1.5708 (π/2 to 4
     decimals, 3.7e-6 rad off), the MJCF exactly. A pass with one rounding note, from link3 on,
