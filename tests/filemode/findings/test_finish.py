@@ -8,7 +8,9 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+import time
 
+import numpy as np
 import pytest
 
 import tests.filemode.pairs as P
@@ -49,7 +51,9 @@ def test_the_dynamics_are_compared_with_each_reported_difference_substituted(tmp
     """link2's inertial and joint2's damping differ: the MJCF's are substituted on the Pinocchio
     side, so the rigid-body dynamics agree and the damping check is explained by its finding; the
     substitutions are said first in the section's notes."""
+    start = time.perf_counter()
     result = run(tmp_path, suites=["dynamics"])
+    elapsed = time.perf_counter() - start
     assert list(result.sections) == ["filemode", "dynamics", "map"]
     notes = result.sections["dynamics"].notes
     assert notes[0] == (
@@ -62,7 +66,7 @@ def test_the_dynamics_are_compared_with_each_reported_difference_substituted(tmp
     assert checks["dynamics.damping"].kind == "explained"
     assert checks["dynamics.damping"].note.endswith("explained by damping_difference on joint joint2")
     assert kinds(result) == [("damping_difference", "joint2")] and result.verdict == "fail"
-    assert result.timings["dynamics"] > 0 and not result.internal_errors
+    assert 0 < result.timings["dynamics"] <= elapsed and not result.internal_errors  # a part of the whole run
 
 
 def test_without_the_dynamics_suite_no_dynamics_are_compared_but_the_parameters_still_are(tmp_path):
@@ -94,6 +98,32 @@ def test_a_damping_difference_of_several_joints_substitutes_each(tmp_path):
     assert all(c.passed or c.kind == "explained" for c in result.checks)
 
 
+def test_a_damping_the_urdf_leaves_unset_is_substituted_too(tmp_path):
+    """joint2 without <dynamics damping> in the URDF (0 by default), 0.1 in the MJCF: a warning
+    naming the silent file, and the MJCF's damping substituted like a difference's."""
+    urdf = P.sub_once(r'(<joint name="joint2".*?<dynamics) damping="0.1"', lambda m: m[1], URDF)
+    result = run(tmp_path, urdf=urdf, mjcf=MJCF, suites=["dynamics"])
+    assert kinds(result) == [("damping_unset", "joint2")]
+    assert result.sections["dynamics"].notes[0].endswith(": the MJCF's damping of joint2.")
+    (damping,) = [c for c in result.checks if c.property == "dynamics.damping"]
+    assert damping.kind == "explained" and damping.note.endswith("explained by damping_unset on joint joint2")
+
+
+def test_a_centre_of_mass_mujoco_moves_to_the_body_origin_is_substituted_and_said(tmp_path):
+    """Both files put link3's centre of mass 0.5 µm above its origin; MuJoCo's compiler puts it at
+    the origin (within about 1e-6 m): the files agree, yet the MJCF's inertial is substituted, so
+    that both libraries hold what MuJoCo runs, and the note says why."""
+    urdf = P.sub_once(r'(<link name="link3">\s*<inertial>\s*<origin xyz=")0.0 0.0 0.05', lambda m: m[1] + "0.0 0.0 5e-07", URDF)
+    mjcf = P.sub_once(r'(<inertial pos=")0.0 0.0 0.05(" mass="0.0335)', lambda m: m[1] + "0.0 0.0 5e-07" + m[2], MJCF)
+    result = run(tmp_path, urdf=urdf, mjcf=mjcf, suites=["dynamics"])
+    assert (
+        result.sections["dynamics"]
+        .notes[0]
+        .endswith(": the MJCF's inertial of link3 (MuJoCo aligned its principal axes with the body frame).")
+    )
+    assert kinds(result) == [] and result.verdict == "pass"
+
+
 def test_the_dynamics_are_sampled_as_many_times_as_asked_at_least_once(tmp_path):
     """One sample asked (``--samples 1``): the dynamics see the joint ranges' edge configurations
     and one uniform draw, as many as the sampler makes for these ranges and that count."""
@@ -105,6 +135,55 @@ def test_the_dynamics_are_sampled_as_many_times_as_asked_at_least_once(tmp_path)
     assert mass.samples == expected and mass.passed
 
 
+def test_the_dynamics_are_compared_at_the_configurations_the_users_seed_draws(tmp_path):
+    """Seed 5, 20 uniform draws besides the joint ranges' edge configurations; link2's 0.137 kg
+    within a mass tolerance of 0.5, so not substituted: the dynamics differ, and each check's worst
+    configuration is one of those the seed draws (the mass matrix's among the uniform draws)."""
+    lower, upper = [-math.pi, -math.pi / 2, -3 * math.pi / 4], [math.pi, math.pi / 2, 3 * math.pi / 4]
+    drawn = np.asarray(Samples(lower, upper, [True] * 3, 20, seed=5))
+    edges = len(Samples(lower, upper, [True] * 3, 0))
+    opts = dataclasses.replace(
+        BASE, suites=["dynamics"], samples=20, seed=5, extra={"dynamics_samples": 1000}, tolerances={"inertia.mass": 0.5}
+    )
+    result = verify_files(*P.write_pair(tmp_path, URDF, heavier_link2(MJCF)), opts)
+    state = [c for c in result.checks if c.property in ("dynamics.mass_matrix", "dynamics.gravity", "dynamics.bias")]
+    assert len(state) == 3 and not any(c.passed for c in state)
+    rows = {c.property: [i for i, q in enumerate(drawn) if np.allclose(q, c.worst_q, rtol=0, atol=1e-12)] for c in state}
+    assert all(c.samples == len(drawn) for c in state) and all(len(found) == 1 for found in rows.values())
+    assert rows["dynamics.mass_matrix"][0] >= edges
+
+
+@pytest.mark.parametrize(
+    "edit, body, subject",
+    [
+        # link3 hung from a 0.2 kg suspension on a slide joint the URDF lacks, held at zero
+        (lambda mjcf: P.suspended(mjcf, "link3", 0.2), "link2", "suspension_joint"),
+        # a 0.1 kg tool body welded to link3, no link of the URDF its twin
+        (
+            lambda mjcf: P.sub_once(
+                r'(<site name="end_effector"[^>]*/>)',
+                lambda m: (
+                    m[1]
+                    + '<body name="tool" pos="0 0 0.08"><inertial pos="0 0 0.01" mass="0.1" diaginertia="1e-5 1e-5 1e-5"/></body>'
+                ),
+                mjcf,
+            ),
+            "link3",
+            "tool",
+        ),
+    ],
+    ids=["moved-by-a-joint-in-one-file", "fixed-in-one-file"],
+)
+def test_a_part_in_the_mjcf_only_is_substituted_with_the_rigid_body_it_joins(tmp_path, edit, body, subject):
+    """A part the URDF lacks (its own finding, extra_parts) weighs in the MJCF's rigid body: that
+    body's whole inertial is substituted, so the rigid-body dynamics agree."""
+    result = run(tmp_path, mjcf=edit(MJCF), suites=["dynamics"])
+    assert result.sections["dynamics"].notes[0].endswith(f": the MJCF's inertial of {body}.")
+    assert kinds(result) == [("extra_parts", subject)]
+    dynamics = [c for c in result.checks if c.property.startswith("dynamics.")]
+    assert len(dynamics) == 7 and all(c.passed for c in dynamics)
+
+
 def test_the_total_mass_is_said_beside_a_mass_difference(tmp_path):
     """The MJCF's world mount (1 kg, welded to the world) and link2's extra 0.137 kg."""
     result = run(tmp_path, mjcf=heavier_link2(MJCF), suites=["inertia"])
@@ -113,6 +192,22 @@ def test_the_total_mass_is_said_beside_a_mass_difference(tmp_path):
     assert total.values["causes"] == ["world_parts", "mass_difference"]
     assert not [f for f in run(tmp_path).findings if f.kind == "total_mass"]  # the world mount alone: said already
     assert kinds(result) == [("mass_difference", "link2")]
+
+
+def test_a_base_welded_to_the_world_is_sized_by_its_mass_beyond_the_mass_tolerance_else_by_its_inertia(tmp_path):
+    """The MJCF's base 0.1 kg heavier with its centre of mass 1 cm up, beside the MJCF's 1 kg world
+    mount: one warning for the base (it cannot move), sized 1.1 kg; with a mass tolerance of 2 kg
+    the masses agree, so it is sized by its inertia and no total mass is said."""
+    mjcf = P.sub_once(
+        r'<inertial pos="0.0 0.0 0.0" mass="1.5707963267948968"', '<inertial pos="0.0 0.0 0.01" mass="1.6707963267948968"', MJCF
+    )
+    for tolerances, unit in (({}, "kg"), ({"inertia.mass": 2.0}, "kg·m²")):
+        result = run(tmp_path, mjcf=mjcf, tolerances=tolerances)
+        (f,) = [f for f in result.findings if f.kind == "base_inertial_difference"]
+        assert (f.subject, f.severity, f.unit) == ("base", "warning", unit)
+        assert f.magnitude == pytest.approx(1.1 if unit == "kg" else f.values["inertia_kgm2"], rel=1e-9)
+        total = [f.magnitude for f in result.findings if f.kind == "total_mass"]
+        assert total == ([pytest.approx(1.1, rel=1e-9)] if unit == "kg" else [])
 
 
 def test_fk_agreeing_to_the_written_precision_is_one_rounding_note_naming_the_rounded_number(tmp_path):
@@ -203,16 +298,21 @@ def test_an_accepted_difference_without_a_property_must_have_its_size_exactly(tm
         assert (f.property, f.accepted, result.verdict) == ("", accepted, "pass" if accepted else "fail")
 
 
-def test_a_usd_side_has_no_xml_to_find_rounded_constants_in(tmp_path):
-    """The arm as USD beside its URDF: the rounded constants are looked for in the URDF alone, and
-    the findings are made (no internal error from reading a USD as XML)."""
+@pytest.mark.parametrize("other", ["urdf", "mjcf"])
+def test_a_usd_side_has_no_xml_to_find_rounded_constants_in(tmp_path, other):
+    """The arm as USD beside its URDF (the USD second) or its MJCF (the USD first): the rounded
+    constants are looked for in the other file alone, and the findings are made (no internal error
+    from reading a USD as XML)."""
     pytest.importorskip("pxr")
-    (tmp_path / "arm.urdf").write_text(URDF)
+    text, name, backend = {"urdf": (URDF, "arm.urdf", "pinocchio-urdf"), "mjcf": (MJCF, "arm.xml", "mujoco")}[other]
+    (tmp_path / name).write_text(text)
     (tmp_path / "arm.usda").write_text(generate_usd(load_spec(MODELS / "arm3.toml")))
-    opts = dataclasses.replace(BASE, backends=["pinocchio-urdf", "usd"], suites=[])
-    result = verify_files(str(tmp_path / "arm.urdf"), str(tmp_path / "arm.usda"), opts, kinds=("urdf", "usd"))
+    files = {other: str(tmp_path / name), "usd": str(tmp_path / "arm.usda")}
+    order = ("urdf", "usd") if other == "urdf" else ("usd", "mjcf")
+    opts = dataclasses.replace(BASE, backends=[backend, "usd"], suites=[])
+    result = verify_files(*(files[k] for k in order), opts, kinds=order)
     assert result.internal_errors == [] and result.verdict == "pass"
-    assert result.model_info["files"] == {"urdf": str(tmp_path / "arm.urdf"), "usd": str(tmp_path / "arm.usda")}
+    assert result.model_info["files"] == files
 
 
 def test_a_frame_convention_where_nothing_differs_is_kept(tmp_path):
@@ -222,6 +322,23 @@ def test_a_frame_convention_where_nothing_differs_is_kept(tmp_path):
     (f,) = [f for f in result.findings if f.kind == "frame_convention"]
     assert f.subject == "link1" and f.magnitude == pytest.approx(math.pi / 2, rel=1e-9)
     assert result.verdict == "pass" and kinds(result) == []
+
+
+def test_no_frame_convention_is_claimed_where_a_disagreement_starts(tmp_path):
+    """link1's frame turned a quarter turn about its joint in the MJCF, and joint1's axis tilted by
+    1e-10 rad: within the alignment's tolerance (a convention, the motion agreeing), but the user
+    asks for 1e-12 rad. The frames from link1 on turn apart by up to 2·sin(q/2)·1e-10 rad (2e-10 at
+    joint1's limit π): one disagreement from link1, and no convention claimed there."""
+    mjcf = P.joint_attr(P.reframed_body(MJCF, "link1", math.pi / 2), "joint1", "axis", lambda s: "1e-10 0.0 1.0")
+    strict = run(tmp_path, mjcf=mjcf, suites=["kinematics"], tolerances={"fk.rotation": 1e-12})
+    assert kinds(strict) == [("disagreement_starts", "link1")] and strict.verdict == "fail"
+    (f,) = [f for f in strict.findings if f.kind == "disagreement_starts"]
+    assert f.values["frames"] == ["link1", "link2", "link3", "end_effector"]
+    assert f.magnitude == pytest.approx(2e-10, rel=1e-3)
+    assert not [f for f in strict.findings if f.kind == "frame_convention"]
+    default = run(tmp_path, mjcf=mjcf, suites=["kinematics"])  # the tilt within the default 1e-9 rad
+    assert [(f.kind, f.subject) for f in default.findings if f.kind == "frame_convention"] == [("frame_convention", "link1")]
+    assert default.verdict == "pass"
 
 
 def test_an_accepted_size_may_move_by_its_propertys_tolerance(tmp_path):
