@@ -24,6 +24,19 @@ def _tol(opts, name: str) -> float:
     return tolerance(opts, get_property(name))
 
 
+def _snap_note(parts) -> str:
+    """What MuJoCo's compiler did to the stated inertial of a rigid body's parts at run time."""
+    did = [
+        what
+        for what, done in (
+            ("aligned its principal axes with the body frame", any(p.snapped for p in parts)),
+            ("put its centre of mass at the body origin", any(p.snapped_com for p in parts)),
+        )
+        if done
+    ]
+    return f" (MuJoCo {' and '.join(did)})" if did else ""
+
+
 def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
     unknown = [r.label for r in results if r.status == "unknown"]
     if unknown:  # a placeholder mass makes the mass matrix near singular: nothing to measure there
@@ -41,12 +54,7 @@ def run_dynamics(result, info, sources, opts, results, damping_joints) -> None:
         if (r.status in ("differs", "explained", "unset", "unknown") or r.moved or r.group.key in snapped)
         and not r.group.fixed_base_root
     }
-    subs = [
-        f"the MJCF's inertial of {r.label}"
-        + (" (MuJoCo aligned its principal axes with the body frame)" if r.group.key in snapped else "")
-        for r in results
-        if r.group.key in groups
-    ]
+    subs = [f"the MJCF's inertial of {r.label}" + _snap_note(r.group.mjcf) for r in results if r.group.key in groups]
     subs += [f"the MJCF's damping of {', '.join(sorted(damping_joints))}"] if damping_joints else []
     suite = FileDynamicsSuite(info, groups, damping_joints, subs)
     q = Samples(sources.lower, sources.upper, sources.revolute, max(opts.samples, 1), opts.seed)

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import tests.filemode.pairs as P
+from kinverify.filemode.findings.finish import _snap_note
 from kinverify.filemode.pipeline import verify_files
 from kinverify.generate.usd import generate_usd
 from kinverify.model.specfile import load_spec
@@ -119,7 +120,7 @@ def test_a_centre_of_mass_mujoco_moves_to_the_body_origin_is_substituted_and_sai
     assert (
         result.sections["dynamics"]
         .notes[0]
-        .endswith(": the MJCF's inertial of link3 (MuJoCo aligned its principal axes with the body frame).")
+        .endswith(": the MJCF's inertial of link3 (MuJoCo put its centre of mass at the body origin).")
     )
     assert kinds(result) == [] and result.verdict == "pass"
 
@@ -352,3 +353,15 @@ def test_an_accepted_size_may_move_by_its_propertys_tolerance(tmp_path):
         result = run(tmp_path, accept=str(path), tolerances={"dynamics.damping": 0.1})
         (f,) = [f for f in result.findings if f.kind == "damping_difference"]
         assert (f.property, f.accepted) == ("dynamics.damping", accepted)
+
+
+def test_the_note_says_which_of_its_inertial_mujocos_compiler_changed():
+    def part(axes: bool, centre: bool):
+        return dataclasses.make_dataclass("Part", ["snapped", "snapped_com"])(axes, centre)
+
+    assert _snap_note([part(False, False)]) == ""
+    assert _snap_note([part(True, False)]) == " (MuJoCo aligned its principal axes with the body frame)"
+    assert _snap_note([part(False, True), part(False, False)]) == " (MuJoCo put its centre of mass at the body origin)"
+    assert _snap_note([part(True, False), part(False, True)]) == (
+        " (MuJoCo aligned its principal axes with the body frame and put its centre of mass at the body origin)"
+    )
