@@ -766,6 +766,18 @@ def test_a_joint_origin_moved_along_its_axis_is_said_once_not_again_as_frame_con
     assert f.values["frames"] == ["link3", "end_effector"] and f.values["xyz"] == pytest.approx([0, 0.01, 0], abs=1e-12)
 
 
+def test_lengths_in_millimetres_are_one_finding_that_explains_the_inertials_and_nothing_else_is_said(tmp_path):
+    """Every position the MJCF writes 1000 times the URDF's: one length-units finding (ratio 1000),
+    no frame or joint blamed for it, and the inertial comparison marked as explained by it."""
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = re.sub(r'( pos=")([^"]*)"', lambda g: g[1] + " ".join(repr(float(x) * 1000) for x in g[2].split()) + '"', mjcf)
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf), PINOCCHIO_MUJOCO)
+    (f,) = diag["findings"]
+    assert (f.kind, f.severity) == ("length_units", "error") and f.magnitude == pytest.approx(1000, rel=1e-12)
+    assert f.values["frames"] == ["base", "link1", "link2", "link3", "end_effector"]
+    assert diag["info"].inertials_explained_by == "length_units" and not diag["internal"]
+
+
 GUARDED = {  # each step diagnose_files guards, in the order it runs them: what its internal error names
     "unmoved_world": "attribution",
     "frame_twins": "frames with no same-named twin",
