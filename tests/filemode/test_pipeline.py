@@ -729,6 +729,12 @@ def test_a_zero_offset_the_limits_tolerance_set_by_the_user_tells_from_rounding(
     assert f.subject == "joint2" and f.magnitude == pytest.approx(1e-3, abs=1e-12)
     assert f.values["range_written_alike"] is True and f.values["checks"] == [["limits.position", "joints"]]
     assert "its range [-1.57, 1.57] is written alike" in f.message
+    # the user's tolerance 1e-2 rad: the range 1e-3 rad apart is within it, the offset alone is said
+    wide = diagnose_files(*files, dataclasses.replace(PINOCCHIO_MUJOCO, tolerances={"limits.position": 1e-2}))
+    f = only_of(wide["findings"], "zero_offset")
+    assert (
+        f.magnitude == pytest.approx(1e-3, abs=1e-12) and "range_written_alike" not in f.values and "its range" not in f.message
+    )
 
 
 def test_the_alignment_reads_the_urdf_with_the_library_that_read_it(tmp_path):
@@ -805,6 +811,33 @@ def test_each_guarded_step_that_fails_is_kinverifys_own_error_and_the_rest_still
     assert sorted(diag["backends"]) == ["mujoco", "pinocchio-urdf"] and diag["reference"] == "pinocchio-urdf"
     assert diag["findings"] == [] and diag["parser_rows"] == [] and diag["alignment"].attribution == {}
     assert [a for a, _, _ in diag["matching"].frames] == ["base", "link1", "link2", "link3", "end_effector"]
+
+
+def test_the_accepted_differences_written_name_both_files_and_a_failing_findings_step_is_named(tmp_path, monkeypatch, arm3_files):
+    urdf, mjcf, _ = arm3_files
+    accepted = tmp_path / "accepted.toml"
+    result = verify_files(urdf, mjcf, LIMITS, write_accepted=str(accepted))
+    assert accepted.read_text().splitlines()[0] == f"# kinverify accepted differences for {urdf} + {mjcf}"
+    assert f"accepted differences written to {accepted}: review each entry and give its reason" in result.notes
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("planted")
+
+    monkeypatch.setattr("kinverify.filemode.pipeline.finish", broken)
+    result = verify_files(urdf, mjcf, LIMITS)
+    assert result.internal_errors == ["file mode, findings: ZeroDivisionError: planted"]
+    assert result.verdict == "error" and result.exit_code == 3 and "filemode" not in result.sections
+
+
+def test_three_files_with_a_usd_take_it_as_a_usd_side(tmp_path, arm3_files):
+    pytest.importorskip("pxr")
+    urdf = arm3_files[0]
+    (tmp_path / "arm3.usda").write_text(generate_usd(load_spec(MODELS / "arm3.toml")))
+    options = dataclasses.replace(LIMITS, backends=["pinocchio-urdf", "usd"])
+    result = verify_three(urdf, None, None, options, usd=str(tmp_path / "arm3.usda"))
+    assert result.model_info["files"] == {"urdf": urdf, "usd": str(tmp_path / "arm3.usda")}
+    assert {c.backends for c in result.checks} == {("urdf", "usd")} and not result.internal_errors
+    assert any(n.startswith("USD: read by usd-core (pxr), its only reader here") for n in result.notes)
 
 
 def above_info_of(findings: list) -> list:
