@@ -570,6 +570,8 @@ def test_relabel_says_how_a_usd_side_floats():
         "q_usd = −q_urdf; its root body's xform; URDFs"
     )
     assert result.checks[0].backends == ("urdf", "usd") and result.notes == ["USD: a note", "MJCFX"]
+    table = result.sections["s"].tables[0]  # a table's title, columns and rows too
+    assert (table.title, table.columns, table.rows) == ("USD", ["URDF", "x"], [["USD", 1.0]])
 
 
 def test_the_map_section_or_a_note_saying_why_it_was_not_made(arm3_files):
