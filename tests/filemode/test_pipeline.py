@@ -417,15 +417,20 @@ def arm3_files(tmp_path_factory) -> tuple[str, str, str]:
     return urdf, mjcf, str(folder / "arm3.sdf")
 
 
-@pytest.fixture(scope="module")
-def floating_files(tmp_path_factory) -> tuple[str, str]:
-    """arm3 with its root joint floating (the MJCF's base free), written once."""
+def floating_arm3() -> tuple[str, str]:
+    """arm3's URDF and MJCF texts with its root joint floating (the MJCF's base free)."""
     urdf, mjcf = P.generated_pair("arm3")
     urdf = P.sub_once(r'<joint name="world_to_base" type="fixed">', '<joint name="world_to_base" type="floating">', urdf)
     mjcf = P.sub_once(r'<body name="world_mount">\s*<inertial[^>]*/>\s*', "", mjcf)
     end = mjcf.rindex("</body>")
     mjcf = P.sub_once(r'(<body name="base" pos="[^"]*">)', r"\1<freejoint/>", mjcf[:end] + mjcf[end + len("</body>") :])
-    return write_pair(tmp_path_factory.mktemp("floating"), urdf, mjcf)
+    return urdf, mjcf
+
+
+@pytest.fixture(scope="module")
+def floating_files(tmp_path_factory) -> tuple[str, str]:
+    """arm3 with its root joint floating (the MJCF's base free), written once."""
+    return write_pair(tmp_path_factory.mktemp("floating"), *floating_arm3())
 
 
 @pytest.fixture  # per test: mutmut credits a call only to the test that makes it
@@ -565,6 +570,8 @@ def test_relabel_says_how_a_usd_side_floats():
         "q_usd = −q_urdf; its root body's xform; URDFs"
     )
     assert result.checks[0].backends == ("urdf", "usd") and result.notes == ["USD: a note", "MJCFX"]
+    table = result.sections["s"].tables[0]  # a table's title, columns and rows too
+    assert (table.title, table.columns, table.rows) == ("USD", ["URDF", "x"], [["USD", 1.0]])
 
 
 def test_the_map_section_or_a_note_saying_why_it_was_not_made(arm3_files):
@@ -679,3 +686,167 @@ def test_a_usd_side_is_read_by_the_usd_library_from_its_own_text(tmp_path):
     assert {c.backends for c in result.checks if "finite-difference" not in c.backends} == {("pinocchio-urdf", "usd")}
     # the one thing the pair states apart: the USD's armature, which a URDF cannot state
     assert [(f.kind, f.severity) for f in result.findings if f.severity != "info"] == [("inexpressible", "warning")]
+
+
+# --- decisions diagnose_files makes, each on the smallest pair that tells it apart ---------------
+
+PINOCCHIO_MUJOCO = VerifyOptions(backends=["pinocchio-urdf", "mujoco"])
+MID_TREE_FREE = (  # a free body below link3: Pinocchio reads it (held at neutral), MuJoCo's URDF import refuses it
+    '<link name="slider"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" '
+    'iyz="0"/></inertial></link><joint name="loose" type="floating"><parent link="link3"/><child link="slider"/></joint>'
+)
+
+
+def test_floating_files_whose_base_carries_everything_elsewhere_keep_their_base_frames(tmp_path):
+    """Both bases float; the MJCF's base body carries its centre of mass and joint1 5 cm along −x.
+    The base bodies fix the frame: no world shift moves the base along (the base frames would then
+    differ), so the difference is joint1's origin, 5 cm, not a base frame offset."""
+    urdf, mjcf = floating_arm3()
+    mjcf = mjcf.replace('<inertial pos="0.0 0.0 0.0" mass="1.57', '<inertial pos="-0.05 0.0 0.0" mass="1.57', 1)
+    mjcf = P.sub_once(r'<body name="link1" pos="0.0 0.0 0.1"', '<body name="link1" pos="-0.05 0.0 0.1"', mjcf)
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf), PINOCCHIO_MUJOCO)
+    al = diag["alignment"]
+    assert al.candidate == "base frames" and np.array_equal(al.T, np.eye(4)) and not diag["internal"]
+    assert [(f.kind, f.subject) for f in above_info_of(diag["findings"])] == [("joint_origin_moved", "joint1")]
+    moved = only_of(diag["findings"], "joint_origin_moved")
+    assert moved.magnitude == pytest.approx(0.05, abs=1e-12) and moved.values["xyz"] == pytest.approx([-0.05, 0, 0], abs=1e-12)
+
+
+def test_a_zero_offset_the_limits_tolerance_set_by_the_user_tells_from_rounding(tmp_path):
+    """joint2's range written ±1.57 in both files (rounded ±π/2: a limits floor of 2 × 7.96e-4 rad)
+    and the MJCF's joint2 zero 1 mm rad further (``ref``), its range written alike: the range sits
+    1e-3 rad apart physically. Below the floor it is rounding; with the limits tolerance set by the
+    user (1e-4 rad), the floor no longer applies and the zero offset says the range too."""
+    urdf, mjcf = P.generated_pair("arm3")
+    half = "1.5707963267948966"
+    urdf = urdf.replace(f'lower="-{half}" upper="{half}"', 'lower="-1.57" upper="1.57"', 1)
+    mjcf = P.sub_once(
+        r'(<joint name="joint2" )', r'\1ref="0.001" ', mjcf.replace(f'range="-{half} {half}"', 'range="-1.57 1.57"', 1)
+    )
+    files = write_pair(tmp_path, urdf, mjcf)
+    user = dataclasses.replace(PINOCCHIO_MUJOCO, tolerances={"limits.position": 1e-4})
+    diag = diagnose_files(*files, user)
+    assert diag["info"].floors.limit == pytest.approx(2 * (math.pi / 2 - 1.57), rel=1e-9)
+    f = only_of(diag["findings"], "zero_offset")
+    assert f.subject == "joint2" and f.magnitude == pytest.approx(1e-3, abs=1e-12)
+    assert f.values["range_written_alike"] is True and f.values["checks"] == [["limits.position", "joints"]]
+    assert "its range [-1.57, 1.57] is written alike" in f.message
+    # the user's tolerance 1e-2 rad: the range 1e-3 rad apart is within it, the offset alone is said
+    wide = diagnose_files(*files, dataclasses.replace(PINOCCHIO_MUJOCO, tolerances={"limits.position": 1e-2}))
+    f = only_of(wide["findings"], "zero_offset")
+    assert (
+        f.magnitude == pytest.approx(1e-3, abs=1e-12) and "range_written_alike" not in f.values and "its range" not in f.message
+    )
+
+
+def test_the_alignment_reads_the_urdf_with_the_library_that_read_it(tmp_path):
+    """A free body below link3: Pinocchio reads the URDF (the body held at neutral), MuJoCo's URDF
+    import refuses it (a warning); the alignment poses come from Pinocchio, and the pair agrees."""
+    urdf, mjcf = P.generated_pair("arm3")
+    files = write_pair(tmp_path, urdf.replace("</robot>", MID_TREE_FREE + "</robot>"), mjcf)
+    diag = diagnose_files(*files, dataclasses.replace(PINOCCHIO_MUJOCO, backends=["pinocchio-urdf", "mujoco-urdf", "mujoco"]))
+    assert diag["reference"] == "pinocchio-urdf" and sorted(diag["backends"]) == ["mujoco", "pinocchio-urdf"]
+    refused = only_of(diag["findings"], "parser_refused")
+    assert refused.values == {"file": "URDF", "backend": "mujoco-urdf"} and "free joint" in refused.message
+    assert np.array_equal(diag["alignment"].T, np.eye(4)) and diag["alignment"].unexplained == 0 and not diag["internal"]
+    assert "URDF: loose: JointModelFreeFlyer has 7 coordinates; only 1-DOF joints are compared (held at neutral)" in diag["notes"]
+
+
+def test_no_library_asked_for_reading_the_urdf_is_a_one_line_input_error_saying_why(tmp_path):
+    urdf, mjcf = P.generated_pair("arm3")
+    files = write_pair(tmp_path, urdf.replace("</robot>", MID_TREE_FREE + "</robot>"), mjcf)
+    with pytest.raises(InputError) as err:
+        diagnose_files(*files, dataclasses.replace(PINOCCHIO_MUJOCO, backends=["mujoco-urdf", "mujoco"]))
+    message = str(err.value)
+    assert message.startswith("no library could read the URDF: mujoco-urdf refuses the URDF: ")
+    assert "free joint can only be used on top level" in message and "\n" not in message
+
+
+def test_a_joint_origin_moved_along_its_axis_is_said_once_not_again_as_frame_conventions(tmp_path):
+    """The MJCF's link3 body 1 cm along joint3's axis (y): link3 and the end effector sit at a
+    constant offset, which is joint3's origin moved (an error), not a frame convention of each."""
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = P.sub_once(r'<body name="link3" pos="0.0 0.0 0.25">', '<body name="link3" pos="0.0 0.01 0.25">', mjcf)
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf), PINOCCHIO_MUJOCO)
+    assert [(f.kind, f.subject) for f in diag["findings"]] == [("joint_origin_moved", "joint3")]
+    f = diag["findings"][0]
+    assert f.severity == "error" and f.magnitude == pytest.approx(0.01, abs=1e-12)
+    assert f.values["frames"] == ["link3", "end_effector"] and f.values["xyz"] == pytest.approx([0, 0.01, 0], abs=1e-12)
+
+
+def test_lengths_in_millimetres_are_one_finding_that_explains_the_inertials_and_nothing_else_is_said(tmp_path):
+    """Every position the MJCF writes 1000 times the URDF's: one length-units finding (ratio 1000),
+    no frame or joint blamed for it, and the inertial comparison marked as explained by it."""
+    urdf, mjcf = P.generated_pair("arm3")
+    mjcf = re.sub(r'( pos=")([^"]*)"', lambda g: g[1] + " ".join(repr(float(x) * 1000) for x in g[2].split()) + '"', mjcf)
+    diag = diagnose_files(*write_pair(tmp_path, urdf, mjcf), PINOCCHIO_MUJOCO)
+    (f,) = diag["findings"]
+    assert (f.kind, f.severity) == ("length_units", "error") and f.magnitude == pytest.approx(1000, rel=1e-12)
+    assert f.values["frames"] == ["base", "link1", "link2", "link3", "end_effector"]
+    assert diag["info"].inertials_explained_by == "length_units" and not diag["internal"]
+
+
+GUARDED = {  # each step diagnose_files guards, in the order it runs them: what its internal error names
+    "unmoved_world": "attribution",
+    "frame_twins": "frames with no same-named twin",
+    "attribute": "attribution",
+    "length_units": "length units",
+    "alignment_findings": "alignment findings",
+    "convention_findings": "frame conventions",
+    "validate_inertials": "inertial validation",
+    "cross_check": "parser cross-check",
+    "coupling_findings": "couplings",
+}
+
+
+def test_each_guarded_step_that_fails_is_kinverifys_own_error_and_the_rest_still_runs(tmp_path, monkeypatch, arm3_files):
+    """Every guarded step planted to fail (kinverify's own bug): each is one internal error naming
+    the step, in order, and the files are still read, aligned and built by every library asked."""
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("planted")
+
+    for name in GUARDED:
+        monkeypatch.setattr(f"kinverify.filemode.pipeline.{name}", broken)
+    diag = diagnose_files(*arm3_files[:2], PINOCCHIO_MUJOCO)
+    assert diag["internal"] == [f"file mode, {what}: ZeroDivisionError: planted" for what in GUARDED.values()]
+    assert sorted(diag["backends"]) == ["mujoco", "pinocchio-urdf"] and diag["reference"] == "pinocchio-urdf"
+    assert diag["findings"] == [] and diag["parser_rows"] == [] and diag["alignment"].attribution == {}
+    assert [a for a, _, _ in diag["matching"].frames] == ["base", "link1", "link2", "link3", "end_effector"]
+
+
+def test_the_accepted_differences_written_name_both_files_and_a_failing_findings_step_is_named(tmp_path, monkeypatch, arm3_files):
+    urdf, mjcf, _ = arm3_files
+    accepted = tmp_path / "accepted.toml"
+    result = verify_files(urdf, mjcf, LIMITS, write_accepted=str(accepted))
+    assert accepted.read_text().splitlines()[0] == f"# kinverify accepted differences for {urdf} + {mjcf}"
+    assert f"accepted differences written to {accepted}: review each entry and give its reason" in result.notes
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("planted")
+
+    monkeypatch.setattr("kinverify.filemode.pipeline.finish", broken)
+    result = verify_files(urdf, mjcf, LIMITS)
+    assert result.internal_errors == ["file mode, findings: ZeroDivisionError: planted"]
+    assert result.verdict == "error" and result.exit_code == 3 and "filemode" not in result.sections
+
+
+def test_three_files_with_a_usd_take_it_as_a_usd_side(tmp_path, arm3_files):
+    pytest.importorskip("pxr")
+    urdf = arm3_files[0]
+    (tmp_path / "arm3.usda").write_text(generate_usd(load_spec(MODELS / "arm3.toml")))
+    options = dataclasses.replace(LIMITS, backends=["pinocchio-urdf", "usd"])
+    result = verify_three(urdf, None, None, options, usd=str(tmp_path / "arm3.usda"))
+    assert result.model_info["files"] == {"urdf": urdf, "usd": str(tmp_path / "arm3.usda")}
+    assert {c.backends for c in result.checks} == {("urdf", "usd")} and not result.internal_errors
+    assert any(n.startswith("USD: read by usd-core (pxr), its only reader here") for n in result.notes)
+
+
+def above_info_of(findings: list) -> list:
+    return [f for f in findings if f.severity != "info"]
+
+
+def only_of(findings: list, kind: str):
+    hits = [f for f in findings if f.kind == kind]
+    assert len(hits) == 1, [(f.kind, f.subject) for f in findings]
+    return hits[0]
