@@ -157,6 +157,21 @@ def test_a_library_reading_the_file_differently_fails_naming_the_library_and_the
     assert statuses(result)["yourdfpy"] == "reads it differently"
 
 
+def test_an_inertial_read_otherwise_joins_a_frame_read_otherwise(tmp_path):
+    """Two causes in one file: yourdfpy moves a prismatic carriage along an axis of length 2, and
+    MuJoCo's URDF import gives a link without <inertial> its geometry's mass: one finding each."""
+    urdf, _ = generated_pair("scara")
+    joint = re.search(r'<joint name="(\w+)" type="prismatic">.*?<child link="(\w+)"', urdf, re.S)
+    urdf = re.sub(rf'(<joint name="{joint[1]}" type="prismatic">.*?<axis xyz=")0.0 0.0 -1.0(")', r"\g<1>0 0 -2\2", urdf, 1, re.S)
+    bare, n = re.subn(rf'(<link name="{joint[2]}">)\s*<inertial>.*?</inertial>', r"\1", urdf, count=1, flags=re.S)
+    assert n == 1
+    result = audit(tmp_path, bare, "urdf")
+    assert sorted((f.kind, f.subject, f.property, f.values["backend"]) for f in result.findings if f.fails) == [
+        ("parser_disagreement", joint[2], "fk.position", "yourdfpy"),
+        ("parser_disagreement", joint[2], "inertia.mass", "mujoco-urdf"),
+    ]
+
+
 def test_a_library_refusing_the_file_is_a_warning_naming_it(tmp_path):
     urdf, mjcf = generated_pair("panda")
     twice = urdf.replace(

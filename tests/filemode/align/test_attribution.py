@@ -631,3 +631,17 @@ def test_findings_count_counts_a_flip_and_an_offset_without_an_attribution():
     info = small_info(small_mjcf(), sign={"j2": -1}, offset={"j3": 0.1})
     info.alignment.attribution = {}
     assert findings_count(info) == 2
+
+
+def test_a_twist_only_the_next_axis_shows_is_read_from_it():
+    # l2 holds a ball on its own axis (a centre on y, one inertia every way): only j3's axis, 0.3 m
+    # along l2's z, shows l2's frame twisted 0.1 rad about joint 2's axis
+    ball = (
+        '<inertial><origin xyz="0 0.05 0"/><mass value="1.0"/><inertia ixx="0.03" iyy="0.03" izz="0.03" ixy="0" ixz="0" iyz="0"/>'
+    )
+    urdf = small_urdf().replace(urdf_link("l2"), f'<link name="l2">{ball}</inertial></link>')
+    twist = [math.cos(0.05), 0.0, math.sin(0.05), 0.0]
+    l2 = {"quat": words(twist), "ipos": "0 0.05 0", "inertia": 'diaginertia="0.03 0.03 0.03"'}
+    out = attributed(small_info(small_mjcf(l2=l2), urdf))
+    assert out["j2"].moved is None and out["j2"].turn == pytest.approx([0.0, 0.1, 0.0], abs=1e-9)
+    assert unchanged(out["j3"]) and unchanged(out["j1"])

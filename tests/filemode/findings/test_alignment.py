@@ -283,6 +283,7 @@ def test_a_world_moved_only_or_turned_only_is_a_difference_and_below_double_prec
     tiny = np.eye(4)
     tiny[:3, 3] = [5e-10, 0.0, 0.0]
     assert found(D.alignment(maps(), T=tiny)) == []
+    assert found(D.alignment(maps(), T=np.eye(4))) == []  # the same world exactly: nothing to say
     far = np.eye(4)
     far[:3, 3] = [3000.0, 2e-6, 0.0]  # 2e-6 is below the double precision at 3 km: zero
     (h,) = found(D.alignment(maps(), T=far))

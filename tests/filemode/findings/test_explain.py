@@ -122,6 +122,11 @@ def test_the_rounding_finding_starts_at_the_first_frame_in_chain_order_and_names
         "(the MJCF writes 0.70711 for link2 at body link2 quat (rounded to 5 decimals))"
     )
     assert rounding_finding([], frames_info(), [culprit]) is None
+    second = ("URDF", "joint joint3 origin rpy", "1.5708", "link3", 4)
+    assert rounding_finding(raised, frames_info(), [culprit, second]).message.endswith(
+        "(the MJCF writes 0.70711 for link2 at body link2 quat (rounded to 5 decimals); "
+        "the URDF writes 1.5708 for link3 at joint joint3 origin rpy (rounded to 4 decimals))"
+    )
 
 
 def test_the_rounding_finding_without_a_culprit_describes_both_files_precision_and_an_unmatched_frame_comes_last():
