@@ -162,7 +162,9 @@ def test_an_inertial_read_otherwise_joins_a_frame_read_otherwise(tmp_path):
     MuJoCo's URDF import gives a link without <inertial> its geometry's mass: one finding each."""
     urdf, _ = generated_pair("scara")
     joint = re.search(r'<joint name="(\w+)" type="prismatic">.*?<child link="(\w+)"', urdf, re.S)
-    urdf = re.sub(rf'(<joint name="{joint[1]}" type="prismatic">.*?<axis xyz=")0.0 0.0 -1.0(")', r"\g<1>0 0 -2\2", urdf, 1, re.S)
+    urdf = re.sub(
+        rf'(<joint name="{joint[1]}" type="prismatic">.*?<axis xyz=")0.0 0.0 -1.0(")', r"\g<1>0 0 -2\2", urdf, count=1, flags=re.S
+    )
     bare, n = re.subn(rf'(<link name="{joint[2]}">)\s*<inertial>.*?</inertial>', r"\1", urdf, count=1, flags=re.S)
     assert n == 1
     result = audit(tmp_path, bare, "urdf")
