@@ -54,10 +54,11 @@ class BackendError(KinverifyError, RuntimeError):
 
     Attributes:
         backend: registry name of the backend (e.g. ``pinocchio-urdf``).
+        reason: what it said, without its name.
     """
 
     def __init__(self, backend: str, message: str) -> None:
-        self.backend = backend
+        self.backend, self.reason = backend, message
         super().__init__(f"{backend}: {message}")
 
 

@@ -59,8 +59,7 @@ class PinocchioDynamics:
             raise BackendError(
                 self.library,
                 f"dynamics needs the model to move by the compared joints only ({compared} degree{'s' * (compared != 1)} "
-                f"of freedom), "
-                f"the {self.reads} has {m.nv}",
+                f"of freedom), the {self.reads} has {m.nv}",
             )
         self.idx_v = np.array([m.joints[m.getJointId(j)].idx_v for j in joint_names])
         self.idx_q = np.array([m.joints[m.getJointId(j)].idx_q for j in joint_names])

@@ -9,7 +9,7 @@ import importlib
 import numpy as np
 
 from kinverify.backends import available_backends, names_reading
-from kinverify.errors import InputError, KinverifyError, UnknownNameError, library_reason
+from kinverify.errors import BackendError, InputError, KinverifyError, UnknownNameError, library_reason
 from kinverify.filemode.align.view import AlignedBackend
 from kinverify.filemode.compare.crosscheck import refusal_findings
 from kinverify.filemode.findings.table import finding
@@ -70,8 +70,10 @@ def build_backends(info, urdf_text: str, mjcf_text: str, wanted, tol, findings: 
             if isinstance(err, KeyboardInterrupt):
                 raise
             side = LABELS[kinds[0] if name in first else kinds[1]]
-            text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {library_reason(err)}"
-            text = text.removeprefix(f"{name}: ")  # a backend's error starts with its name: said once
+            if isinstance(err, BackendError) and err.backend == name:  # its name is said once, below
+                text = err.reason
+            else:
+                text = str(err) if isinstance(err, KinverifyError) else f"{type(err).__name__}: {library_reason(err)}"
             findings.append(finding("parser_refused", f"{name} refuses the {side}: {text}", {"file": side, "backend": name}))
     findings += refusal_findings(out, kinds)
     return out
