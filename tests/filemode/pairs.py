@@ -267,3 +267,43 @@ def suspended(mjcf: str, body: str, mass: float) -> str:
     parent.remove(child)
     holder.append(child)
     return ET.tostring(root, encoding="unicode")
+
+
+def small_usda(
+    tmp_path, name: str, header: str = "", body1: str = "/r/b1", pos0: str = "(0, 0, 0.1)", art: bool = True, extra: str = ""
+) -> str:
+    """A two-body USD robot (a fixed root body, a revolute joint ``j1`` to the second) written as
+    ``NAME.usda`` in ``tmp_path``: its path. ``header``, ``body1``, ``pos0``, ``art``, ``extra``: the
+    pieces tests change."""
+    api = '"PhysicsRigidBodyAPI", "PhysicsMassAPI"' + (', "PhysicsArticulationRootAPI"' if art else "")
+    text = f'''#usda 1.0
+(
+    upAxis = "Z"{header}
+)
+def Xform "r"
+{{
+    def Xform "b0" (apiSchemas = [{api}])
+    {{
+        float physics:mass = 1
+    }}
+    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
+    {{
+        float physics:mass = 2
+    }}
+    def PhysicsFixedJoint "root"
+    {{
+        rel physics:body1 = </r/b0>
+    }}
+    def PhysicsRevoluteJoint "j1"
+    {{
+        uniform token physics:axis = "Z"
+        rel physics:body0 = </r/b0>
+        rel physics:body1 = <{body1}>
+        point3f physics:localPos0 = {pos0}
+    }}
+    {extra}
+}}
+'''
+    path = tmp_path / f"{name}.usda"
+    path.write_text(text)
+    return str(path)

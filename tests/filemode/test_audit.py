@@ -28,7 +28,7 @@ from kinverify.filemode.read.prepare import prepare_urdf
 from kinverify.filemode.usd_audit import ONLY_READER as USD_ONLY
 from kinverify.filemode.compare.crosscheck import QUIRK_ISSUE
 from kinverify.run import VerifyOptions
-from tests.filemode.pairs import generated_pair, ignored_by_drake, turned_world
+from tests.filemode.pairs import generated_pair, ignored_by_drake, small_usda, turned_world
 from tests.paths import REAL_ROBOTS
 
 OPTIONS = VerifyOptions(samples=20, fd_samples=4, extra={"dynamics_samples": 20})
@@ -571,47 +571,17 @@ def test_every_free_base_is_named(tmp_path):
     ]
 
 
-USDA = """#usda 1.0
-(
-    upAxis = "Z"
-)
-def Xform "r"
-{
-    def Xform "b0" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI", "PhysicsArticulationRootAPI"])
-    {
-        float physics:mass = 1
-    }
-    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
-    {
-        float physics:mass = 2
-    }
-    def PhysicsFixedJoint "root"
-    {
-        rel physics:body1 = </r/b0>
-    }
-    def PhysicsRevoluteJoint "j1"
-    {
-        uniform token physics:axis = "Z"
-        rel physics:body0 = </r/b0>
-        rel physics:body1 = </r/b1>
-        point3f physics:localPos0 = (0, 0, 0.1)
-    }
-}
-"""
-
-
 def test_a_usd_audit_is_usd_cores_reading_with_what_the_file_states(tmp_path):
     pytest.importorskip("pxr")
-    path = tmp_path / "r.usda"
-    path.write_text(USDA)
-    result = audit_file(str(path), "usd", OPTIONS)
+    path = small_usda(tmp_path, "r")  # two bodies and a revolute joint between them
+    result = audit_file(path, "usd", OPTIONS)
     assert result.notes[0] == USD_ONLY and list(result.sections)[:2] == ["audit", "usd"]
     assert (
         "dynamics not compared: usd-core reads the USD's kinematics and inertials, no USD dynamics library is here"
         in result.notes
     )
     assert [r[0] for r in result.sections["usd"].tables[0].rows] == ["j1"]
-    assert result.model_info["audit"]["file"] == "USD" and result.model_info["files"] == {"usd": str(path)}
+    assert result.model_info["audit"]["file"] == "USD" and result.model_info["files"] == {"usd": path}
     assert result.sections["audit"].title == "One-file audit: every library reading the USD"
 
 

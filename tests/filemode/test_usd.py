@@ -24,6 +24,7 @@ from kinverify.filemode.audit import audit_file  # noqa: E402
 from kinverify.filemode.pipeline import verify_files, verify_three  # noqa: E402
 from kinverify.filemode.read.describe_usd import describe_usd  # noqa: E402
 from kinverify.run import VerifyOptions  # noqa: E402
+from tests.filemode.pairs import small_usda  # noqa: E402
 from tests.paths import REAL_ROBOTS  # noqa: E402
 
 FAST = VerifyOptions(samples=5, fd_samples=2)
@@ -251,43 +252,6 @@ def test_the_one_file_audit_says_what_the_usd_states_and_leaves_unset():
     assert any(c.property == "jacobian.fd" for c in result.checks)
 
 
-def _usda(
-    tmp_path, name: str, header: str = "", body1: str = "/r/b1", pos0: str = "(0, 0, 0.1)", art: bool = True, extra: str = ""
-) -> str:
-    api = '"PhysicsRigidBodyAPI", "PhysicsMassAPI"' + (', "PhysicsArticulationRootAPI"' if art else "")
-    text = f'''#usda 1.0
-(
-    upAxis = "Z"{header}
-)
-def Xform "r"
-{{
-    def Xform "b0" (apiSchemas = [{api}])
-    {{
-        float physics:mass = 1
-    }}
-    def Xform "b1" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"])
-    {{
-        float physics:mass = 2
-    }}
-    def PhysicsFixedJoint "root"
-    {{
-        rel physics:body1 = </r/b0>
-    }}
-    def PhysicsRevoluteJoint "j1"
-    {{
-        uniform token physics:axis = "Z"
-        rel physics:body0 = </r/b0>
-        rel physics:body1 = <{body1}>
-        point3f physics:localPos0 = {pos0}
-    }}
-    {extra}
-}}
-'''
-    path = tmp_path / f"{name}.usda"
-    path.write_text(text)
-    return str(path)
-
-
 LOOP = 'def PhysicsRevoluteJoint "j2"\n    {\n        rel physics:body0 = </r/b0>\n        rel physics:body1 = </r/b1>\n    }'
 
 
@@ -310,19 +274,19 @@ def test_bad_usd_is_refused_naming_the_prim_or_layer(tmp_path, case, expected):
         f.truncate(9 * 2**20)
     name = "self" if "self.usda" in case.get("header", "") else "bad"
     with pytest.raises(InputError) as err:
-        read_robot(_usda(tmp_path, name, **case))
+        read_robot(small_usda(tmp_path, name, **case))
     assert expected in str(err.value) and "\n" not in str(err.value)
 
 
 def test_bad_usd_exits_2_with_one_line(tmp_path, capsys):
-    path = _usda(tmp_path, "bad", body1="/r/nothere")
+    path = small_usda(tmp_path, "bad", body1="/r/nothere")
     assert main(["verify", "--usd", path, "--json", str(tmp_path / "o.json"), "--report", str(tmp_path / "o.html")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "/r/j1" in err and not (tmp_path / "o.json").exists()
 
 
 def test_a_small_usd_alone_passes_the_audit(tmp_path):
-    result = audit_file(_usda(tmp_path, "ok"), "usd", FAST)
+    result = audit_file(small_usda(tmp_path, "ok"), "usd", FAST)
     assert result.verdict == "pass" and [r[0] for r in result.sections["usd"].tables[0].rows] == ["j1"]
 
 
@@ -357,7 +321,7 @@ MIMIC = """def Xform "b2" (apiSchemas = ["PhysicsRigidBodyAPI", "PhysicsMassAPI"
 def test_mimic_joints_are_read_with_their_offsets_in_degrees(tmp_path):
     """NewtonMimicAPI: follower = coef0 + coef1 · leader; PhysxMimicJointAPI: follower + gearing ·
     leader + offset = 0; offsets written in degrees."""
-    desc = describe_usd(read_robot(_usda(tmp_path, "mimic", extra=MIMIC)))
+    desc = describe_usd(read_robot(small_usda(tmp_path, "mimic", extra=MIMIC)))
     got = {c.follower: (c.leader, c.multiplier, c.offset, c.source) for c in desc.couplings}
     assert got == {
         "newton": ("j1", -2.0, pytest.approx(math.radians(10)), "NewtonMimicAPI"),
